@@ -1,0 +1,35 @@
+"""Scenario data: dataclasses, TOML loading and validation, the library of named models."""
+
+from .errors import ScenarioError
+from .io import load_bridge, load_scenario, load_vehicle, save_scenario, scenario_from_dict, scenario_to_toml
+from .model import (
+    AddedMass,
+    Analysis,
+    BeamSection,
+    Bearings,
+    Bridge,
+    Car15,
+    Car15Geometry,
+    Frame,
+    MovingForce,
+    Pier,
+    RigidBodyInertia,
+    Scenario,
+    SimpleBeam,
+    SprungMass,
+    Suspension,
+    Track,
+    Train,
+    Vehicle,
+    WheelsetInertia,
+)
+from .registry import list_models, model_files, models_dir
+from .schema import describe_fields, to_dict
+
+__all__ = [
+    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "Frame",
+    "MovingForce", "Pier", "RigidBodyInertia", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
+    "Suspension", "Track", "Train", "Vehicle", "WheelsetInertia", "describe_fields", "list_models",
+    "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",
+    "scenario_from_dict", "scenario_to_toml", "to_dict",
+]

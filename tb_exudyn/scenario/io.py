@@ -1,0 +1,85 @@
+"""Loading and saving scenarios, vehicles and bridges as TOML.
+
+``load_scenario`` accepts a path or a name from the model library; names of vehicles and bridges
+inside a scenario are resolved the same way (or as paths relative to the scenario file).
+``save_scenario`` writes the fully resolved scenario (vehicles and bridge inline), so that
+loading it again gives an equal object.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from . import model as m
+from .errors import ScenarioError
+from .registry import model_path
+from .schema import Context, convert, to_dict
+from .toml_io import dumps_toml, read_toml, write_text_atomic
+
+
+def _family(choices: tuple) -> str:
+    return "vehicles" if set(choices) <= set(m.VEHICLE_KINDS.values()) else "bridges"
+
+
+def _resolver(choices: tuple, name: str, ctx: Context) -> Any:
+    """Resolve a vehicle or bridge given by name (library) or by a path ending in .toml."""
+    family = _family(choices)
+    if name.endswith(".toml"):
+        base = Path(ctx.file).parent if ctx.file and not ctx.file.startswith("<") else Path.cwd()
+        path = (base / name).resolve()
+    else:
+        path = model_path(family, name, ctx.file, ctx.path)
+    return _load_union(choices, path)
+
+
+def _load_union(choices: tuple, path: Path) -> Any:
+    data = read_toml(path)
+    ctx = Context(str(path), "", _resolver)
+    union = m.Vehicle if _family(choices) == "vehicles" else m.Bridge
+    return convert(union, data, ctx)
+
+
+def _resolve_path(path_or_name: str | Path, category: str) -> Path:
+    path = Path(path_or_name)
+    if path.suffix == ".toml" or path.exists():
+        return path
+    return model_path(category, str(path_or_name), None, category)
+
+
+def scenario_from_dict(data: dict, file: str | None = None) -> m.Scenario:
+    """Build and validate a Scenario from a plain dict (the TOML table)."""
+    return convert(m.Scenario, data, Context(file, "", _resolver))
+
+
+def load_scenario(path_or_name: str | Path) -> m.Scenario:
+    """Load a scenario from a TOML file or by name (``tb-exudyn list`` shows the names).
+
+    Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
+    """
+    path = _resolve_path(path_or_name, "scenarios")
+    return scenario_from_dict(read_toml(path), str(path))
+
+
+def load_vehicle(path_or_name: str | Path) -> m.Vehicle:
+    """Load one vehicle (moving_force, sprung_mass or car15) by path or library name."""
+    return _load_union(tuple(m.VEHICLE_KINDS.values()), _resolve_path(path_or_name, "vehicles"))
+
+
+def load_bridge(path_or_name: str | Path) -> m.Bridge:
+    """Load one bridge (simple_beam or frame) by path or library name."""
+    return _load_union(tuple(m.BRIDGE_KINDS.values()), _resolve_path(path_or_name, "bridges"))
+
+
+def scenario_to_toml(scenario: m.Scenario) -> str:
+    """The TOML text of a resolved scenario (vehicles and bridge written inline)."""
+    data = to_dict(scenario)
+    header = f"tb_exudyn scenario '{scenario.name}' (resolved: vehicles and bridge inline)"
+    return dumps_toml(data, header)
+
+
+def save_scenario(scenario: m.Scenario, path: str | Path) -> Path:
+    """Write the scenario as TOML (atomically); ``load_scenario`` on it gives an equal scenario."""
+    path = Path(path)
+    write_text_atomic(path, scenario_to_toml(scenario))
+    return path

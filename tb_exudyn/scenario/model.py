@@ -1,0 +1,421 @@
+"""The scenario: frozen, typed dataclasses for train, bridge, track, speed and analysis settings.
+
+Pure data, no Exudyn. SI units everywhere; a key whose unit is not SI says so in its name
+(``speed_kmh``). Axes: x along the track in the direction of travel, y lateral to the left,
+z up. Every field is declared with :func:`param` (unit, description, value check), so the
+dataclasses are the schema of the TOML files in ``models/``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Literal, Union
+
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param, replace
+
+KMH = 1.0 / 3.6  # m/s per km/h
+
+
+class _Replaceable:
+    def replace(self, **changes):
+        """A modified copy, validated again; e.g. ``scenario.replace(speed_kmh=300.0)``."""
+        return replace(self, **changes)
+
+
+# ============================================================================================
+# vehicles
+
+
+@dataclass(frozen=True, kw_only=True)
+class MovingForce(_Replaceable):
+    """A constant vertical point load moving along the track (for closed-form checks)."""
+
+    kind: ClassVar[str] = "moving_force"
+    name: str = param(doc="identifier")
+    force: float = param(unit="N", doc="load acting downward on the rail", check=POSITIVE)
+    length: float = param(unit="m", doc="distance from this load to the next vehicle's first axle", check=POSITIVE)
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        """Distances of the axles behind the vehicle's first axle [m]."""
+        return (0.0,)
+
+    def _validate(self, ctx: Context) -> None:
+        pass
+
+
+@dataclass(frozen=True, kw_only=True)
+class SprungMass(_Replaceable):
+    """One mass on a linear spring-damper over one wheel (the VBI-2D / Yang-Yau vehicle).
+
+    With ``wheel_mass = 0`` the spring-damper's lower end follows the rail exactly.
+    """
+
+    kind: ClassVar[str] = "sprung_mass"
+    name: str = param(doc="identifier")
+    mass: float = param(unit="kg", doc="sprung mass", check=POSITIVE)
+    stiffness: float = param(unit="N/m", doc="suspension stiffness", check=POSITIVE)
+    damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=NONNEGATIVE)
+    wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=NONNEGATIVE)
+    length: float = param(unit="m", doc="distance from this wheel to the next vehicle's first axle", check=POSITIVE)
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        return (0.0,)
+
+    def _validate(self, ctx: Context) -> None:
+        pass
+
+
+@dataclass(frozen=True, kw_only=True)
+class RigidBodyInertia:
+    """Mass and principal moments of inertia about the body's centre of gravity."""
+
+    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+    inertia_pitch: float = param(unit="kg m^2", doc="moment of inertia about y (pitch)", check=POSITIVE)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelsetInertia:
+    """A wheelset: it follows the rail through the wheel-rail contact."""
+
+    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Suspension:
+    """One suspension stage, values PER SIDE (one of the two elements left and right)."""
+
+    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=POSITIVE)
+    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=POSITIVE)
+    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=NONNEGATIVE)
+    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Car15Geometry:
+    """Geometry of a car with two two-axle bogies (all distances positive unless noted)."""
+
+    half_bogie_spacing: float = param(unit="m", doc="half the distance between the bogie centres", check=POSITIVE)
+    half_wheelbase: float = param(unit="m", doc="half the distance between a bogie's axles", check=POSITIVE)
+    half_primary_span: float = param(unit="m", doc="half the lateral distance of the primary springs", check=POSITIVE)
+    half_secondary_span: float = param(unit="m", doc="half the lateral distance of the secondary springs", check=POSITIVE)
+    body_cg_above_secondary: float = param(unit="m", doc="car body CG above the secondary suspension", check=ANY)
+    secondary_above_bogie_cg: float = param(unit="m", doc="secondary suspension above the bogie CG", check=ANY)
+    bogie_cg_above_axle: float = param(unit="m", doc="bogie CG above the wheelset centre (may be negative)", check=ANY)
+    wheel_radius: float = param(unit="m", doc="wheel rolling radius", check=POSITIVE)
+    length: float = param(unit="m", doc="distance from the first axle to the next car's first axle", check=POSITIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Car15(_Replaceable):
+    """The reference study's car: body and two bogies with y, z, roll, pitch, yaw; four wheelsets."""
+
+    kind: ClassVar[str] = "car15"
+    name: str = param(doc="identifier")
+    body: RigidBodyInertia = param(doc="car body")
+    bogie: RigidBodyInertia = param(doc="each of the two bogies")
+    wheelset: WheelsetInertia = param(doc="each of the four wheelsets")
+    geometry: Car15Geometry = param(doc="positions of bodies and suspensions")
+    primary: Suspension = param(doc="primary suspension (axle box), per side")
+    secondary: Suspension = param(doc="secondary suspension (bolster), per side")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return self.geometry.length
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        g = self.geometry
+        a, s = g.half_wheelbase, g.half_bogie_spacing
+        return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
+
+    def _validate(self, ctx: Context) -> None:
+        g = self.geometry
+        if g.half_wheelbase >= g.half_bogie_spacing:
+            raise ctx.child("geometry").child("half_wheelbase").error(
+                g.half_wheelbase, f"< half_bogie_spacing = {g.half_bogie_spacing:g}", "bogies overlap"
+            )
+        if g.length < self.axle_offsets[-1]:
+            raise ctx.child("geometry").child("length").error(
+                g.length, f">= {self.axle_offsets[-1]:g} (the car's axle spread)", "car shorter than its axles"
+            )
+
+
+Vehicle = Union[MovingForce, SprungMass, Car15]
+VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15)}
+
+
+@dataclass(frozen=True, kw_only=True)
+class Train(_Replaceable):
+    """Vehicles in running order; vehicle k's first axle trails the train's first axle by the
+    sum of the ``length`` of the vehicles ahead of it."""
+
+    vehicles: tuple[Vehicle, ...] = param(doc="vehicles in running order (names from models/vehicles or tables)")
+
+    @property
+    def axle_positions(self) -> tuple[float, ...]:
+        """Distance of every axle behind the train's first axle [m], in running order."""
+        out, start = [], 0.0
+        for v in self.vehicles:
+            out.extend(start + a for a in v.axle_offsets)
+            start += v.length
+        return tuple(out)
+
+    @property
+    def length(self) -> float:
+        """Distance from the first to the last axle [m]."""
+        return self.axle_positions[-1] if self.vehicles else 0.0
+
+    @property
+    def mass(self) -> float:
+        """Total mass [kg]; a moving force counts as its weight / g with g = 9.81."""
+        total = 0.0
+        for v in self.vehicles:
+            if isinstance(v, MovingForce):
+                total += v.force / 9.81
+            elif isinstance(v, SprungMass):
+                total += v.mass + v.wheel_mass
+            else:
+                total += v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass
+        return total
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.vehicles:
+            raise ctx.child("vehicles").error([], "at least one vehicle", "empty train")
+
+
+# ============================================================================================
+# bridges
+
+
+@dataclass(frozen=True, kw_only=True)
+class BeamSection:
+    """A prismatic beam cross-section. I_y governs bending in the vertical plane (about the lateral
+    y axis), I_z lateral bending (about z); J is the torsion constant (G J the torsional stiffness)."""
+
+    E: float = param(unit="N/m^2", doc="Young's modulus", check=POSITIVE)
+    G: float = param(unit="N/m^2", doc="shear modulus", check=POSITIVE)
+    area: float = param(unit="m^2", doc="cross-section area (axial stiffness E A)", check=POSITIVE)
+    I_y: float = param(unit="m^4", doc="second moment about y: vertical bending", check=POSITIVE)
+    I_z: float = param(unit="m^4", doc="second moment about z: lateral bending", check=POSITIVE)
+    J: float = param(unit="m^4", doc="torsion constant", check=POSITIVE)
+    mass_per_length: float = param(unit="kg/m", doc="mass per unit length", check=POSITIVE)
+    rot_mass_per_length: float = param(unit="kg m^2/m", doc="polar mass moment of inertia per length (torsion)", check=POSITIVE)
+    shear_area_factor: float = param(0.0, unit="-", doc="Timoshenko shear area / area; 0 = Euler-Bernoulli", check=Check(low=0.0, high=1.0, low_inclusive=True))
+
+
+@dataclass(frozen=True, kw_only=True)
+class AddedMass:
+    """Non-structural mass carried by the girder (ballast or slab, rails, secondary dead load)."""
+
+    mass_per_length: float = param(0.0, unit="kg/m", doc="added mass per length", check=NONNEGATIVE)
+    rot_mass_per_length: float = param(0.0, unit="kg m^2/m", doc="its polar moment of inertia per length about its own centre", check=NONNEGATIVE)
+    offset: float = param(0.0, unit="m", doc="lateral position of its centre from the girder axis (+y left)", check=ANY)
+    height: float = param(0.0, unit="m", doc="height of its centre above the girder shear centre", check=ANY)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SimpleBeam(_Replaceable):
+    """Uniform simply supported spans with ideal supports (for closed-form checks).
+
+    Every span is simply supported on its own (vertical, lateral and torsional restraint at both
+    ends, longitudinal at its start)."""
+
+    kind: ClassVar[str] = "simple_beam"
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
+    girder: BeamSection = param(doc="girder section")
+    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Pier:
+    """A pier: a vertical beam from its footing up to the pier cap carrying the bearings."""
+
+    height: float = param(unit="m", doc="footing to pier top", check=POSITIVE)
+    section: BeamSection = param(doc="pier section (I_y: bending in the x-z plane, I_z: in the y-z plane)")
+    footing: Literal["fixed", "springs"] = param("fixed", doc="clamped footing or footing on springs")
+    k_translation: float = param(math.inf, unit="N/m", doc="footing springs, each translation (footing = 'springs')", check=STIFFNESS)
+    k_rotation: float = param(math.inf, unit="N m/rad", doc="footing springs, each rotation (footing = 'springs')", check=STIFFNESS)
+    cap_mass: float = param(0.0, unit="kg", doc="lumped mass of the pier cap", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bearings:
+    """Bearing stiffness per bearing line and direction (inf = rigid, 0 = free)."""
+
+    k_x_fixed: float = param(math.inf, unit="N/m", doc="longitudinal, at each span's fixed end", check=STIFFNESS)
+    k_x_sliding: float = param(0.0, unit="N/m", doc="longitudinal, at each span's sliding end", check=STIFFNESS)
+    k_y: float = param(math.inf, unit="N/m", doc="lateral", check=STIFFNESS)
+    k_z: float = param(math.inf, unit="N/m", doc="vertical", check=STIFFNESS)
+    k_rx: float = param(math.inf, unit="N m/rad", doc="torsional restraint of the girder end", check=STIFFNESS)
+    fixed_end: Literal["start", "end"] = param("start", doc="which end of each span is longitudinally fixed")
+    height: float = param(0.0, unit="m", doc="girder shear centre above the pier top", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Frame(_Replaceable):
+    """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
+
+    kind: ClassVar[str] = "frame"
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
+    girder: BeamSection = param(doc="girder section")
+    pier: Pier = param(doc="every intermediate pier")
+    bearings: Bearings = param(doc="bearings at every girder end")
+    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
+    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+
+
+Bridge = Union[SimpleBeam, Frame]
+BRIDGE_KINDS: dict[str, type] = {c.kind: c for c in (SimpleBeam, Frame)}
+
+
+# ============================================================================================
+# track, analysis, scenario
+
+
+@dataclass(frozen=True, kw_only=True)
+class Track(_Replaceable):
+    """Track irregularities and the track before and after the bridge (rigid off the bridge)."""
+
+    irregularities: tuple[str, ...] = param((), doc="spectrum names (tb-exudyn list), one independent process each")
+    wavelength_min: float = param(1.0, unit="m", doc="shortest irregularity wavelength analysed", check=POSITIVE)
+    wavelength_max: float = param(120.0, unit="m", doc="longest irregularity wavelength analysed", check=POSITIVE)
+    lead_in: float = param(100.0, unit="m", doc="track the first axle runs before it reaches the bridge", check=POSITIVE)
+    run_out: float = param(50.0, unit="m", doc="track the last axle runs after it leaves the bridge", check=NONNEGATIVE)
+    half_gauge: float = param(0.75, unit="m", doc="b: half the distance between the rail centres", check=POSITIVE)
+
+    def _validate(self, ctx: Context) -> None:
+        if self.wavelength_min >= self.wavelength_max:
+            raise ctx.child("wavelength_min").error(
+                self.wavelength_min, f"< wavelength_max = {self.wavelength_max:g}", "empty wavelength band"
+            )
+        if len(set(self.irregularities)) != len(self.irregularities):
+            raise ctx.child("irregularities").error(list(self.irregularities), "each spectrum once", "repeated spectrum")
+        from ..track import spectrum_names  # local import: track does not import scenario
+
+        names = spectrum_names()
+        for i, name in enumerate(self.irregularities):
+            if name not in names:
+                raise ctx.child("irregularities").child(i).error(
+                    name, "a spectrum name from `tb-exudyn list`, e.g. " + ", ".join(names[:4]) + ", ...",
+                    "unknown spectrum",
+                )
+
+
+@dataclass(frozen=True, kw_only=True)
+class Analysis(_Replaceable):
+    """Settings of the analysis: time stepping, frequency grid, samples, outputs, contact."""
+
+    time_step: float = param(1e-3, unit="s", doc="integration time step", check=POSITIVE)
+    output_step: float = param(1e-2, unit="s", doc="time step of stored outputs (a multiple of time_step)", check=POSITIVE)
+    freq_min: float = param(0.3, unit="Hz", doc="lowest PEM frequency", check=POSITIVE)
+    freq_max: float = param(60.0, unit="Hz", doc="highest PEM frequency", check=POSITIVE)
+    n_freq: int = param(200, doc="number of PEM frequencies", check=Check(low=1.0, low_inclusive=True, high=100000.0))
+    freq_spacing: Literal["linear", "log"] = param("linear", doc="spacing of the PEM frequency grid")
+    pem_amplitude: float = param(1e-4, unit="m", doc="working amplitude of each pseudo-excitation run (results are scaled)", check=POSITIVE)
+    n_samples: int = param(100, doc="Monte Carlo samples", check=Check(low=1.0, low_inclusive=True, high=1e7))
+    seed: int = param(1, doc="seed of the Monte Carlo samples", check=Check(low=0.0, low_inclusive=True, high=2.0**63))
+    channels: tuple[str, ...] = param(("*",), doc="output channel patterns (glob, e.g. 'bridge.*', 'car1.body.*')")
+    contact_stiffness_z: float = param(2.0e9, unit="N/m", doc="linear wheel-rail contact stiffness, vertical, per wheel", check=POSITIVE)
+    contact_stiffness_y: float = param(2.0e9, unit="N/m", doc="linear wheel-rail contact stiffness, lateral, per wheelset", check=POSITIVE)
+    mode_max_frequency: float = param(100.0, unit="Hz", doc="bridge modes up to this frequency", check=POSITIVE)
+    max_modes: int = param(0, doc="at most this many bridge modes (0: no limit)", check=Check(low=0.0, low_inclusive=True, high=1e5))
+    spectral_radius: float = param(0.9, unit="-", doc="generalized-alpha spectral radius at infinite frequency", check=Check(low=0.0, high=1.0, low_inclusive=True))
+    gravity: float = param(9.81, unit="m/s^2", doc="gravitational acceleration", check=POSITIVE)
+
+    def _validate(self, ctx: Context) -> None:
+        ratio = self.output_step / self.time_step
+        if abs(ratio - round(ratio)) > 1e-9 * ratio or round(ratio) < 1:
+            raise ctx.child("output_step").error(
+                self.output_step, f"a whole multiple of time_step = {self.time_step:g} s", "not a multiple"
+            )
+        if self.freq_min >= self.freq_max:
+            raise ctx.child("freq_min").error(self.freq_min, f"< freq_max = {self.freq_max:g} Hz", "empty frequency band")
+        resolved = 0.1 / self.time_step
+        if self.freq_max > resolved:
+            raise ctx.child("freq_max").error(
+                self.freq_max,
+                f"<= {resolved:g} Hz: at least 10 time steps per period with time_step = {self.time_step:g} s",
+                "frequency band above what the time step resolves",
+            )
+        if not self.channels:
+            raise ctx.child("channels").error([], "at least one channel pattern, e.g. '*'", "no channels")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Scenario(_Replaceable):
+    """A train crossing a bridge at constant speed over an irregular track, with analysis settings."""
+
+    name: str = param(doc="identifier")
+    speed_kmh: float = param(unit="km/h", doc="train speed", check=POSITIVE)
+    train: Train = param(doc="the train")
+    bridge: Bridge = param(doc="the bridge")
+    track: Track = param(Track(), doc="track irregularities and approach lengths")
+    analysis: Analysis = param(Analysis(), doc="analysis settings")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the study")
+    notes: str = param("", doc="remarks")
+
+    @property
+    def speed(self) -> float:
+        """Train speed [m/s]."""
+        return self.speed_kmh * KMH
+
+    @property
+    def duration(self) -> float:
+        """From the first axle at -lead_in until the last axle is run_out past the bridge [s]."""
+        distance = self.track.lead_in + self.bridge.length + self.train.length + self.track.run_out
+        return distance / self.speed
+
+    def _validate(self, ctx: Context) -> None:
+        track_length = self.track.lead_in + self.bridge.length + self.track.run_out
+        for i, v in enumerate(self.train.vehicles):
+            if v.axle_offsets[-1] > track_length:
+                raise ctx.child("train").child("vehicles").child(i).error(
+                    v.name, f"vehicles no longer than the track ({track_length:g} m)", "vehicle longer than the track"
+                )

@@ -1,0 +1,75 @@
+"""The library of named models: the TOML files under models/ (vehicles, bridges, scenarios).
+
+A name is a file's stem: ``models/scenarios/li_zhu_2011.toml`` is the scenario ``li_zhu_2011``.
+The folder is found inside the installed package (``tb_exudyn/models``), next to the package in a
+source checkout, or where the environment variable ``TB_EXUDYN_MODELS`` points.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from .errors import ScenarioError
+
+CATEGORIES = ("vehicles", "bridges", "scenarios")
+
+
+def models_dir() -> Path:
+    """The folder holding vehicles/, bridges/ and scenarios/."""
+    env = os.environ.get("TB_EXUDYN_MODELS")
+    if env:
+        return Path(env)
+    package = Path(__file__).resolve().parent.parent
+    for candidate in (package / "models", package.parent / "models"):
+        if (candidate / "scenarios").is_dir():
+            return candidate
+    raise FileNotFoundError(
+        "tb_exudyn's models/ folder was not found (looked in the package and next to it); "
+        "set TB_EXUDYN_MODELS to its path"
+    )
+
+
+def model_files(category: str) -> dict[str, Path]:
+    """Name -> file for one category (vehicles, bridges or scenarios), sorted by name."""
+    if category not in CATEGORIES:
+        raise ValueError(f"category must be one of {CATEGORIES}, not {category!r}")
+    folder = models_dir() / category
+    return {p.stem: p for p in sorted(folder.glob("*.toml"))}
+
+
+def model_path(category: str, name: str, referrer: str | None = None, key: str = "") -> Path:
+    """The file of a named model, or a ScenarioError listing the names that exist."""
+    files = model_files(category)
+    if name not in files:
+        raise ScenarioError(
+            referrer, key or category, name, f"one of {', '.join(files) or '(none)'} or a path to a .toml file",
+            f"unknown {category[:-1]} name",
+        )
+    return files[name]
+
+
+@dataclass(frozen=True)
+class ModelEntry:
+    """One line of ``tb-exudyn list``."""
+
+    category: str
+    name: str
+    description: str
+    path: Path
+
+
+def list_models() -> list[ModelEntry]:
+    """Every named model with its one-line description (read from the file, not validated)."""
+    from .toml_io import read_toml
+
+    out = []
+    for category in CATEGORIES:
+        for name, path in model_files(category).items():
+            try:
+                description = str(read_toml(path).get("description", ""))
+            except ScenarioError as exc:
+                description = f"(unreadable: {exc})"
+            out.append(ModelEntry(category, name, description, path))
+    return out

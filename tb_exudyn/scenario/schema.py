@@ -1,0 +1,242 @@
+"""A small typed schema for frozen dataclasses: fields with units, docs and value checks.
+
+Every scenario dataclass declares its fields with :func:`param`; :func:`from_dict` turns a TOML
+table into the dataclass and raises :class:`ScenarioError` naming file, key path, value and what
+is allowed for unknown keys, missing keys, wrong types and out-of-range values; :func:`to_dict`
+is its inverse. No free-form keys: the dataclass is the schema.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import types
+import typing
+from dataclasses import MISSING, dataclass, field, fields, is_dataclass
+from typing import Any, Callable, Literal, get_args, get_origin
+
+from .errors import ScenarioError
+
+
+@dataclass(frozen=True)
+class Check:
+    """A value check: ``low < x`` (or ``<=``), ``x < high`` (or ``<=``), finite unless inf allowed."""
+
+    low: float | None = None
+    high: float | None = None
+    low_inclusive: bool = False
+    high_inclusive: bool = True
+    allow_inf: bool = False
+
+    def ok(self, x: float) -> bool:
+        if math.isnan(x):
+            return False
+        if math.isinf(x) and not (self.allow_inf and x > 0):
+            return False
+        if self.low is not None and (x < self.low or (x == self.low and not self.low_inclusive)):
+            return False
+        if self.high is not None and (x > self.high or (x == self.high and not self.high_inclusive)):
+            return False
+        return True
+
+    def describe(self) -> str:
+        parts = []
+        if self.low is not None:
+            parts.append(f"{'>=' if self.low_inclusive else '>'} {self.low:g}")
+        if self.high is not None:
+            parts.append(f"{'<=' if self.high_inclusive else '<'} {self.high:g}")
+        text = " and ".join(parts) if parts else "any finite number"
+        if self.allow_inf:
+            text += " (inf allowed: rigid)"
+        return text
+
+
+POSITIVE = Check(low=0.0)
+NONNEGATIVE = Check(low=0.0, low_inclusive=True)
+STIFFNESS = Check(low=0.0, low_inclusive=True, allow_inf=True)
+ANY = Check()
+RATIO = Check(low=0.0, high=1.0, low_inclusive=True, high_inclusive=False)
+
+
+def param(default: Any = MISSING, *, unit: str = "", doc: str = "", check: Check | None = None):
+    """Declare a dataclass field with its unit, a one-line description and a value check."""
+    meta = {"unit": unit, "doc": doc, "check": check}
+    if isinstance(default, (list, dict, set)):
+        raise TypeError("use a tuple for sequence defaults")
+    if default is MISSING:
+        return field(metadata=meta)
+    return field(default=default, metadata=meta)
+
+
+def unit_of(cls: type, name: str) -> str:
+    """The unit declared for field ``name`` of dataclass ``cls``."""
+    return {f.name: f.metadata.get("unit", "") for f in fields(cls)}[name]
+
+
+# --------------------------------------------------------------------------------------------
+# dict -> dataclass
+
+
+@dataclass(frozen=True)
+class Context:
+    """Where a value came from: the file and the dotted key path."""
+
+    file: str | None
+    path: str = ""
+    #: resolves a string that names a model (a vehicle or bridge file): (choices, name, ctx) -> object
+    resolver: Callable[[tuple, str, "Context"], Any] | None = None
+
+    def child(self, key: str | int) -> "Context":
+        if isinstance(key, int):
+            return Context(self.file, f"{self.path}[{key}]", self.resolver)
+        return Context(self.file, f"{self.path}.{key}" if self.path else key, self.resolver)
+
+    def error(self, value: Any, allowed: str, reason: str = "") -> ScenarioError:
+        return ScenarioError(self.file, self.path, value, allowed, reason)
+
+
+def type_name(tp: Any) -> str:
+    origin = get_origin(tp)
+    if origin is Literal:
+        return "one of " + ", ".join(repr(a) for a in get_args(tp))
+    if origin is tuple:
+        return f"a list of {type_name(get_args(tp)[0])}"
+    if origin in (typing.Union, types.UnionType):
+        return " or ".join(type_name(a) for a in get_args(tp))
+    if is_dataclass(tp):
+        return f"a table ({tp.__name__})"
+    return {float: "a number", int: "an integer", str: "a string", bool: "true or false"}.get(
+        tp, getattr(tp, "__name__", str(tp))
+    )
+
+
+def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> Any:
+    """Convert a TOML value to type ``tp``, raising ScenarioError on mismatch."""
+    origin = get_origin(tp)
+    if origin in (typing.Union, types.UnionType):
+        return _convert_kind_union(get_args(tp), value, ctx)
+    if origin is Literal:
+        allowed = get_args(tp)
+        if value not in allowed:
+            raise ctx.error(value, ", ".join(repr(a) for a in allowed), "unknown value")
+        return value
+    if origin is tuple:
+        (item_tp, _ellipsis) = get_args(tp)
+        if not isinstance(value, (list, tuple)):
+            raise ctx.error(value, type_name(tp), "wrong type")
+        return tuple(convert(item_tp, v, ctx.child(i), check) for i, v in enumerate(value))
+    if is_dataclass(tp):
+        if isinstance(value, tp):
+            return value
+        if not isinstance(value, dict):
+            raise ctx.error(value, type_name(tp), "wrong type")
+        return from_dict(tp, value, ctx)
+    if tp is float:
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ctx.error(value, "a number" + (f" {check.describe()}" if check else ""), "wrong type")
+        value = float(value)
+        if check is not None and not check.ok(value):
+            raise ctx.error(value, check.describe(), "out of range")
+        return value
+    if tp is int:
+        if isinstance(value, bool) or not isinstance(value, int):
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)
+            else:
+                raise ctx.error(value, "an integer" + (f" {check.describe()}" if check else ""), "wrong type")
+        if check is not None and not check.ok(float(value)):
+            raise ctx.error(value, check.describe(), "out of range")
+        return value
+    if tp is str:
+        if not isinstance(value, str):
+            raise ctx.error(value, "a string", "wrong type")
+        return value
+    if tp is bool:
+        if not isinstance(value, bool):
+            raise ctx.error(value, "true or false", "wrong type")
+        return value
+    raise TypeError(f"schema type {tp!r} not supported")  # programming error, not user error
+
+
+def _convert_kind_union(choices: tuple, value: Any, ctx: Context) -> Any:
+    """A union of dataclasses told apart by their ``kind``: an object, a table with ``kind``, or a
+    string naming a model file (resolved by ``ctx.resolver``)."""
+    kinds = {c.kind: c for c in choices}
+    allowed = "a model name or a table with kind = " + " | ".join(repr(k) for k in kinds)
+    if isinstance(value, choices):
+        return value
+    if isinstance(value, str):
+        if ctx.resolver is None:
+            raise ctx.error(value, allowed, "model names cannot be resolved here")
+        return ctx.resolver(choices, value, ctx)
+    if not isinstance(value, dict):
+        raise ctx.error(value, allowed, "wrong type")
+    if "kind" not in value:
+        raise ScenarioError(ctx.file, ctx.child("kind").path, "<missing>", " | ".join(map(repr, kinds)), "missing key")
+    kind = value["kind"]
+    if kind not in kinds:
+        raise ctx.child("kind").error(kind, " | ".join(repr(k) for k in kinds), "unknown kind")
+    return from_dict(kinds[kind], {k: v for k, v in value.items() if k != "kind"}, ctx)
+
+
+def from_dict(cls: type, data: dict, ctx: Context) -> Any:
+    """Build dataclass ``cls`` from a TOML table, checking keys, types and values."""
+    if not isinstance(data, dict):
+        raise ctx.error(data, type_name(cls), "wrong type")
+    hints = typing.get_type_hints(cls)
+    known = {f.name: f for f in fields(cls) if f.init}
+    unknown = sorted(set(data) - set(known))
+    if unknown:
+        raise ctx.child(unknown[0]).error(
+            data[unknown[0]], "keys of " + cls.__name__ + ": " + ", ".join(known), "unknown key"
+        )
+    kwargs = {}
+    for name, f in known.items():
+        sub = ctx.child(name)
+        if name not in data:
+            if f.default is MISSING and f.default_factory is MISSING:  # type: ignore[misc]
+                raise ScenarioError(ctx.file, sub.path, "<missing>", type_name(hints[name]), "missing key")
+            continue
+        kwargs[name] = convert(hints[name], data[name], sub, f.metadata.get("check"))
+    obj = cls(**kwargs)
+    validate = getattr(obj, "_validate", None)
+    if validate is not None:
+        validate(ctx)
+    return obj
+
+
+# --------------------------------------------------------------------------------------------
+# dataclass -> dict
+
+
+def to_dict(obj: Any) -> Any:
+    """The plain (TOML-ready) form of a schema dataclass; ``kind`` class attributes are kept."""
+    if is_dataclass(obj):
+        out: dict[str, Any] = {}
+        kind = getattr(type(obj), "kind", None)
+        if isinstance(kind, str) and not any(f.name == "kind" for f in fields(obj)):
+            out["kind"] = kind
+        for f in fields(obj):
+            out[f.name] = to_dict(getattr(obj, f.name))
+        return out
+    if isinstance(obj, tuple):
+        return [to_dict(v) for v in obj]
+    return obj
+
+
+def describe_fields(cls: type) -> list[tuple[str, str, str, str]]:
+    """Rows (name, type, unit, doc) for documentation and ``tb-exudyn show``."""
+    hints = typing.get_type_hints(cls)
+    return [
+        (f.name, type_name(hints[f.name]), f.metadata.get("unit", ""), f.metadata.get("doc", ""))
+        for f in fields(cls)
+    ]
+
+
+def replace(obj: Any, **changes: Any) -> Any:
+    """A modified copy, re-validated (``dataclasses.replace`` plus the object's own checks)."""
+    new = dataclasses.replace(obj, **changes)
+    validate = getattr(new, "_validate", None)
+    if validate is not None:
+        validate(Context(None))
+    return new

@@ -1,0 +1,85 @@
+"""Reading and writing TOML: tomllib to read, a small writer for the scenario's plain data."""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from .errors import ScenarioError
+
+
+def read_toml(path: Path) -> dict:
+    """Parse a TOML file; a missing file or a syntax error becomes a ScenarioError naming the file."""
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError:
+        raise ScenarioError(str(path), "<file>", str(path), "an existing TOML file", "file not found") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(str(path), "<file>", str(exc), "valid TOML (https://toml.io)", "syntax error") from None
+
+
+def _scalar(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        if math.isnan(value):
+            return "nan"
+        return repr(value)
+    if isinstance(value, str):
+        escaped = value.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\t", "\\t")
+        return f'"{escaped}"'
+    if isinstance(value, list):
+        return "[" + ", ".join(_scalar(v) for v in value) + "]"
+    raise TypeError(f"cannot write {type(value).__name__} to TOML")
+
+
+def _is_table_array(value: Any) -> bool:
+    return isinstance(value, list) and bool(value) and all(isinstance(v, dict) for v in value)
+
+
+def _write_table(lines: list[str], table: dict, prefix: str) -> None:
+    for key, value in table.items():
+        if not isinstance(value, dict) and not _is_table_array(value):
+            lines.append(f"{key} = {_scalar(value)}")
+    for key, value in table.items():
+        name = f"{prefix}.{key}" if prefix else key
+        if isinstance(value, dict):
+            lines.append("")
+            lines.append(f"[{name}]")
+            _write_table(lines, value, name)
+        elif _is_table_array(value):
+            for item in value:
+                lines.append("")
+                lines.append(f"[[{name}]]")
+                _write_table(lines, item, name)
+
+
+def dumps_toml(data: dict, header: str = "") -> str:
+    """TOML text of nested dicts/lists of str, int, float (inf allowed) and bool."""
+    lines = [f"# {h}" for h in header.splitlines()] if header else []
+    _write_table(lines, data, "")
+    return "\n".join(lines).lstrip("\n") + "\n"
+
+
+def write_text_atomic(path: Path, text: str) -> None:
+    """Write a file so that it is either the old or the whole new content, never half of it."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

@@ -1,0 +1,48 @@
+"""The tb-exudyn command: exit status 0 on success, 2 on a user error with one message, no traceback."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from tb_exudyn.cli import main
+
+
+def test_list_prints_models(capsys):
+    assert main(["list"]) == 0
+    out = capsys.readouterr().out
+    for name in ("ice_motor", "li_zhu_2011_bridge", "li_zhu_2011", "quick", "german_low.vertical"):
+        assert name in out
+
+
+def test_show_prints_the_resolved_scenario(capsys):
+    assert main(["show", "li_zhu_2011"]) == 0
+    out = capsys.readouterr().out
+    assert "speed_kmh" in out and "220" in out and "km/h" in out
+    assert "train.vehicles[0].body.mass" in out and "48000" in out
+
+
+def test_user_error_exits_2_without_traceback(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('name = "x"\nspeed_kmh = -1.0\n')
+    assert main(["show", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(bad) in err and "speed_kmh" in err and "Traceback" not in err
+
+
+def test_console_entry_point_as_a_process(tmp_path):
+    """python -m tb_exudyn runs the same command; exit codes survive the process boundary."""
+    ok = subprocess.run([sys.executable, "-m", "tb_exudyn", "show", "quick"], capture_output=True, text=True)
+    assert ok.returncode == 0, ok.stderr
+    bad = subprocess.run([sys.executable, "-m", "tb_exudyn", "show", "no_such_scenario"], capture_output=True, text=True)
+    assert bad.returncode == 2
+    assert "no_such_scenario" in bad.stderr and "Traceback" not in bad.stderr
+
+
+@pytest.mark.parametrize("argv", [[], ["frobnicate"]])
+def test_bad_command_line_exits_2(argv):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
