@@ -1,0 +1,1 @@
+"""tb_exudyn.results."""

@@ -1,0 +1,226 @@
+"""Independent tasks on an executor, with checkpoints, resume, ordered reduction and progress.
+
+PEM frequencies and Monte Carlo samples are independent tasks. A worker builds the model once (the
+``setup`` function, cached per process and per setup key) and then runs many tasks on it. Results
+are reduced in task order whatever order they finish in, so a result never depends on the number
+of workers or on a resume. With a checkpoint folder every finished task is written atomically as
+it arrives; ``resume=True`` reads those back instead of running them again, so an interrupted sweep
+loses at most the tasks in flight.
+
+Executors: ``workers=1`` runs in this process; ``workers=N`` a local process pool (spawned
+processes, numpy/BLAS threads set to 1); any ``concurrent.futures.Executor`` may be passed instead
+(e.g. a Dask distributed client's ``get_executor()``).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import multiprocessing
+import os
+import re
+from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait, FIRST_COMPLETED
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Iterator, Mapping, Sequence
+
+import numpy as np
+
+from ..results.storage import check_writable, load_json, load_npz, save_json_atomic, save_npz_atomic
+
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
+_KEY = re.compile(r"^[A-Za-z0-9_.-]+$")
+
+
+@dataclass(frozen=True)
+class Task:
+    """One unit of work: a file-name-safe unique key and plain (picklable) data."""
+
+    key: str
+    data: Any
+
+
+class CheckpointMismatch(ValueError):
+    """A checkpoint folder belongs to another computation."""
+
+    user_error = True
+
+
+# ------------------------------------------------------------------------------------- worker side
+_CACHE: dict[str, Any] = {}
+
+
+def _execute(setup: Callable[..., Any], setup_args: tuple, setup_key: str, work: Callable, task: Task):
+    """Runs in a worker: build (once per process and key) then do one task."""
+    state = _CACHE.get(setup_key)
+    if state is None:
+        _CACHE.clear()  # one model per process at a time
+        state = _CACHE[setup_key] = setup(*setup_args)
+    return work(state, task)
+
+
+# ------------------------------------------------------------------------------------- helpers
+def fingerprint(payload: Mapping[str, Any]) -> str:
+    """A stable hash of the JSON form of what defines a computation (scenario text, settings)."""
+    text = json.dumps(payload, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:16]
+
+
+@contextmanager
+def single_threaded_blas() -> Iterator[None]:
+    """Set the numpy/BLAS thread variables to 1 while worker processes start (they inherit them)."""
+    old = {k: os.environ.get(k) for k in THREAD_VARIABLES}
+    os.environ.update({k: "1" for k in THREAD_VARIABLES})
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
+class Checkpoint:
+    """A folder of finished task results: ``manifest.json`` (fingerprint) and ``tasks/<key>.npz``."""
+
+    def __init__(self, folder: str | Path, fingerprint_: str, resume: bool):
+        self.folder = check_writable(folder)
+        self.tasks = self.folder / "tasks"
+        manifest = self.folder / "manifest.json"
+        if manifest.exists():
+            old = load_json(manifest).get("fingerprint")
+            if old != fingerprint_:
+                if resume:
+                    raise CheckpointMismatch(
+                        f"checkpoint folder {str(self.folder)!r} holds another computation (fingerprint {old}, "
+                        f"this one {fingerprint_}): use another --out folder or drop --resume"
+                    )
+            if not resume:
+                for f in self.tasks.glob("*.npz"):
+                    f.unlink()
+        save_json_atomic(manifest, {"fingerprint": fingerprint_})
+        self.tasks.mkdir(exist_ok=True)
+
+    def path(self, key: str) -> Path:
+        return self.tasks / f"{key}.npz"
+
+    def done(self, key: str) -> bool:
+        return self.path(key).exists()
+
+    def load(self, key: str) -> dict[str, np.ndarray]:
+        return load_npz(self.path(key))
+
+    def save(self, key: str, result: Mapping[str, np.ndarray]) -> None:
+        save_npz_atomic(self.path(key), result)
+
+
+def _progress(total: int, initial: int, desc: str, enabled: bool):
+    if not enabled:
+        return None
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True)
+
+
+# ------------------------------------------------------------------------------------- driver
+def run_tasks(
+    tasks: Sequence[Task],
+    *,
+    setup: Callable[..., Any],
+    setup_args: tuple,
+    work: Callable[[Any, Task], dict[str, np.ndarray]],
+    reduce: Callable[[int, Task, dict[str, np.ndarray]], None],
+    workers: int | None = None,
+    executor: Executor | None = None,
+    checkpoint: Checkpoint | None = None,
+    progress: bool = True,
+    desc: str = "tasks",
+) -> dict[str, Any]:
+    """Run ``work(setup(*setup_args), task)`` for every task and call ``reduce(i, task, result)`` in
+    task order. ``setup`` and ``work`` must be module-level functions (they are sent to workers).
+
+    Returns run statistics: tasks run, tasks read from the checkpoint, workers, executor kind.
+    """
+    keys = [t.key for t in tasks]
+    if len(set(keys)) != len(keys) or not all(_KEY.match(k) for k in keys):
+        raise ValueError("task keys must be unique and file-name safe")
+    setup_key = fingerprint({"setup": f"{setup.__module__}.{setup.__qualname__}", "args": repr(setup_args)})
+    n = len(tasks)
+    results: dict[int, dict[str, np.ndarray]] = {}
+    next_reduce = 0
+
+    def deliver(i: int, result: dict[str, np.ndarray]) -> None:
+        nonlocal next_reduce
+        results[i] = result
+        while next_reduce in results:
+            reduce(next_reduce, tasks[next_reduce], results.pop(next_reduce))
+            next_reduce += 1
+
+    todo = []
+    from_checkpoint = 0
+    for i, task in enumerate(tasks):
+        if checkpoint is not None and checkpoint.done(task.key):
+            deliver(i, checkpoint.load(task.key))
+            from_checkpoint += 1
+        else:
+            todo.append(i)
+
+    bar = _progress(n, from_checkpoint, desc, progress)
+
+    def finished(i: int, result: dict[str, np.ndarray]) -> None:
+        if checkpoint is not None:
+            checkpoint.save(tasks[i].key, result)
+        deliver(i, result)
+        if bar is not None:
+            bar.update(1)
+
+    n_workers = 1 if executor is None and (workers or os.cpu_count() or 1) <= 1 else workers
+    kind = "in-process"
+    try:
+        if executor is None and n_workers == 1:
+            for i in todo:
+                finished(i, _execute(setup, setup_args, setup_key, work, tasks[i]))
+        else:
+            own = executor is None
+            if own:
+                kind = f"process pool ({n_workers or os.cpu_count()} workers)"
+                with single_threaded_blas():
+                    pool: Executor = ProcessPoolExecutor(
+                        max_workers=n_workers or os.cpu_count(), mp_context=multiprocessing.get_context("spawn")
+                    )
+                    _drain(pool, todo, tasks, setup, setup_args, setup_key, work, finished, own=True)
+            else:
+                kind = type(executor).__name__
+                _drain(executor, todo, tasks, setup, setup_args, setup_key, work, finished, own=False)
+    finally:
+        if bar is not None:
+            bar.close()
+    if next_reduce != n:  # pragma: no cover - a bug, not a user error
+        raise RuntimeError(f"only {next_reduce} of {n} task results were reduced")
+    return {"tasks": n, "tasks_run": len(todo), "tasks_from_checkpoint": from_checkpoint, "executor": kind}
+
+
+def _drain(pool: Executor, todo, tasks, setup, setup_args, setup_key, work, finished, own: bool) -> None:
+    """Submit a bounded window of tasks and hand results over as they complete."""
+    window = 4 * max(1, getattr(pool, "_max_workers", 2))
+    pending: dict[Future, int] = {}
+    queue = list(todo)
+    try:
+        while queue or pending:
+            while queue and len(pending) < window:
+                i = queue.pop(0)
+                pending[pool.submit(_execute, setup, setup_args, setup_key, work, tasks[i])] = i
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in sorted(done, key=lambda f: pending[f]):
+                i = pending.pop(fut)
+                finished(i, fut.result())
+    except BaseException:
+        for fut in pending:
+            fut.cancel()
+        if own:
+            pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    if own:
+        pool.shutdown(wait=True)
