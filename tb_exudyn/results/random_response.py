@@ -1,0 +1,150 @@
+"""RandomResponse: the statistics of every output channel over time.
+
+Mean (the deterministic response to gravity), standard deviation sigma(t), and for PEM the
+time-dependent one-sided PSD S(f, t) per Hz on the analysed band, with
+sigma^2(t) = sum_k S(f_k, t) df_k. For Monte Carlo: sample mean and standard deviation with their
+confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..scenario import Scenario, scenario_from_dict, scenario_to_toml
+from .storage import load_json, load_npz, save_json_atomic, save_npz_atomic
+
+FORMAT = "tb_exudyn.random_response/1"
+
+
+@dataclass(frozen=True, eq=False)
+class RandomResponse:
+    """Random response of every channel.
+
+    Attributes
+    ----------
+    method : 'pem' or 'monte_carlo' (or 'monte_carlo_linear' for the batched linear model)
+    time : (nt,) output times [s]; t = 0 when the first axle is at x = -lead_in
+    channels, units : channel names (DESIGN.md naming) and their units
+    mean : (nc, nt) mean response (PEM: the deterministic run with gravity, no irregularity)
+    std : (nc, nt) standard deviation over the band ``band``
+    band : (f_low, f_high) [Hz] the band sigma covers
+    freq, df : (nf,) PEM frequencies and quadrature widths [Hz] (empty for Monte Carlo)
+    psd : (nc, nf, nt) one-sided PSD per Hz [unit^2/Hz], or None when not kept
+    var_by_type : (ntypes, nc, nt) variance contributed by each irregularity type (PEM), or None
+    types : the irregularity spectra, in the order of var_by_type
+    std_ci, mean_ci : (2, nc, nt) 95 % confidence intervals (Monte Carlo), or None
+    n_samples : Monte Carlo sample count (0 for PEM)
+    min_wheel_force : (n_samples,) minimum vertical wheel-rail force per sample [N] (Monte Carlo), or None
+    scenario : the scenario it was computed for
+    provenance : versions, run time, tasks, workers, seed, engine
+    """
+
+    method: str
+    time: np.ndarray
+    channels: tuple[str, ...]
+    units: tuple[str, ...]
+    mean: np.ndarray
+    std: np.ndarray
+    band: tuple[float, float]
+    scenario: Scenario
+    freq: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    df: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    psd: np.ndarray | None = None
+    var_by_type: np.ndarray | None = None
+    types: tuple[str, ...] = ()
+    std_ci: np.ndarray | None = None
+    mean_ci: np.ndarray | None = None
+    n_samples: int = 0
+    min_wheel_force: np.ndarray | None = None
+    samples: np.ndarray | None = None
+    provenance: dict[str, Any] = field(default_factory=dict)
+
+    # ---------------------------------------------------------------- access
+    def index(self, channel: str) -> int:
+        """Row of a channel; KeyError listing close names if unknown."""
+        try:
+            return self.channels.index(channel)
+        except ValueError:
+            close = [c for c in self.channels if channel.split(".")[0] in c][:8]
+            raise KeyError(f"no channel {channel!r}; e.g. {close or list(self.channels[:8])}") from None
+
+    def select(self, patterns: str | list[str]) -> list[str]:
+        """Channel names matching glob pattern(s), in stored order."""
+        pats = [patterns] if isinstance(patterns, str) else list(patterns)
+        return [c for c in self.channels if any(fnmatch.fnmatchcase(c, p) for p in pats)]
+
+    def unit(self, channel: str) -> str:
+        return self.units[self.index(channel)]
+
+    def bounds(self, k: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
+        """mean - k sigma and mean + k sigma, each (nc, nt)."""
+        return self.mean - k * self.std, self.mean + k * self.std
+
+    def summary_rows(self, k: float = 3.0) -> list[tuple[str, str, float, float, float]]:
+        """Per channel: name, unit, max |mean|, max sigma, max |mean| + k sigma (over time)."""
+        peak = np.max(np.abs(self.mean) + k * self.std, axis=1)
+        return [
+            (c, u, float(np.max(np.abs(m))), float(np.max(s)), float(p))
+            for c, u, m, s, p in zip(self.channels, self.units, self.mean, self.std, peak)
+        ]
+
+    # ---------------------------------------------------------------- files
+    def save(self, folder: str | Path) -> Path:
+        """Write ``arrays.npz`` and ``meta.json`` into ``folder`` (atomically, arrays first)."""
+        folder = Path(folder)
+        arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
+        for name in ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples"):
+            value = getattr(self, name)
+            if value is not None:
+                arrays[name] = value
+        save_npz_atomic(folder / "arrays.npz", arrays)
+        meta = {
+            "format": FORMAT,
+            "method": self.method,
+            "channels": list(self.channels),
+            "units": list(self.units),
+            "band_hz": list(self.band),
+            "types": list(self.types),
+            "n_samples": self.n_samples,
+            "provenance": self.provenance,
+            "scenario_toml": scenario_to_toml(self.scenario),
+        }
+        save_json_atomic(folder / "meta.json", meta)
+        return folder
+
+
+def load_random_response(folder: str | Path) -> RandomResponse:
+    """Read a RandomResponse written by :meth:`RandomResponse.save`."""
+    folder = Path(folder)
+    meta = load_json(folder / "meta.json")
+    if meta.get("format") != FORMAT:
+        raise ValueError(f"{folder}: not a tb_exudyn random response (format {meta.get('format')!r})")
+    arrays = load_npz(folder / "arrays.npz")
+    scenario = scenario_from_dict(tomllib.loads(meta["scenario_toml"]), f"{folder}/meta.json")
+    return RandomResponse(
+        method=meta["method"],
+        time=arrays["time"],
+        channels=tuple(meta["channels"]),
+        units=tuple(meta["units"]),
+        mean=arrays["mean"],
+        std=arrays["std"],
+        band=tuple(meta["band_hz"]),
+        scenario=scenario,
+        freq=arrays["freq"],
+        df=arrays["df"],
+        psd=arrays.get("psd"),
+        var_by_type=arrays.get("var_by_type"),
+        types=tuple(meta["types"]),
+        std_ci=arrays.get("std_ci"),
+        mean_ci=arrays.get("mean_ci"),
+        n_samples=int(meta["n_samples"]),
+        min_wheel_force=arrays.get("min_wheel_force"),
+        samples=arrays.get("samples"),
+        provenance=meta["provenance"],
+    )
