@@ -46,11 +46,15 @@ class ModalBridge:
     frequencies : (n,) natural frequencies [Hz], ascending
     damping_ratios : (n,) modal damping ratios [-]
     length : length of track on the bridge [m]; x = 0 at the bridge start
-    mode_types : (n,) labels, e.g. 'vertical', 'lateral', 'torsion', 'pier', 'mixed'
+    mode_types : (n,) labels, e.g. 'vertical', 'lateral', 'torsion', 'longitudinal', 'pier', 'mixed'
     station_names : names of output stations, e.g. 'span1.mid', 'span1.q1', 'pier1.top'
     station_shapes : (n_stations, 3, n) shape rows (y, z, rx) of the girder axis / pier top
     rail_shape_function : callable x -> RailShapes (vectorised over x)
     effective_masses : (n, 3) effective modal masses in y, z, rx directions, if known
+    node_positions : (n_nodes, 3) positions of the finite-element nodes [m], if known (mesh for
+        visualisation and for the FFRF body)
+    node_shapes : (n_nodes, 3, n) translations (x, y, z) of those nodes per mode, if known
+    node_masses : (n_nodes,) lumped translational mass of those nodes [kg], if known
     """
 
     frequencies: np.ndarray
@@ -62,6 +66,9 @@ class ModalBridge:
     rail_shape_function: Callable[[np.ndarray], RailShapes] = field(repr=False)
     effective_masses: np.ndarray | None = None
     description: str = ""
+    node_positions: np.ndarray | None = field(default=None, repr=False)
+    node_shapes: np.ndarray | None = field(default=None, repr=False)
+    node_masses: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def n_modes(self) -> int:
@@ -92,15 +99,21 @@ class ModalBridge:
         """The same bridge with only its lowest ``n_modes`` modes."""
         n = int(n_modes)
         full = self.rail_shape_function
+        own = getattr(full, "truncated", None)  # an evaluator that can drop modes itself (faster)
+        if callable(own):
+            shapes = own(n)
+        else:
 
-        def shapes(x: np.ndarray) -> RailShapes:
-            s = full(x)
-            return RailShapes(*(a[:, :n] for a in (s.y, s.z, s.rx, s.dy, s.dz, s.drx)))
+            def shapes(x: np.ndarray) -> RailShapes:
+                s = full(x)
+                return RailShapes(*(a[:, :n] for a in (s.y, s.z, s.rx, s.dy, s.dz, s.drx)))
 
         return ModalBridge(
             self.frequencies[:n], self.damping_ratios[:n], self.length, self.mode_types[:n],
             self.station_names, self.station_shapes[:, :, :n], shapes,
             None if self.effective_masses is None else self.effective_masses[:n], self.description,
+            self.node_positions, None if self.node_shapes is None else self.node_shapes[:, :, :n],
+            self.node_masses,
         )
 
 
