@@ -1,1 +1,34 @@
-"""tb_exudyn.results."""
+"""Result types and their files: TimeHistory (one run), RandomResponse (PEM, Monte Carlo).
+
+Every result is a folder with ``arrays.npz`` (read with allow_pickle=False) and ``meta.json``
+(whose ``format`` names the type); :func:`load_results` reads any of them.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Union
+
+from .random_response import FORMAT as RANDOM_RESPONSE_FORMAT
+from .random_response import RandomResponse, load_random_response
+from .storage import load_json
+from .time_history import FORMAT as TIME_HISTORY_FORMAT
+from .time_history import TimeHistory, load_time_history
+
+__all__ = ["RandomResponse", "TimeHistory", "load_random_response", "load_results", "load_time_history"]
+
+
+def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:
+    """Load a saved result folder of any kind (time history or random response).
+
+    Raises ValueError naming the folder when its ``meta.json`` has an unknown format.
+    """
+    folder = Path(folder)
+    fmt = load_json(folder / "meta.json").get("format")
+    if fmt == TIME_HISTORY_FORMAT:
+        return load_time_history(folder)
+    if fmt == RANDOM_RESPONSE_FORMAT:
+        return load_random_response(folder)
+    raise ValueError(
+        f"{folder}: unknown result format {fmt!r} (expected {TIME_HISTORY_FORMAT!r} or {RANDOM_RESPONSE_FORMAT!r})"
+    )

@@ -16,18 +16,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-
-def _atomic(path: Path, write) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            write(fh)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+from ..atomic import write_atomic, write_text_atomic
 
 
 def save_npz_atomic(path: str | Path, arrays: Mapping[str, np.ndarray]) -> None:
@@ -35,7 +24,7 @@ def save_npz_atomic(path: str | Path, arrays: Mapping[str, np.ndarray]) -> None:
     for name, a in arrays.items():
         if np.asarray(a).dtype == object:
             raise TypeError(f"array {name!r} has dtype object: not storable without pickle")
-    _atomic(Path(path), lambda fh: np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()}))
+    write_atomic(Path(path), lambda fh: np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()}))
 
 
 def load_npz(path: str | Path) -> dict[str, np.ndarray]:
@@ -45,15 +34,15 @@ def load_npz(path: str | Path) -> dict[str, np.ndarray]:
 
 
 def save_json_atomic(path: str | Path, meta: Mapping[str, Any]) -> None:
-    text = json.dumps(meta, indent=2, sort_keys=True, default=_json_default)
-    _atomic(Path(path), lambda fh: fh.write(text.encode("utf-8")))
+    text = json.dumps(meta, indent=2, sort_keys=True, default=json_default)
+    write_text_atomic(path, text)
 
 
 def load_json(path: str | Path) -> dict[str, Any]:
     return json.loads(Path(path).read_text(encoding="utf-8"))
 
 
-def _json_default(obj: Any) -> Any:
+def json_default(obj: Any) -> Any:
     if isinstance(obj, (np.integer,)):
         return int(obj)
     if isinstance(obj, (np.floating,)):

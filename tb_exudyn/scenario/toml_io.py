@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 import tomllib
 from pathlib import Path
 from typing import Any
 
+from ..atomic import write_text_atomic  # noqa: F401  (re-exported for scenario.io)
 from .errors import ScenarioError
 
 
@@ -68,18 +67,3 @@ def dumps_toml(data: dict, header: str = "") -> str:
     lines = [f"# {h}" for h in header.splitlines()] if header else []
     _write_table(lines, data, "")
     return "\n".join(lines).lstrip("\n") + "\n"
-
-
-def write_text_atomic(path: Path, text: str) -> None:
-    """Write a file so that it is either the old or the whole new content, never half of it."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise

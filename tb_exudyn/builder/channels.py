@@ -1,0 +1,149 @@
+"""Output channels: names, units, glob selection, and their values from recorded coordinates.
+
+Pure numpy, no Exudyn. A channel name says where and what:
+
+    bridge.<station>.<quantity>_<component>     e.g. bridge.span1.mid.acc_z
+    car<k>.body.<quantity>_<component>          car body (car15) or sprung mass (z only)
+    car<k>.bogie<i>.<quantity>_<component>      car15 bogies, i = 1 (leading), 2
+    car<k>.axle<j>.<quantity>_<component>       wheelsets (y, z, rx) and sprung-mass wheels (z)
+    car<k>.axle<j>.left.force_z, .right.force_z vertical wheel-rail force per wheel (car15)
+    car<k>.axle<j>.force_y                      lateral wheel-rail force per wheelset (car15)
+    car<k>.axle1.force_z                        the wheel load of a sprung mass or moving force
+
+quantity: ``disp`` [m or rad], ``vel`` [m/s or rad/s], ``acc`` [m/s^2 or rad/s^2];
+component: ``y``, ``z`` (translations, y left, z up), ``rx``, ``ry``, ``rz`` (rotations about x,
+y, z: roll, pitch, yaw; right-handed). Displacements are measured from the unloaded reference
+configuration (they include the static sag under gravity). Vehicles are numbered car1, car2, ...
+in running order whatever their kind.
+
+Force signs: ``force_z`` is the force the rail exerts on the wheel upward, i.e. the compressive
+wheel load (positive = the rail is pushed down); ``force_y`` is the force the rail exerts on the
+wheelset toward +y (left); the rail receives the opposite force.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+QUANTITIES: tuple[str, ...] = ("disp", "vel", "acc")
+_UNITS = {
+    True: ("m", "m/s", "m/s^2"),  # translation
+    False: ("rad", "rad/s", "rad/s^2"),  # rotation
+}
+BRIDGE_COMPONENTS: tuple[str, ...] = ("y", "z", "rx")
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One output channel.
+
+    ``source``: "node" (a node coordinate: ``index`` = node, ``coordinate`` = its coordinate),
+    "bridge" (``index`` = station, ``coordinate`` = row y/z/rx of the station shapes),
+    "contact" (``index`` = contact row) or "load" (``index`` = moving point load).
+    ``order``: 0 displacement, 1 velocity, 2 acceleration (node and bridge channels).
+    """
+
+    name: str
+    unit: str
+    source: str
+    index: int
+    coordinate: int = 0
+    order: int = 0
+
+
+def _motion_channels(prefix: str, source: str, index: int, components: Iterable[tuple[str, int]]) -> list[Channel]:
+    components = tuple(components)
+    out = []
+    for order, quantity in enumerate(QUANTITIES):
+        for label, coord in components:
+            unit = _UNITS[label in ("y", "z")][order]
+            out.append(Channel(f"{prefix}.{quantity}_{label}", unit, source, index, coord, order))
+    return out
+
+
+def catalogue(
+    station_names: Sequence[str],
+    bodies: Sequence[tuple[str, int, Sequence[tuple[str, int]]]],
+    contact_names: Sequence[str],
+    load_names: Sequence[str],
+) -> list[Channel]:
+    """Every channel of a model, bridge first, then vehicles in running order.
+
+    ``bodies``: (name, node, ((component, node coordinate), ...)) per output body.
+    """
+    out: list[Channel] = []
+    for s, station in enumerate(station_names):
+        out += _motion_channels(f"bridge.{station}", "bridge", s, tuple((c, i) for i, c in enumerate(BRIDGE_COMPONENTS)))
+    for name, node, comps in bodies:
+        out += _motion_channels(name, "node", node, comps)
+    out += [Channel(n, "N", "contact", i) for i, n in enumerate(contact_names)]
+    out += [Channel(n, "N", "load", i) for i, n in enumerate(load_names)]
+    return _vehicle_order(out)
+
+
+def _vehicle_order(channels: list[Channel]) -> list[Channel]:
+    """Bridge channels first, then each car's channels together (stable within a car)."""
+
+    def key(ch: Channel) -> tuple[int, int]:
+        head = ch.name.split(".", 1)[0]
+        if head == "bridge":
+            return (0, 0)
+        digits = head[3:] if head.startswith("car") else ""
+        return (1, int(digits) if digits.isdigit() else 0)
+
+    return sorted(channels, key=key)
+
+
+def select(channels: Sequence[Channel], patterns: Sequence[str]) -> list[Channel]:
+    """The channels whose names match any of the glob ``patterns`` (in catalogue order).
+
+    Raises ValueError naming the pattern when a pattern matches no channel.
+    """
+    names = [c.name for c in channels]
+    keep = set()
+    for pattern in patterns:
+        hits = fnmatch.filter(names, pattern)
+        if not hits:
+            sample = ", ".join(names[:6]) + (", ..." if len(names) > 6 else "")
+            raise ValueError(f"channel pattern {pattern!r} matches no channel of this model (channels: {sample})")
+        keep.update(hits)
+    return [c for c in channels if c.name in keep]
+
+
+@dataclass(frozen=True)
+class Recording:
+    """Recorded coordinates at the output times.
+
+    ``nodes[node] = (disp, vel, acc)``, each (n_t, n_coords) (node coordinates without
+    reference values); ``contact_forces`` (n_t, n_c) and ``load_forces`` (n_t, n_l) [N].
+    """
+
+    times: NDArray[np.float64]
+    nodes: dict[int, tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]]
+    bridge_node: int
+    contact_forces: NDArray[np.float64]
+    load_forces: NDArray[np.float64]
+
+
+def evaluate(channels: Sequence[Channel], rec: Recording, station_shapes: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
+    """Channel name -> (n_t,) values from a recording (``station_shapes``: (n_st, 3, n_modes))."""
+    out: dict[str, NDArray[np.float64]] = {}
+    bridge = rec.nodes.get(rec.bridge_node)
+    for ch in channels:
+        if ch.source == "node":
+            out[ch.name] = np.ascontiguousarray(rec.nodes[ch.index][ch.order][:, ch.coordinate])
+        elif ch.source == "bridge":
+            assert bridge is not None
+            out[ch.name] = bridge[ch.order] @ station_shapes[ch.index, ch.coordinate]
+        elif ch.source == "contact":
+            out[ch.name] = np.ascontiguousarray(rec.contact_forces[:, ch.index])
+        elif ch.source == "load":
+            out[ch.name] = np.ascontiguousarray(rec.load_forces[:, ch.index])
+        else:  # pragma: no cover - catalogue only makes the four kinds
+            raise ValueError(f"unknown channel source {ch.source!r}")
+    return out

@@ -1,0 +1,416 @@
+"""Build a scenario into an Exudyn system: the train-bridge model, built once, excited many times.
+
+The model: the bridge as one modal body (mass-normalised modes: M = I, K = diag w^2,
+D = diag 2 zeta w), the vehicles as rigid bodies and spring-dampers in a frame moving with the
+train (:mod:`.vehicles`), and ONE ObjectGenericODE2 over the bridge's modal node and all wheel
+nodes whose force and Jacobian user functions call the plain-numpy :class:`WheelRailCoupling`
+(:mod:`.coupling`). Off the bridge the rail is rigid.
+
+A built model is re-run without rebuilding: :meth:`TrainBridgeModel.set_excitation` swaps the
+irregularity input (data the coupling reads), :meth:`TrainBridgeModel.set_gravity` switches the
+dead loads, :meth:`TrainBridgeModel.reset` sets the initial state (static equilibrium on the
+approach track, or rest).
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+from typing import Literal
+
+import exudyn as exu
+import numpy as np
+import scipy.sparse as sp
+from exudyn import itemInterface as ei
+from numpy.typing import NDArray
+
+from ..scenario.model import Car15, MovingForce, Scenario, SimpleBeam, SprungMass
+from ..structure.modal import ModalBridge, simply_supported_modes
+from . import channels as chan
+from .bridge_body import add_modal_bridge_body
+from .coupling import WheelRailCoupling
+from .excitation import Excitation, as_excitation
+from .vehicles import BuildOptions, TrainParts, add_car15, add_moving_force, add_sprung_mass
+
+#: fewest time steps per period of the stiffest contact mode before a warning
+CONTACT_STEPS_PER_PERIOD = 4.0
+#: fewest time steps on the approach track before the first axle reaches the bridge (else: error)
+MIN_LEAD_IN_STEPS = 10
+
+
+# ============================================================================================
+# bridge
+
+
+def bridge_modes(scenario: Scenario) -> ModalBridge:
+    """The scenario's bridge as a modal model.
+
+    Uses ``tb_exudyn.structure.modal_bridge`` (finite elements) when it exists, else the closed
+    form of uniform simply supported spans for a :class:`SimpleBeam` (EI_vertical = E I_y,
+    EI_lateral = E I_z, GJ = G J). Modes up to ``analysis.mode_max_frequency``, at most
+    ``analysis.max_modes`` (0: no limit).
+    """
+    an = scenario.analysis
+    try:
+        from ..structure import modal_bridge  # type: ignore[attr-defined]
+    except ImportError:
+        modal_bridge = None
+    if modal_bridge is not None:
+        return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    br = scenario.bridge
+    if isinstance(br, SimpleBeam):
+        gd = br.girder
+        return simply_supported_modes(
+            br.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
+            mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
+            damping_ratio=br.damping_ratio, max_frequency=an.mode_max_frequency,
+            track_offset=br.track_offset, track_height=br.track_height, max_modes=an.max_modes,
+        )
+    raise NotImplementedError(
+        f"bridge {br.name!r} of kind {br.kind!r} needs the finite-element model "
+        "(tb_exudyn.structure.modal_bridge), which is not available"
+    )
+
+
+def _sparse_zero(n: int) -> exu.MatrixContainer:
+    """An n x n all-zero matrix in sparse form (the coupling object has no mass of its own; a
+    dense zero matrix made every residual evaluation multiply it, 30 % of the run time)."""
+    mc = exu.MatrixContainer()
+    mc.SetWithSparseMatrix(sp.csr_matrix((n, n)))
+    return mc
+
+
+# ============================================================================================
+# checks
+
+
+def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicle_frequencies: list[float]) -> list[str]:
+    """Warnings about a scenario's resolution; raises ValueError for a scenario that cannot run.
+
+    Errors: the first axle reaches the bridge within ``MIN_LEAD_IN_STEPS`` time steps (no
+    approach track to start on). Warnings: the approach is shorter than one period of the
+    slowest vehicle mode (a run started at rest, as pseudo-excitation and Monte Carlo runs are,
+    has not settled when it reaches the bridge); the time step gives fewer than
+    ``CONTACT_STEPS_PER_PERIOD`` steps per period of the stiffest wheel-rail contact mode
+    (sqrt(k_contact / wheel mass) / 2 pi); or fewer than 10 per period of the analysed band's
+    upper frequency (``analysis.freq_max``).
+    """
+    an, v = scenario.analysis, scenario.speed
+    dt = an.time_step
+    out: list[str] = []
+    t_in = scenario.track.lead_in / v
+    if t_in < MIN_LEAD_IN_STEPS * dt:
+        raise ValueError(
+            f"track.lead_in = {scenario.track.lead_in:g} m leaves the train {t_in:.3g} s "
+            f"(< {MIN_LEAD_IN_STEPS} time steps of {dt:g} s) before its first axle reaches the bridge: "
+            "the vehicles need approach track to start on and settle; use a lead-in of at least "
+            f"{v / min(vehicle_frequencies or [1.0]):.3g} m (one period of the slowest vehicle mode at this speed)"
+        )
+    if vehicle_frequencies:
+        f_min = min(vehicle_frequencies)
+        if t_in * f_min < 1.0:
+            out.append(
+                f"track.lead_in = {scenario.track.lead_in:g} m: the first axle reaches the bridge after "
+                f"{t_in:.3g} s, less than one period ({1 / f_min:.3g} s) of the slowest vehicle mode "
+                f"({f_min:.3g} Hz); runs that start at rest (pseudo-excitation, Monte Carlo) have not "
+                f"settled on the approach: use track.lead_in >= {v / f_min:.3g} m"
+            )
+    if contact_frequencies:
+        f_c = max(contact_frequencies)
+        if f_c * dt * CONTACT_STEPS_PER_PERIOD > 1.0:
+            out.append(
+                f"analysis.time_step = {dt:g} s resolves the wheel-rail contact mode "
+                f"(sqrt(k_contact / wheel mass) / 2 pi = {f_c:.4g} Hz) with only {1 / (f_c * dt):.2g} steps "
+                f"per period (< {CONTACT_STEPS_PER_PERIOD:g}): use time_step <= "
+                f"{1 / (CONTACT_STEPS_PER_PERIOD * f_c):.3g} s or a smaller contact stiffness"
+            )
+    if an.freq_max * dt * 10.0 > 1.0 + 1e-12:
+        out.append(
+            f"analysis.time_step = {dt:g} s gives fewer than 10 steps per period at the band's upper "
+            f"frequency freq_max = {an.freq_max:g} Hz"
+        )
+    return out
+
+
+# ============================================================================================
+# the model
+
+
+@dataclass(frozen=True)
+class NodeRecord:
+    """The sensors recording one node (displacement, velocity, acceleration)."""
+
+    node: int
+    sensors: tuple[int, int, int]
+
+
+class TrainBridgeModel:
+    """A scenario built into an Exudyn system (build with :func:`build_model`).
+
+    Attributes
+    ----------
+    scenario, bridge : the scenario and its modal bridge
+    mbs : the Exudyn MainSystem (its SystemContainer is kept alive by the model)
+    coupling : the wheel-rail coupling (plain numpy; also usable by other integrators)
+    channels : every channel of the model; ``selected``: those matching analysis.channels
+    warnings : scenario warnings found while building
+    """
+
+    def __init__(self, scenario: Scenario, bridge: ModalBridge, options: BuildOptions) -> None:
+        self.scenario = scenario
+        self.bridge = bridge
+        self.options = options
+        self.system_container = exu.SystemContainer()
+        self.mbs = self.system_container.AddSystem()
+        self.gravity_on = True
+        self.warnings: list[str] = []
+        self._build()
+
+    # ------------------------------------------------------------------ building
+    def _build(self) -> None:
+        sc, mbs = self.scenario, self.mbs
+        an = sc.analysis
+        ground_node = mbs.AddNode(ei.NodePointGround(visualization=ei.VNodePointGround(show=False)))
+        ground_marker = mbs.AddMarker(ei.MarkerNodeCoordinate(nodeNumber=ground_node, coordinate=0))
+        self.bridge_body = add_modal_bridge_body(mbs, self.bridge, variant="generic")
+        self.bridge_node = int(self.bridge_body.node)
+        parts = TrainParts(
+            ground_marker=ground_marker, gravity=an.gravity, options=self.options,
+            half_gauge=sc.track.half_gauge, contact_stiffness_z=an.contact_stiffness_z,
+            contact_stiffness_y=an.contact_stiffness_y,
+        )
+        axle_offsets = np.asarray(sc.train.axle_positions, dtype=float)
+        axle = 0
+        for k, veh in enumerate(sc.train.vehicles):
+            prefix = f"car{k + 1}"
+            if isinstance(veh, Car15):
+                add_car15(mbs, parts, veh, prefix, axle, -axle_offsets[axle])
+            elif isinstance(veh, SprungMass):
+                add_sprung_mass(mbs, parts, veh, prefix, axle)
+            elif isinstance(veh, MovingForce):
+                add_moving_force(parts, veh, prefix, axle)
+            else:  # pragma: no cover - Vehicle is a closed union
+                raise TypeError(f"unknown vehicle type {type(veh).__name__}")
+            axle += len(veh.axle_offsets)
+        self.parts = parts
+        self.warnings = scenario_checks(sc, parts.contact_frequencies, parts.vehicle_frequencies)
+        self._add_coupling(axle_offsets)
+        self._add_sensors()
+        self.channels = chan.catalogue(
+            self.bridge.station_names,
+            [(b.name, b.node, b.components) for b in parts.bodies],
+            self.contact_names, parts.load_names,
+        )
+        self.selected = chan.select(self.channels, an.channels)
+        mbs.Assemble()
+        self.n_ode2 = mbs.systemData.ODE2Size()
+        self._static_cache: dict[tuple[float, bool], NDArray[np.float64]] = {}
+
+    def _add_coupling(self, axle_offsets: NDArray[np.float64]) -> None:
+        """The wheel-rail coupling: ONE ObjectGenericODE2 over [bridge node, wheel nodes] whose
+        user functions call the numpy coupling (forces of all wheels at once, analytic Jacobian)."""
+        sc, mbs, parts = self.scenario, self.mbs, self.parts
+        offsets, n_w = {}, 0
+        for node, n_coords in parts.wheel_nodes:
+            offsets[node] = n_w
+            n_w += n_coords
+        layout = parts.contacts.layout(offsets, n_w)
+        axle_start = -sc.track.lead_in - axle_offsets
+        self.coupling = WheelRailCoupling(
+            self.bridge, axle_start, sc.speed, layout, parts.load_axle, parts.load_force,
+            half_gauge=sc.track.half_gauge,
+        )
+        self.contact_names = tuple(parts.contacts.names)
+        coupling = self.coupling
+
+        def force_uf(mbs_, t, item, q, q_t):  # noqa: ANN001 - Exudyn's signature
+            return coupling.forces(t, np.asarray(q), np.asarray(q_t))
+
+        def jacobian_uf(mbs_, t, item, q, q_t, f_q, f_qt):  # noqa: ANN001
+            K, D = coupling.jacobians(t)
+            return f_q * K + f_qt * D
+
+        self._user_functions = (force_uf, jacobian_uf)  # keep alive
+        self.coupling_object = mbs.AddObject(ei.ObjectGenericODE2(
+            nodeNumbers=[self.bridge_node] + [n for n, _ in parts.wheel_nodes],
+            massMatrix=_sparse_zero(coupling.n),
+            forceUserFunction=force_uf, jacobianUserFunction=jacobian_uf,
+            visualization=ei.VObjectGenericODE2(show=False)))
+
+    def _add_sensors(self) -> None:
+        """Displacement, velocity and acceleration sensors (stored internally, written at the
+        output step) on the bridge's modal node and every vehicle node."""
+        mbs, parts = self.mbs, self.parts
+        nodes = [self.bridge_node] + [b.node for b in parts.bodies]
+        nodes += [n for n, _ in parts.wheel_nodes if n not in nodes]
+        self.records: dict[int, NodeRecord] = {}
+        kinds = (exu.OutputVariableType.Coordinates, exu.OutputVariableType.Coordinates_t,
+                 exu.OutputVariableType.Coordinates_tt)
+        for node in nodes:
+            sensors = tuple(
+                mbs.AddSensor(ei.SensorNode(nodeNumber=node, storeInternal=True, writeToFile=False,
+                                            outputVariableType=kind, visualization=ei.VSensorNode(show=False)))
+                for kind in kinds
+            )
+            self.records[node] = NodeRecord(node, sensors)  # type: ignore[arg-type]
+
+    # ------------------------------------------------------------------ excitation, loads
+    def set_excitation(self, excitation: Excitation | None) -> None:
+        """Use a new irregularity input from the next run on (no rebuild)."""
+        new = as_excitation(excitation)
+        if new == self.coupling.excitation:
+            return
+        self.coupling.set_excitation(new)
+        self._static_cache.clear()
+
+    @property
+    def excitation(self) -> Excitation:
+        return self.coupling.excitation
+
+    def set_gravity(self, on: bool) -> None:
+        """Switch the dead loads (gravity on every body and the moving point loads)."""
+        self.gravity_on = bool(on)
+        for load, param, value in self.parts.gravity_loads:
+            zero = [0.0, 0.0, 0.0] if isinstance(value, list) else 0.0
+            self.mbs.SetLoadParameter(load, param, value if on else zero)
+        self.coupling.load_factor = 1.0 if on else 0.0
+
+    # ------------------------------------------------------------------ indices, matrices
+    def node_indices(self, node: int) -> NDArray[np.int64]:
+        """Global ODE2 indices of a node's coordinates."""
+        return np.asarray(self.mbs.systemData.GetNodeLTGODE2(node), dtype=np.int64)
+
+    def coupling_indices(self) -> NDArray[np.int64]:
+        """Global ODE2 indices of the coupling's local coordinates u = [q_b; q_w]."""
+        return np.asarray(self.mbs.systemData.GetObjectLTGODE2(self.coupling_object), dtype=np.int64)
+
+    def _set_initial(self, q: NDArray[np.float64], qd: NDArray[np.float64]) -> None:
+        initial = exu.ConfigurationType.Initial
+        self.mbs.systemData.SetODE2Coordinates(q.tolist(), configuration=initial)
+        self.mbs.systemData.SetODE2Coordinates_t(qd.tolist(), configuration=initial)
+        self.mbs.systemData.SetODE2Coordinates_tt(np.zeros(self.n_ode2).tolist(), configuration=initial)
+
+    def linearized_system(self, t: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """M, K, D of the whole system linearised at the reference configuration, with the train
+        standing at its positions of time t (no convective terms). Sets the initial state to rest."""
+        zero = np.zeros(self.n_ode2)
+        self._set_initial(zero, zero)
+        with self.coupling.frozen(t):
+            M, K, D = self.mbs.ComputeLinearizedSystem(exu.SimulationSettings())
+        return np.asarray(M), np.asarray(K), np.asarray(D)
+
+    def dead_load(self, t: float = 0.0) -> NDArray[np.float64]:
+        """Generalised static load vector: gravity (if on), point loads and the irregularity
+        input of the train standing at its positions of time t."""
+        F = np.zeros(self.n_ode2)
+        if self.gravity_on:
+            for node, coord, w in self.parts.weights:
+                F[self.node_indices(node)[coord]] += w
+        F[self.coupling_indices()] += self.coupling.static_force(t)
+        return F
+
+    def static_state(self, t: float = 0.0) -> NDArray[np.float64]:
+        """Static equilibrium (global ODE2 displacements) of the train standing at its positions of
+        time t: an exact linear solve K u = F (the suspensions and contacts are linear; the weak
+        springs make K regular). Cached until the excitation or gravity changes."""
+        key = (float(t), self.gravity_on)
+        if key not in self._static_cache:
+            _, K, _ = self.linearized_system(t)
+            self._static_cache[key] = np.linalg.solve(K, self.dead_load(t))
+        return self._static_cache[key].copy()
+
+    def reset(self, initial: Literal["static", "rest"] = "static") -> None:
+        """Initial state of the next run.
+
+        "static": static equilibrium of the train standing on the approach track at its t = 0
+        positions under the dead loads (if on) and the irregularity there, with the wheels moving
+        with the rail (their velocities follow the input rate at t = 0, so the stiff contact starts
+        without a jolt); the bridge, which no wheel is on, unloaded at rest. "rest": every
+        coordinate and velocity zero.
+        """
+        zero = np.zeros(self.n_ode2)
+        if initial == "static":
+            self._set_initial(self.static_state(0.0), self._rail_following_velocities())
+        elif initial == "rest":
+            self._set_initial(zero, zero)
+        else:
+            raise ValueError(f"initial must be 'static' or 'rest', got {initial!r}")
+
+    def _rail_following_velocities(self) -> NDArray[np.float64]:
+        """Velocities with every wheel moving as the rail input at t = 0 (zero gap rate), least squares."""
+        v = np.zeros(self.n_ode2)
+        st = self.coupling.contact_state(0.0)
+        if self.coupling.n_wheel and np.any(st.r_dot):
+            w_dot = np.linalg.lstsq(self.coupling.contacts.wheel_map, st.r_dot, rcond=None)[0]
+            v[self.coupling_indices()[self.coupling.n_bridge:]] = w_dot
+        return v
+
+    # ------------------------------------------------------------------ outputs
+    def recording(self) -> chan.Recording:
+        """The sensor data of the last run as a :class:`channels.Recording` (with contact forces)."""
+        nodes = {}
+        times = None
+        for node, rec in self.records.items():
+            data = [np.asarray(self.mbs.GetSensorStoredData(s)) for s in rec.sensors]
+            if times is None:
+                times = data[0][:, 0].copy()
+            nodes[node] = tuple(d[:, 1:] for d in data)
+        assert times is not None
+        nb = self.coupling.n_bridge
+        qb, qdb, _ = nodes[self.bridge_node]
+        wheel = [nodes[n] for n, _ in self.parts.wheel_nodes]
+        if wheel:
+            qw = np.hstack([w[0] for w in wheel])
+            qdw = np.hstack([w[1] for w in wheel])
+        else:
+            qw = qdw = np.zeros((times.size, 0))
+        forces = self.coupling.contact_force_history(times, qb[:, :nb], qdb[:, :nb], qw, qdw)
+        return chan.Recording(times=times, nodes=nodes, bridge_node=self.bridge_node,  # type: ignore[arg-type]
+                              contact_forces=forces, load_forces=self.coupling.point_load_history(times))
+
+    def channel_values(self, rec: chan.Recording, patterns: tuple[str, ...] | None = None) -> dict[str, NDArray[np.float64]]:
+        """Values of the selected channels (or of those matching ``patterns``)."""
+        selected = self.selected if patterns is None else chan.select(self.channels, patterns)
+        return chan.evaluate(selected, rec, self.bridge.station_shapes)
+
+    def channel_units(self) -> dict[str, str]:
+        return {c.name: c.unit for c in self.channels}
+
+
+def build_model(
+    scenario: Scenario,
+    excitation: Excitation | None = None,
+    *,
+    modal_bridge: ModalBridge | None = None,
+    options: BuildOptions | None = None,
+    warn: bool = True,
+) -> TrainBridgeModel:
+    """Build a scenario into an Exudyn train-bridge model.
+
+    Parameters
+    ----------
+    scenario : the scenario (train, bridge, track, speed, analysis settings)
+    excitation : irregularity input (None: smooth track); change later with ``set_excitation``
+    modal_bridge : use these bridge modes instead of :func:`bridge_modes` (e.g. closed-form modes)
+    options : modelling choices (contact damping, weak springs)
+    warn : issue the scenario's warnings with ``warnings.warn``
+
+    Returns
+    -------
+    TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
+    """
+    bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
+    model = TrainBridgeModel(scenario, bridge, options or BuildOptions())
+    if excitation is not None:
+        model.set_excitation(excitation)
+    if warn:
+        for message in model.warnings:
+            warnings.warn(message, stacklevel=2)
+    return model
+
+
+def channel_list(scenario: Scenario, modal_bridge: ModalBridge | None = None) -> list[tuple[str, str]]:
+    """(name, unit) of every output channel of a scenario's model, in output order (for listings;
+    ``analysis.channels`` then selects among them with glob patterns)."""
+    model = build_model(scenario, modal_bridge=modal_bridge, warn=False)
+    return [(c.name, c.unit) for c in model.channels]
