@@ -1,0 +1,16 @@
+"""Figures of results (matplotlib is imported only in this package).
+
+Compute and plot stay apart: the solvers return results, :mod:`.data` turns them into what a figure
+shows (no matplotlib), and each ``plot_*`` function takes a result and returns a new
+:class:`matplotlib.figure.Figure` (object-oriented API: no backend is set, nothing goes to pyplot).
+:func:`plot_folder` writes the standard figures of saved results.
+"""
+
+from .data import KEY_CHANNELS, Crossing, crossing_times, psd_slices, select_channels
+from .figures import mark_crossing, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history
+from .files import plot_folder, save_figure
+
+__all__ = [
+    "Crossing", "KEY_CHANNELS", "crossing_times", "mark_crossing", "plot_bounds", "plot_folder", "plot_pem_vs_mc",
+    "plot_psd_map", "plot_psd_slices", "plot_time_history", "psd_slices", "save_figure", "select_channels",
+]

@@ -1,0 +1,164 @@
+"""Every plot function returns a Figure with the expected axes, labels and data (synthetic results)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.collections import PolyCollection, QuadMesh
+from matplotlib.colors import LogNorm
+from matplotlib.figure import Figure
+
+from tb_exudyn.plotting import (
+    crossing_times, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history, select_channels,
+)
+
+CH = "car1.body.acc_y"
+# quick scenario: lead-in 30 m, one 32 m span, one ICE car (last axle 19.875 m behind the first), 250 km/h
+V = 250 / 3.6
+EVENTS = {"first_on": 30 / V, "first_off": 62 / V, "last_on": 49.875 / V, "last_off": 81.875 / V}
+
+
+def _crossing_lines(ax):
+    return {ln.get_gid().split(".")[1]: ln.get_xdata()[0] for ln in ax.lines if (ln.get_gid() or "").startswith("crossing.")}
+
+
+def _line(ax, gid):
+    (line,) = [ln for ln in ax.lines if ln.get_gid() == gid]
+    return line
+
+
+def test_crossing_times_follow_the_axle_positions(pem):
+    c = crossing_times(pem.scenario)
+    for key, t in EVENTS.items():
+        assert getattr(c, key) == pytest.approx(t, rel=1e-12)
+    assert c.position(c.first_on) == pytest.approx(0.0, abs=1e-12)
+    assert c.position(c.first_off) == pytest.approx(32.0)
+    assert c.time_at(-30.0) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_psd_map(pem):
+    fig = plot_psd_map(pem, CH)
+    assert isinstance(fig, Figure)
+    ax = fig.axes[0]
+    (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
+    S = pem.psd[pem.index(CH)]
+    shown = np.ma.asarray(mesh.get_array()).reshape(S.shape)
+    assert np.array_equal(shown.compressed(), S[S > 0])
+    assert shown.mask[-1].all() and not shown.mask[:-1].any()  # zero PSD (outside the band) left blank
+    assert isinstance(mesh.norm, LogNorm) and mesh.norm.vmax == S.max()
+    assert ax.get_ylim() == pytest.approx(pem.band)  # cells are the PEM quadrature cells
+    assert ax.get_xlabel() == "time t [s]" and ax.get_ylabel() == "frequency f [Hz]"
+    assert CH in ax.get_title() and "0-12 Hz" in ax.get_title()
+    assert fig.axes[1].get_ylabel() == "S [(m/s^2)^2/Hz]"  # the colour bar
+    assert _crossing_lines(ax) == pytest.approx(EVENTS)
+
+
+def test_psd_map_needs_a_psd(mc):
+    with pytest.raises(ValueError, match="no PSD map"):
+        plot_psd_map(mc, CH)
+
+
+def test_psd_slices_default_is_the_time_of_max_sigma(pem):
+    row = pem.index(CH)
+    i = int(np.argmax(pem.std[row]))
+    ax = plot_psd_slices(pem, CH).axes[0]
+    (line,) = ax.lines
+    expected = pem.psd[row, :, i]
+    assert np.array_equal(line.get_xdata(), pem.freq)
+    assert np.array_equal(line.get_ydata()[:-1], expected[:-1]) and np.isnan(line.get_ydata()[-1])
+    assert f"t = {pem.time[i]:.4g} s" in line.get_label() and f"{pem.std[row, i]:.3g} m/s^2" in line.get_label()
+    assert ax.get_yscale() == "log" and ax.get_xlabel() == "frequency f [Hz]"
+
+
+def test_psd_slices_at_given_times_take_the_nearest_output_time(pem):
+    ax = plot_psd_slices(pem, CH, times=[0.2, 0.504]).axes[0]
+    assert len(ax.lines) == 2
+    i = int(np.argmin(np.abs(pem.time - 0.504)))
+    assert pem.time[i] == pytest.approx(0.5)
+    assert np.array_equal(ax.lines[1].get_ydata()[:-1], pem.psd[pem.index(CH), :-1, i])
+
+
+def test_bounds(pem):
+    fig = plot_bounds(pem, "car1.axle1.force_y", k=2.5)
+    ax = fig.axes[0]
+    r = pem.index("car1.axle1.force_y")
+    assert np.array_equal(_line(ax, "mean").get_ydata(), pem.mean[r])
+    assert np.allclose(_line(ax, "upper").get_ydata(), pem.mean[r] + 2.5 * pem.std[r], rtol=0, atol=1e-9)
+    assert np.allclose(_line(ax, "lower").get_ydata(), pem.mean[r] - 2.5 * pem.std[r], rtol=0, atol=1e-9)
+    assert ax.get_ylabel() == "car1.axle1.force_y [N]"
+    assert "PEM" in ax.get_title() and "0-12 Hz" in ax.get_title()
+    assert _crossing_lines(ax) == pytest.approx(EVENTS)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "mean +- 2.5 sigma" in labels and "first axle enters" in labels and "last axle leaves" in labels
+
+
+def test_bounds_with_samples(mc):
+    ax = plot_bounds(mc, CH, samples=True).axes[0]
+    grey = [ln for ln in ax.lines if ln.get_gid() is None]
+    assert len(grey) == mc.n_samples
+    assert np.array_equal(grey[2].get_ydata(), mc.samples[2, mc.index(CH)])
+    own = np.zeros((3, mc.time.size))  # an explicit (n, nt) array
+    assert len([ln for ln in plot_bounds(mc, CH, samples=own).axes[0].lines if ln.get_gid() is None]) == 3
+    with pytest.raises(ValueError, match="samples must be"):
+        plot_bounds(mc, CH, samples=np.zeros((3, 7)))
+
+
+def test_pem_vs_mc(pem, mc):
+    fig = plot_pem_vs_mc(pem, mc, CH)
+    ax_m, ax_s = fig.axes[:2]
+    r = pem.index(CH)
+    labels = [ln.get_label() for ln in ax_s.lines]
+    assert "MC5 (0-12 Hz)" in labels and "PEM (0-12 Hz)" in labels
+    assert np.array_equal(ax_s.lines[0].get_ydata(), pem.std[r])
+    assert np.array_equal(ax_m.lines[0].get_ydata(), pem.mean[r])
+    (band,) = [c for c in ax_s.collections if isinstance(c, PolyCollection)]
+    y = band.get_paths()[0].vertices[:, 1]
+    assert y.min() == pytest.approx(mc.std_ci[0, r].min()) and y.max() == pytest.approx(mc.std_ci[1, r].max())
+    assert ax_m.get_ylabel() == "mean [m/s^2]" and ax_s.get_ylabel() == "sigma [m/s^2]"
+    assert ax_s.get_xlabel() == "time t [s]"
+    # several Monte Carlo runs (MC500 and MC2500 in the reference study)
+    two = plot_pem_vs_mc(pem, [mc, mc], CH)
+    assert len(two.axes[1].lines) - len(_crossing_lines(two.axes[1])) == 3
+
+
+def test_time_history(th):
+    fig = plot_time_history(th, ["bridge.*", "car1.axle1.force_y"])
+    axes = [ax for ax in fig.axes if ax.get_ylabel()]
+    assert len(axes) == 2
+    assert [ax.get_title(loc="left") for ax in axes] == ["bridge.span1.mid.acc_z", "car1.axle1.force_y"]
+    assert [ax.get_ylabel() for ax in axes] == ["[m/s^2]", "[N]"]
+    assert np.array_equal(_line(axes[1], "history").get_ydata(), th["car1.axle1.force_y"])
+    assert _crossing_lines(axes[0]) == pytest.approx(EVENTS)
+    single = plot_time_history(th, "car1.body.acc_y").axes[0]
+    assert single.get_ylabel() == "car1.body.acc_y [m/s^2]"
+    with pytest.raises(KeyError, match="matches no channel"):
+        plot_time_history(th, "car9.*")
+
+
+def test_figures_stay_out_of_pyplot_and_accept_a_given_figure(pem):
+    before = plt.get_fignums()
+    plot_bounds(pem, CH)
+    assert plt.get_fignums() == before
+    fig = plt.figure()
+    try:
+        assert plot_bounds(pem, CH, fig=fig) is fig
+    finally:
+        plt.close(fig)
+
+
+def test_default_channels_are_the_key_channels(pem):
+    assert select_channels(pem) == ["bridge.span1.mid.acc_z", "car1.body.acc_y", "car1.axle1.force_y",
+                                    "car1.axle1.left.force_z"]
+    assert select_channels(pem, "car1.axle1.*") == ["car1.axle1.force_y", "car1.axle1.left.force_z"]
+
+
+def test_matplotlib_is_imported_only_in_the_plotting_package():
+    root = Path(__file__).resolve().parents[2] / "tb_exudyn"
+    imports = re.compile(r"^\s*(import|from)\s+matplotlib\b", re.MULTILINE)
+    offenders = [str(p.relative_to(root)) for p in root.rglob("*.py")
+                 if p.relative_to(root).parts[0] != "plotting" and imports.search(p.read_text())]
+    assert not offenders, offenders
