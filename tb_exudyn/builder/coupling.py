@@ -135,6 +135,7 @@ class WheelRailCoupling:
     load_force : (n_l,) downward force of every point load at ``load_factor`` = 1 [N]
     half_gauge : b [m]
     excitation : the irregularity input (None: smooth track)
+    taper_length : length of the irregularity's taper after the first axle's start [m]
     """
 
     def __init__(
@@ -147,6 +148,7 @@ class WheelRailCoupling:
         load_force: ArrayLike = (),
         half_gauge: float = 0.75,
         excitation: Excitation | None = None,
+        taper_length: float = 0.0,
     ) -> None:
         self.bridge = bridge
         self.axle_start = np.asarray(axle_start, dtype=float)
@@ -157,6 +159,7 @@ class WheelRailCoupling:
         if self.load_axle.shape != self.load_force.shape:
             raise ValueError("load_axle and load_force must have the same length")
         self.half_gauge = float(half_gauge)
+        self.taper_length = float(taper_length)
         self.n_bridge = bridge.n_modes
         self.n_wheel = contacts.n_wheel
         self.n = self.n_bridge + self.n_wheel
@@ -239,7 +242,7 @@ class WheelRailCoupling:
             r, r_dot = np.zeros(n_c), np.zeros(n_c)
         else:
             a = self.contacts.axle
-            val, slo = rail_inputs(self.excitation, x, self._x_ref, self.half_gauge)
+            val, slo = rail_inputs(self.excitation, x, self._x_ref, self.half_gauge, self.taper_length)
             W = self.contacts.input_map
             r = np.einsum("ck,kc->c", W, val[:, a])
             r_dot = np.zeros(n_c) if static else self.speed * np.einsum("ck,kc->c", W, slo[:, a])

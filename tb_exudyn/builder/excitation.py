@@ -19,6 +19,12 @@ trails the train's first axle by a_j, the input
 
 i.e. the profile A cos(Omega (x - x_ref)) (resp. sin) with x_ref the first axle's position at
 t = 0 (x_j(t) = x_ref - a_j + v t). Its time derivative is v times the slope.
+
+Every input is multiplied by a taper w(x) along the track: 0 up to x_ref, rising as
+(1 - cos(pi s / L_t)) / 2 over s = x - x_ref in [0, L_t] (Track.taper_length), 1 beyond. So at t = 0
+every wheel (all at x <= x_ref) sees zero input and zero slope: a run starts in equilibrium (at rest
+without gravity, static with it) instead of with a jolt of the stiff contact. The taper lies on the
+approach track, before the bridge; PEM and Monte Carlo see the same tapered process.
 """
 
 from __future__ import annotations
@@ -122,8 +128,19 @@ def is_zero(excitation: Excitation) -> bool:
     return excitation.amplitude == 0.0
 
 
+def taper(x: NDArray[np.float64], x_ref: float, length: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The cosine taper w(x) and its slope (see the module docstring); ``length`` 0: a step at x_ref."""
+    s = x - x_ref
+    if length <= 0.0:
+        return (s >= 0.0).astype(float), np.zeros_like(x)
+    u = np.clip(s / length, 0.0, 1.0)
+    w = 0.5 * (1.0 - np.cos(np.pi * u))
+    dw = np.where((s > 0.0) & (s < length), 0.5 * np.pi / length * np.sin(np.pi * u), 0.0)
+    return w, dw
+
+
 def rail_inputs(
-    excitation: Excitation, x: ArrayLike, x_ref: float, half_gauge: float
+    excitation: Excitation, x: ArrayLike, x_ref: float, half_gauge: float, taper_length: float = 0.0
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Irregularity inputs and their slopes at track positions x.
 
@@ -133,6 +150,7 @@ def rail_inputs(
     x : (n,) positions along the track [m]
     x_ref : phase reference of a harmonic excitation: the first axle's position at t = 0 [m]
     half_gauge : b [m], for a cross-level given as a height difference
+    taper_length : L_t [m] of the taper that starts at x_ref (0: a step at x_ref)
 
     Returns
     -------
@@ -163,7 +181,10 @@ def rail_inputs(
         if excitation.cross_level_unit == "height":
             values[2] /= 2.0 * half_gauge
             slopes[2] /= 2.0 * half_gauge
-    return values, slopes
+    else:
+        return values, slopes
+    w, dw = taper(xs, x_ref, taper_length)
+    return values * w, slopes * w + values * dw
 
 
 def sampled_profile(x_samples: ArrayLike, values: ArrayLike) -> Profile:

@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
+from ..scenario.errors import ScenarioError
 from ..scenario.model import Car15, MovingForce, Scenario, SimpleBeam, SprungMass
 from ..structure.modal import ModalBridge, simply_supported_modes
 from . import channels as chan
@@ -100,11 +101,16 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
     out: list[str] = []
     t_in = scenario.track.lead_in / v
     if t_in < MIN_LEAD_IN_STEPS * dt:
-        raise ValueError(
-            f"track.lead_in = {scenario.track.lead_in:g} m leaves the train {t_in:.3g} s "
-            f"(< {MIN_LEAD_IN_STEPS} time steps of {dt:g} s) before its first axle reaches the bridge: "
-            "the vehicles need approach track to start on and settle; use a lead-in of at least "
-            f"{v / min(vehicle_frequencies or [1.0]):.3g} m (one period of the slowest vehicle mode at this speed)"
+        raise ScenarioError(
+            None, "track.lead_in", scenario.track.lead_in,
+            f">= {v / min(vehicle_frequencies or [1.0]):.3g} m (one period of the slowest vehicle mode at this "
+            f"speed); at the very least {MIN_LEAD_IN_STEPS * dt * v:.3g} m ({MIN_LEAD_IN_STEPS} time steps)",
+            f"the train reaches the bridge {t_in:.3g} s after the start: no approach track to start on and settle",
+        )
+    if scenario.track.irregularities and scenario.track.taper_length > scenario.track.lead_in:
+        out.append(
+            f"track.taper_length = {scenario.track.taper_length:g} m is longer than track.lead_in = "
+            f"{scenario.track.lead_in:g} m: the irregularity is still rising when the first axle reaches the bridge"
         )
     if vehicle_frequencies:
         f_min = min(vehicle_frequencies)
@@ -218,7 +224,7 @@ class TrainBridgeModel:
         axle_start = -sc.track.lead_in - axle_offsets
         self.coupling = WheelRailCoupling(
             self.bridge, axle_start, sc.speed, layout, parts.load_axle, parts.load_force,
-            half_gauge=sc.track.half_gauge,
+            half_gauge=sc.track.half_gauge, taper_length=sc.track.taper_length,
         )
         self.contact_names = tuple(parts.contacts.names)
         coupling = self.coupling

@@ -12,12 +12,12 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param, replace
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace
 
 KMH = 1.0 / 3.6  # m/s per km/h
 
 
-class _Replaceable:
+class _Replaceable(Validated):
     def replace(self, **changes):
         """A modified copy, validated again; e.g. ``scenario.replace(speed_kmh=300.0)``."""
         return replace(self, **changes)
@@ -75,7 +75,7 @@ class SprungMass(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class RigidBodyInertia:
+class RigidBodyInertia(_Replaceable):
     """Mass and principal moments of inertia about the body's centre of gravity."""
 
     mass: float = param(unit="kg", doc="mass", check=POSITIVE)
@@ -85,7 +85,7 @@ class RigidBodyInertia:
 
 
 @dataclass(frozen=True, kw_only=True)
-class WheelsetInertia:
+class WheelsetInertia(_Replaceable):
     """A wheelset: it follows the rail through the wheel-rail contact."""
 
     mass: float = param(unit="kg", doc="mass", check=POSITIVE)
@@ -93,7 +93,7 @@ class WheelsetInertia:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Suspension:
+class Suspension(_Replaceable):
     """One suspension stage, values PER SIDE (one of the two elements left and right)."""
 
     k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=POSITIVE)
@@ -103,7 +103,7 @@ class Suspension:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Car15Geometry:
+class Car15Geometry(_Replaceable):
     """Geometry of a car with two two-axle bogies (all distances positive unless noted)."""
 
     half_bogie_spacing: float = param(unit="m", doc="half the distance between the bogie centres", check=POSITIVE)
@@ -203,7 +203,7 @@ class Train(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class BeamSection:
+class BeamSection(_Replaceable):
     """A prismatic beam cross-section. I_y governs bending in the vertical plane (about the lateral
     y axis), I_z lateral bending (about z); J is the torsion constant (G J the torsional stiffness)."""
 
@@ -219,7 +219,7 @@ class BeamSection:
 
 
 @dataclass(frozen=True, kw_only=True)
-class AddedMass:
+class AddedMass(_Replaceable):
     """Non-structural mass carried by the girder (ballast or slab, rails, secondary dead load)."""
 
     mass_per_length: float = param(0.0, unit="kg/m", doc="added mass per length", check=NONNEGATIVE)
@@ -257,7 +257,7 @@ class SimpleBeam(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Pier:
+class Pier(_Replaceable):
     """A pier: a vertical beam from its footing up to the pier cap carrying the bearings."""
 
     height: float = param(unit="m", doc="footing to pier top", check=POSITIVE)
@@ -269,7 +269,7 @@ class Pier:
 
 
 @dataclass(frozen=True, kw_only=True)
-class Bearings:
+class Bearings(_Replaceable):
     """Bearing stiffness per bearing line and direction (inf = rigid, 0 = free)."""
 
     k_x_fixed: float = param(math.inf, unit="N/m", doc="longitudinal, at each span's fixed end", check=STIFFNESS)
@@ -328,6 +328,11 @@ class Track(_Replaceable):
     lead_in: float = param(100.0, unit="m", doc="track the first axle runs before it reaches the bridge", check=POSITIVE)
     run_out: float = param(50.0, unit="m", doc="track the last axle runs after it leaves the bridge", check=NONNEGATIVE)
     half_gauge: float = param(0.75, unit="m", doc="b: half the distance between the rail centres", check=POSITIVE)
+    taper_length: float = param(
+        20.0, unit="m", check=NONNEGATIVE,
+        doc="the irregularity rises from 0 (cosine taper) over this length after the first axle's start "
+            "(longer than lead_in: it reaches onto the bridge, which the builder warns about)",
+    )
 
     def _validate(self, ctx: Context) -> None:
         if self.wavelength_min >= self.wavelength_max:

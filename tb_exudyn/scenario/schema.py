@@ -198,11 +198,13 @@ def from_dict(cls: type, data: dict, ctx: Context) -> Any:
                 raise ScenarioError(ctx.file, sub.path, "<missing>", type_name(hints[name]), "missing key")
             continue
         kwargs[name] = convert(hints[name], data[name], sub, f.metadata.get("check"))
-    obj = cls(**kwargs)
-    validate = getattr(obj, "_validate", None)
-    if validate is not None:
-        validate(ctx)
-    return obj
+    try:
+        return cls(**kwargs)  # Validated.__post_init__ checks values and cross-field rules
+    except ScenarioError as exc:  # add the file and the key path of this table
+        key = exc.key if exc.key != "<top level>" else ""
+        path = f"{ctx.path}.{key}" if ctx.path and key else (ctx.path or key)
+        raise ScenarioError(ctx.file if exc.file == "<scenario>" else exc.file, path, exc.value, exc.allowed,
+                            exc.reason) from None
 
 
 # --------------------------------------------------------------------------------------------
@@ -234,9 +236,25 @@ def describe_fields(cls: type) -> list[tuple[str, str, str, str]]:
 
 
 def replace(obj: Any, **changes: Any) -> Any:
-    """A modified copy, re-validated (``dataclasses.replace`` plus the object's own checks)."""
-    new = dataclasses.replace(obj, **changes)
-    validate = getattr(new, "_validate", None)
-    if validate is not None:
-        validate(Context(None))
-    return new
+    """A modified copy, validated again on construction (``dataclasses.replace``)."""
+    return dataclasses.replace(obj, **changes)
+
+
+class Validated:
+    """Mixin for schema dataclasses: every construction (from TOML, in Python, by ``replace``)
+    checks each field's value check and then the class's own cross-field ``_validate``."""
+
+    def __post_init__(self) -> None:
+        for f in fields(self):  # type: ignore[arg-type]
+            check = f.metadata.get("check")
+            if check is None:
+                continue
+            value = getattr(self, f.name)
+            items = value if isinstance(value, tuple) else (value,)
+            for i, item in enumerate(items):
+                if isinstance(item, (int, float)) and not isinstance(item, bool) and not check.ok(float(item)):
+                    key = f"{f.name}[{i}]" if isinstance(value, tuple) else f.name
+                    raise ScenarioError(None, key, item, check.describe(), "out of range")
+        validate = getattr(self, "_validate", None)
+        if validate is not None:
+            validate(Context(None))

@@ -11,6 +11,7 @@ import pytest
 
 pytest.importorskip("exudyn")
 
+from tb_exudyn.scenario import ScenarioError
 from tb_exudyn.builder import build_model  # noqa: E402
 from tb_exudyn.results import TimeHistory, load_results  # noqa: E402
 from tb_exudyn.scenario import Analysis, BeamSection, Scenario, SimpleBeam, SprungMass, Track, Train, load_vehicle  # noqa: E402
@@ -113,7 +114,7 @@ def test_scenario_without_lead_in_is_rejected_and_a_short_one_warned_about():
     one period of the slowest vehicle mode is accepted with a warning (runs starting at rest do not
     settle before the bridge)."""
     motor = load_vehicle("ice_motor")
-    with pytest.raises(ValueError, match=r"track.lead_in = 0.1 m.*use a lead-in of at least"):
+    with pytest.raises(ScenarioError, match=r"'track.lead_in' = 0.1.*no approach track.*allowed: >= "):
         build_model(_scenario(motor, lead_in=0.1))
     with pytest.warns(UserWarning, match=r"track.lead_in = 20 m.*slowest vehicle mode"):
         build_model(_scenario(motor, lead_in=20.0))

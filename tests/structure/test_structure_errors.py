@@ -4,10 +4,13 @@ bridge, the offending key (data errors) or the unsupported motion (mechanisms)."
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import math
 
 import pytest
+
+from tb_exudyn.scenario import ScenarioError
 
 from tb_exudyn.scenario.model import BeamSection, Bearings, Frame, Pier, SimpleBeam
 from tb_exudyn.structure import StructureError, modal_bridge
@@ -28,21 +31,37 @@ def test_structure_error_is_a_value_error():
     assert issubclass(StructureError, ValueError)
 
 
+BAD_DATA = [
+    (lambda: SimpleBeam(name="zero_span", spans=(32.0, 0.0), girder=SECTION), ["spans[1]", "> 0"]),
+    (lambda: SimpleBeam(name="no_span", spans=(), girder=SECTION), ["spans", "no spans"]),
+    (lambda: SimpleBeam(name="nan_span", spans=(math.nan,), girder=SECTION), ["spans[0]"]),
+    (lambda: SimpleBeam(name="neg_ei", spans=(32.0,), girder=dataclasses.replace(SECTION, I_y=-1.0)), ["I_y"]),
+    (lambda: _frame(k_y=-1.0e8), ["k_y", ">= 0"]),
+    (lambda: dataclasses.replace(FRAME, pier=dataclasses.replace(PIER, k_rotation=-5.0, footing="springs")),
+     ["k_rotation"]),
+    (lambda: dataclasses.replace(FRAME, pier=dataclasses.replace(PIER, height=0.0)), ["height"]),
+]
+
+
+@pytest.mark.parametrize("make, words", BAD_DATA)
+def test_bad_data_is_refused_when_built(make, words):
+    """Zero, missing, NaN or negative values: the dataclass refuses them on construction, naming the key
+    (a ScenarioError is a ValueError, like StructureError)."""
+    with pytest.raises(ScenarioError) as err:
+        make()
+    for w in words:
+        assert w in str(err.value)
+
+
 @pytest.mark.parametrize(
-    "bridge, words",
-    [
-        (SimpleBeam(name="zero_span", spans=(32.0, 0.0), girder=SECTION), ["zero_span", "spans[1]", "> 0"]),
-        (SimpleBeam(name="no_span", spans=(), girder=SECTION), ["no_span", "no spans"]),
-        (SimpleBeam(name="nan_span", spans=(math.nan,), girder=SECTION), ["nan_span", "spans[0]"]),
-        (SimpleBeam(name="neg_ei", spans=(32.0,), girder=dataclasses.replace(SECTION, I_y=-1.0)), ["girder.I_y"]),
-        (_frame(k_y=-1.0e8), ["bad_frame", "bearings.k_y", ">= 0"]),
-        (dataclasses.replace(FRAME, pier=dataclasses.replace(PIER, k_rotation=-5.0, footing="springs")),
-         ["pier.k_rotation"]),
-        (dataclasses.replace(FRAME, pier=dataclasses.replace(PIER, height=0.0)), ["pier.height"]),
-    ],
+    "field, value, words",
+    [("spans", (32.0, 0.0), ["bad_frame", "spans[1]", "> 0"]), ("spans", (), ["bad_frame", "no spans"])],
 )
-def test_bad_data_is_named(bridge, words):
-    """Zero, missing, NaN or negative values: the message names the bridge and the key."""
+def test_structure_checks_data_that_bypassed_validation(field, value, words):
+    """Defence in depth: data changed behind the dataclass's back (object.__setattr__) is still caught by
+    the structural model with a StructureError naming the bridge and the key, not a failed eigen-solve."""
+    bridge = copy.copy(FRAME)
+    object.__setattr__(bridge, field, value)
     with pytest.raises(StructureError) as err:
         modal_bridge(bridge, 30.0)
     for w in words:
