@@ -41,6 +41,7 @@ class RandomResponse:
     std_ci, mean_ci : (2, nc, nt) 95 % confidence intervals (Monte Carlo), or None
     n_samples : Monte Carlo sample count (0 for PEM)
     min_wheel_force : (n_samples,) minimum vertical wheel-rail force per sample [N] (Monte Carlo), or None
+    samples : (n_samples, nc, nt) the Monte Carlo samples themselves when kept, or None
     scenario : the scenario it was computed for
     provenance : versions, run time, tasks, workers, seed, engine
     """

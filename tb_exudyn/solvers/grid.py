@@ -2,10 +2,10 @@
 
 The grid is temporal frequency f [Hz] (what users see). A run at speed v excites spatial frequency
 Omega = 2 pi f / v [rad/m], i.e. wavelength v / f. Each grid point carries a width df (its quadrature
-weight) so that the band variance of a spectrum S is sum_k S_hz(f_k) df_k: mid-point cells (the cells
-tile the band around the nodes; on a linear grid every df is the spacing). The irregularity is taken
-as zero outside the track's wavelength band [wavelength_min, wavelength_max], which is stated with
-every sigma.
+weight) so that the band variance of a spectrum S is sum_k S_hz(f_k) df_k: the trapezoid rule, so the
+band is exactly [freq_min, freq_max] (the two end nodes carry half a spacing). The irregularity is
+taken as zero outside the track's wavelength band [wavelength_min, wavelength_max], which is stated
+with every sigma.
 """
 
 from __future__ import annotations
@@ -26,7 +26,7 @@ class FrequencyGrid:
     f: np.ndarray
     df: np.ndarray
     speed: float
-    rule: str = "midpoint"
+    rule: str = "trapezoid"
 
     @property
     def omega_spatial(self) -> np.ndarray:
@@ -40,7 +40,9 @@ class FrequencyGrid:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The band the quadrature covers [Hz] (outer cell edges)."""
+        """The band the quadrature covers [Hz]."""
+        if self.rule == "trapezoid" and self.f.size > 1:
+            return float(self.f[0]), float(self.f[-1])
         return float(self.f[0] - self.df[0] / 2), float(self.f[-1] + self.df[-1] / 2)
 
 
@@ -49,8 +51,8 @@ def frequency_grid(
 ) -> FrequencyGrid:
     """A grid of n frequencies from f_min to f_max (nodes include both ends), or the ``given`` one.
 
-    'linear': equally spaced; 'log': equally spaced in log f. Widths are mid-point cells.
-    A single frequency gets the width f_max - f_min (or f_min if they are equal).
+    'linear': equally spaced; 'log': equally spaced in log f. Widths: trapezoid rule.
+    A single frequency gets the width f_max - f_min (or f_min if they are equal) as a mid-point cell.
     """
     if given is not None and len(given):
         f = np.asarray(given, dtype=float)
@@ -63,10 +65,9 @@ def frequency_grid(
     else:
         raise ValueError(f"spacing must be 'linear' or 'log', not {spacing!r}")
     if f.size == 1:
-        df = np.array([f_max - f_min if f_max > f_min else f_min])
-    else:
-        df = quadrature_weights(f, "midpoint")
-    return FrequencyGrid(f=f, df=df, speed=float(speed))
+        return FrequencyGrid(f=f, df=np.array([f_max - f_min if f_max > f_min else f_min]), speed=float(speed),
+                             rule="midpoint")
+    return FrequencyGrid(f=f, df=quadrature_weights(f, "trapezoid"), speed=float(speed), rule="trapezoid")
 
 
 def scenario_grid(scenario: Scenario) -> FrequencyGrid:

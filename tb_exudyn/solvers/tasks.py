@@ -19,6 +19,7 @@ import json
 import multiprocessing
 import os
 import re
+import threading
 from concurrent.futures import Executor, Future, ProcessPoolExecutor, wait, FIRST_COMPLETED
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -48,16 +49,15 @@ class CheckpointMismatch(ValueError):
 
 
 # ------------------------------------------------------------------------------------- worker side
-_CACHE: dict[str, Any] = {}
+_LOCAL = threading.local()  # per thread: executors with several threads per process stay safe
 
 
 def _execute(setup: Callable[..., Any], setup_args: tuple, setup_key: str, work: Callable, task: Task):
-    """Runs in a worker: build (once per process and key) then do one task."""
-    state = _CACHE.get(setup_key)
-    if state is None:
-        _CACHE.clear()  # one model per process at a time
-        state = _CACHE[setup_key] = setup(*setup_args)
-    return work(state, task)
+    """Runs in a worker: build (once per thread and setup key) then do one task."""
+    cache = getattr(_LOCAL, "cache", None)
+    if cache is None or cache[0] != setup_key:
+        _LOCAL.cache = cache = (setup_key, setup(*setup_args))  # one model per thread at a time
+    return work(cache[1], task)
 
 
 # ------------------------------------------------------------------------------------- helpers
@@ -204,7 +204,10 @@ def run_tasks(
 
 def _drain(pool: Executor, todo, tasks, setup, setup_args, setup_key, work, finished, own: bool) -> None:
     """Submit a bounded window of tasks and hand results over as they complete."""
-    window = 4 * max(1, getattr(pool, "_max_workers", 2))
+    # a bounded window keeps finished-but-unreduced results few; executors that do not say how many
+    # workers they have (Dask's) get a window wide enough for a cluster
+    workers = getattr(pool, "_max_workers", None)
+    window = 4 * workers if workers else 256
     pending: dict[Future, int] = {}
     queue = list(todo)
     try:

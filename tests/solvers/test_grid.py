@@ -13,14 +13,15 @@ from tb_exudyn.solvers.grid import band_mask, check_grid_against_spectra, freque
 from tb_exudyn.track import get_spectrum
 
 
-def test_linear_grid_widths_tile_the_band():
-    """Linear grid 0.3..60 Hz, 200 points: mid-point widths all equal the spacing and their sum is
-    the band length plus one spacing (the half cells outside both end nodes); exact up to rounding."""
+def test_linear_grid_trapezoid_weights_cover_exactly_the_band():
+    """Linear grid 0.3..60 Hz, 200 points (the study's): trapezoid widths are the spacing h inside and
+    h/2 at both ends, so they sum to exactly the band length 59.7 Hz and the stated band is
+    [0.3, 60] Hz; exact up to rounding (1e-12)."""
     g = frequency_grid(0.3, 60.0, 200, speed=61.1)
     h = (60.0 - 0.3) / 199
-    assert np.allclose(g.df, h, rtol=1e-12)
-    assert g.df.sum() == pytest.approx(60.0 - 0.3 + h, rel=1e-12)
-    assert g.band == pytest.approx((0.3 - h / 2, 60.0 + h / 2), rel=1e-12)
+    assert np.allclose(g.df[1:-1], h, rtol=1e-12) and np.allclose(g.df[[0, -1]], h / 2, rtol=1e-12)
+    assert g.df.sum() == pytest.approx(60.0 - 0.3, rel=1e-12)
+    assert g.band == (0.3, 60.0)
 
 
 def test_spatial_conversion():
