@@ -7,6 +7,7 @@ the track irregularity. Random responses by the pseudo-excitation method, checke
 The public API is re-exported here explicitly; see README.md and docs/.
 """
 
+from .results import RandomResponse, TimeHistory, load_results
 from .scenario import (
     Scenario,
     ScenarioError,
@@ -19,13 +20,34 @@ from .scenario import (
 
 __version__ = "0.1.0"
 
+
+_LAZY = {
+    "run_deterministic": "tb_exudyn.solvers.deterministic",
+    "run_pem": "tb_exudyn.solvers.pem",
+}
+
+
+def __getattr__(name: str):
+    """The solvers import Exudyn: load them on first use, so the rest works without it."""
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module 'tb_exudyn' has no attribute {name!r}")
+
+
 __all__ = [
+    "RandomResponse",
     "Scenario",
     "ScenarioError",
+    "TimeHistory",
     "__version__",
     "list_models",
     "load_bridge",
+    "load_results",
     "load_scenario",
     "load_vehicle",
+    "run_deterministic",
+    "run_pem",
     "save_scenario",
 ]

@@ -38,6 +38,74 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+DEFAULT_SCENARIO = "quick"
+DEFAULT_OUT = "tb_exudyn_out"
+
+
+def _summary_table(result, k: float = 3.0) -> str:
+    """Per channel: max |mean|, max sigma, max |mean| + k sigma, with units."""
+    rows = result.summary_rows(k)
+    width = max(len(r[0]) for r in rows)
+    band = f"{result.band[0]:.3g}-{result.band[1]:.3g} Hz"
+    lines = [f"{'channel':<{width}}  {'unit':<8} {'max|mean|':>11} {'max sigma':>11} {f'max|mean|+{k:g}s':>13}"]
+    lines += [f"{n:<{width}}  {u:<8} {m:>11.4e} {s:>11.4e} {p:>13.4e}" for n, u, m, s, p in rows]
+    lines.append(f"(sigma over the band {band}; {result.method}, {result.n_samples or len(result.freq)} "
+                 f"{'samples' if result.n_samples else 'frequencies'})")
+    return "\n".join(lines)
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from .results.storage import check_writable
+
+    scenario = load_scenario(args.scenario)
+    out = check_writable(args.out)
+    print(f"scenario {scenario.name}: {scenario.description}")
+    if args.method == "det":
+        from .solvers.deterministic import run_deterministic, summarize
+
+        th = run_deterministic(scenario)
+        th.save(out / "det")
+        print(summarize(th))
+    elif args.method == "pem":
+        from .solvers.pem import run_pem
+
+        result = run_pem(scenario, workers=args.workers, out=out, resume=args.resume, progress=not args.no_progress)
+        print(_summary_table(result))
+        print(f"PEM: {result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
+              f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
+    else:
+        from .solvers.monte_carlo import run_monte_carlo
+
+        result = run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers, out=out,
+                                 resume=args.resume, progress=not args.no_progress)
+        print(_summary_table(result))
+    if not args.no_figures:
+        from .plotting import plot_folder
+        from .results.report import write_report
+
+        figures = plot_folder(out)
+        report = write_report(out)
+        print(f"{len(figures)} figures and the report: {report}")
+    print(f"results in {out.resolve()}")
+    return EXIT_OK
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    from .plotting import plot_folder
+
+    paths = plot_folder(args.folder, channels=args.channels, formats=tuple(args.formats))
+    for p in paths:
+        print(p)
+    return EXIT_OK
+
+
+def _cmd_report(args: argparse.Namespace) -> int:
+    from .results.report import write_report
+
+    print(write_report(args.folder, args.html))
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="tb-exudyn",
@@ -49,7 +117,41 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.set_defaults(func=_cmd_show)
+
+    p = sub.add_parser("run", help="run a scenario: deterministic (det), PEM (pem) or Monte Carlo (mc)")
+    p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
+                   help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
+    p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
+    p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
+    p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
+    p.add_argument("--samples", type=_positive_int, default=None, help="Monte Carlo samples (default: the scenario's)")
+    p.add_argument("--seed", type=int, default=None, help="Monte Carlo seed (default: the scenario's)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-figures", action="store_true", help="no figures and no report")
+    p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("plot", help="figures from saved results (written next to them)")
+    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
+    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
+    p.add_argument("--formats", nargs="+", default=["png"], choices=("png", "pdf", "svg"))
+    p.set_defaults(func=_cmd_plot)
+
+    p = sub.add_parser("report", help="one self-contained HTML page of saved results")
+    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
+    p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html)")
+    p.set_defaults(func=_cmd_report)
     return parser
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not >= 1")
+    return value
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -61,11 +163,15 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
     except (ValueError, OSError) as exc:
-        # user-caused problems that surface outside scenario loading (e.g. an unwritable folder)
-        if getattr(exc, "user_error", False) or isinstance(exc, OSError):
+        # user-caused problems found outside scenario loading: an unwritable or foreign output folder,
+        # a folder without results
+        if getattr(exc, "user_error", False) or isinstance(exc, (OSError, FileNotFoundError)):
             print(f"tb-exudyn: error: {exc}", file=sys.stderr)
             return EXIT_USER_ERROR
         raise
+    except KeyboardInterrupt:
+        print("tb-exudyn: interrupted; finished tasks are kept (run again with --resume)", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -46,3 +46,35 @@ def test_bad_command_line_exits_2(argv):
     with pytest.raises(SystemExit) as info:
         main(argv)
     assert info.value.code == 2
+
+
+@pytest.mark.exudyn
+def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
+    """tb-exudyn run on a tiny scenario (sprung mass, 3 frequencies): exit 0, results saved, summary
+    printed with units, figures and the report written; plot and report work on the saved folder."""
+    from tb_exudyn.results import load_results
+    from tb_exudyn.scenario import save_scenario
+
+    from .solvers.test_pem import sprung_mass_scenario
+
+    sc = sprung_mass_scenario(lead_in=25.0, run_out=2.0, f_min=2.0, f_max=12.0, n_freq=3,
+                              channels=("bridge.span1.mid.*", "car1.body.acc_z"))
+    path = save_scenario(sc, tmp_path / "tiny.toml")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--method", "det", "--out", str(out), "--no-figures"]) == 0
+    assert load_results(out / "det").scenario == sc
+    assert main(["run", str(path), "--out", str(out), "--workers", "1", "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    assert "max|mean|+3s" in text and "m/s^2" in text and "2-12 Hz" in text
+    assert (out / "pem" / "arrays.npz").exists() and (out / "report.html").exists()
+    assert list((out / "pem" / "figures").glob("*.png"))
+    assert main(["report", str(out)]) == 0
+    assert main(["plot", str(out), "--channels", "car1.body.acc_z"]) == 0
+
+
+def test_run_into_an_unwritable_folder_is_a_user_error(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    assert main(["run", "quick", "--out", str(blocker / "sub")]) == 2
+    err = capsys.readouterr().err
+    assert "not writable" in err and "Traceback" not in err
