@@ -78,3 +78,20 @@ def test_run_into_an_unwritable_folder_is_a_user_error(tmp_path, capsys):
     assert main(["run", "quick", "--out", str(blocker / "sub")]) == 2
     err = capsys.readouterr().err
     assert "not writable" in err and "Traceback" not in err
+
+
+@pytest.mark.exudyn
+def test_channel_pattern_matching_nothing_is_a_user_error(tmp_path, capsys):
+    """A typo in analysis.channels is found when the model is built, before any run: exit 2, the key
+    and the pattern in the message, no traceback."""
+    import tomllib
+
+    from tb_exudyn.scenario import model_files
+
+    text = model_files("scenarios")["quick"].read_text().replace('"car1.body.*"', '"car1.boddy.*"')
+    bad = tmp_path / "typo.toml"
+    bad.write_text(text)
+    assert "car1.boddy" in tomllib.loads(text)["analysis"]["channels"][1]
+    assert main(["run", str(bad), "--method", "det", "--out", str(tmp_path / "o"), "--no-figures"]) == 2
+    err = capsys.readouterr().err
+    assert "analysis.channels[1]" in err and "car1.boddy.*" in err and "Traceback" not in err

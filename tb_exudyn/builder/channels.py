@@ -102,15 +102,18 @@ def _vehicle_order(channels: list[Channel]) -> list[Channel]:
 def select(channels: Sequence[Channel], patterns: Sequence[str]) -> list[Channel]:
     """The channels whose names match any of the glob ``patterns`` (in catalogue order).
 
-    Raises ValueError naming the pattern when a pattern matches no channel.
+    Raises ScenarioError (key ``analysis.channels``) naming the pattern when it matches no channel.
     """
+    from ..scenario.errors import ScenarioError
+
     names = [c.name for c in channels]
     keep = set()
-    for pattern in patterns:
+    for i, pattern in enumerate(patterns):
         hits = fnmatch.filter(names, pattern)
         if not hits:
             sample = ", ".join(names[:6]) + (", ..." if len(names) > 6 else "")
-            raise ValueError(f"channel pattern {pattern!r} matches no channel of this model (channels: {sample})")
+            raise ScenarioError(None, f"analysis.channels[{i}]", pattern,
+                                f"glob patterns of this model's channels, e.g. {sample}", "matches no channel")
         keep.update(hits)
     return [c for c in channels if c.name in keep]
 
