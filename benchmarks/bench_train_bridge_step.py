@@ -22,23 +22,17 @@ import warnings
 import numpy as np
 
 from tb_exudyn.builder import HarmonicExcitation, build_model
-from tb_exudyn.builder.model import bridge_modes
+from tb_exudyn.builder.model import bridge_modes, closed_form_modes
 from tb_exudyn.scenario import load_bridge, load_scenario
 from tb_exudyn.solvers import run_model
-from tb_exudyn.structure import simply_supported_modes
+
 
 
 def closed_form_bridge(scenario):
     """Three simply supported 32 m spans with the single_span_32m girder (closed-form modes)."""
-    girder = load_bridge("single_span_32m").girder
-    an = scenario.analysis
-    br = scenario.bridge
-    return simply_supported_modes(
-        br.spans, EI_vertical=girder.E * girder.I_y, EI_lateral=girder.E * girder.I_z, GJ=girder.G * girder.J,
-        mass_per_length=girder.mass_per_length, rot_mass_per_length=girder.rot_mass_per_length,
-        damping_ratio=br.damping_ratio, max_frequency=an.mode_max_frequency,
-        track_offset=br.track_offset, track_height=br.track_height, max_modes=an.max_modes,
-    )
+    single = load_bridge("single_span_32m")
+    three = single.replace(name="three_spans_closed_form", spans=scenario.bridge.spans)
+    return closed_form_modes(three, scenario.analysis.mode_max_frequency, scenario.analysis.max_modes)
 
 
 def main() -> None:

@@ -28,6 +28,7 @@ _LAZY = {
     "TrainBridgeModel": ".model",
     "bridge_modes": ".model",
     "build_model": ".model",
+    "closed_form_modes": ".model",
     "channel_list": ".model",
     "scenario_checks": ".model",
 }
@@ -35,7 +36,7 @@ _LAZY = {
 __all__ = [
     "BuildOptions", "Channel", "ContactLayout", "ContactState", "Excitation", "HarmonicExcitation",
     "NoExcitation", "ProfileExcitation", "Recording", "TrainBridgeModel", "WheelRailCoupling", "bridge_modes",
-    "build_model", "channel_list", "rail_inputs", "sampled_profile", "scenario_checks",
+    "build_model", "channel_list", "closed_form_modes", "rail_inputs", "sampled_profile", "scenario_checks",
 ]
 
 

@@ -44,32 +44,24 @@ MIN_LEAD_IN_STEPS = 10
 
 
 def bridge_modes(scenario: Scenario) -> ModalBridge:
-    """The scenario's bridge as a modal model.
+    """The scenario's bridge as a modal model from the finite-element model
+    (:func:`tb_exudyn.structure.modal_bridge`): modes up to ``analysis.mode_max_frequency``, at most
+    ``analysis.max_modes`` (0: no limit)."""
+    from ..structure import modal_bridge
 
-    Uses ``tb_exudyn.structure.modal_bridge`` (finite elements) when it exists, else the closed
-    form of uniform simply supported spans for a :class:`SimpleBeam` (EI_vertical = E I_y,
-    EI_lateral = E I_z, GJ = G J). Modes up to ``analysis.mode_max_frequency``, at most
-    ``analysis.max_modes`` (0: no limit).
-    """
     an = scenario.analysis
-    try:
-        from ..structure import modal_bridge  # type: ignore[attr-defined]
-    except ImportError:
-        modal_bridge = None
-    if modal_bridge is not None:
-        return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
-    br = scenario.bridge
-    if isinstance(br, SimpleBeam):
-        gd = br.girder
-        return simply_supported_modes(
-            br.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
-            mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
-            damping_ratio=br.damping_ratio, max_frequency=an.mode_max_frequency,
-            track_offset=br.track_offset, track_height=br.track_height, max_modes=an.max_modes,
-        )
-    raise NotImplementedError(
-        f"bridge {br.name!r} of kind {br.kind!r} needs the finite-element model "
-        "(tb_exudyn.structure.modal_bridge), which is not available"
+    return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+
+
+def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int = 0) -> ModalBridge:
+    """Closed-form modes of a :class:`SimpleBeam` (EI_vertical = E I_y, EI_lateral = E I_z, GJ = G J):
+    the FE model's independent check, and a cheap bridge for benchmarks (``build_model(modal_bridge=...)``)."""
+    gd = bridge.girder
+    return simply_supported_modes(
+        bridge.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
+        mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
+        damping_ratio=bridge.damping_ratio, max_frequency=max_frequency,
+        track_offset=bridge.track_offset, track_height=bridge.track_height, max_modes=max_modes,
     )
 
 
