@@ -24,6 +24,8 @@ __version__ = "0.1.0"
 _LAZY = {
     "run_deterministic": "tb_exudyn.solvers.deterministic",
     "run_pem": "tb_exudyn.solvers.pem",
+    "run_monte_carlo": "tb_exudyn.solvers.monte_carlo",
+    "compare": "tb_exudyn.solvers.compare",
 }
 
 
@@ -47,7 +49,9 @@ __all__ = [
     "load_results",
     "load_scenario",
     "load_vehicle",
+    "compare",
     "run_deterministic",
+    "run_monte_carlo",
     "run_pem",
     "save_scenario",
 ]

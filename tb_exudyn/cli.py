@@ -79,6 +79,9 @@ def _cmd_run(args: argparse.Namespace) -> int:
         result = run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers, out=out,
                                  resume=args.resume, progress=not args.no_progress)
         print(_summary_table(result))
+        p = result.provenance
+        print(f"Monte Carlo: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
+              f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
     if not args.no_figures:
         from .plotting import plot_folder
         from .results.report import write_report
@@ -87,6 +90,13 @@ def _cmd_run(args: argparse.Namespace) -> int:
         report = write_report(out)
         print(f"{len(figures)} figures and the report: {report}")
     print(f"results in {out.resolve()}")
+    return EXIT_OK
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from .solvers.compare import compare_folders
+
+    print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
     return EXIT_OK
 
 
@@ -130,6 +140,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
     p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
+    p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")
+    p.add_argument("mc_dir", help="a Monte Carlo result folder (or an --out folder holding mc/)")
+    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
+    p.set_defaults(func=_cmd_compare)
 
     p = sub.add_parser("plot", help="figures from saved results (written next to them)")
     p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")

@@ -70,6 +70,12 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
     assert list((out / "pem" / "figures").glob("*.png"))
     assert main(["report", str(out)]) == 0
     assert main(["plot", str(out), "--channels", "car1.body.acc_z"]) == 0
+    assert main(["run", str(path), "--method", "mc", "--samples", "4", "--seed", "7", "--out", str(out),
+                 "--workers", "1", "--no-progress", "--no-figures"]) == 0
+    assert load_results(out / "mc").n_samples == 4
+    capsys.readouterr()
+    assert main(["compare", str(out), str(out)]) == 0
+    assert "car1.body.acc_z" in capsys.readouterr().out
 
 
 def test_run_into_an_unwritable_folder_is_a_user_error(tmp_path, capsys):
