@@ -34,6 +34,9 @@ from ..track import get_spectrum
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, scenario_grid
 from .tasks import Checkpoint, Task, fingerprint, run_tasks
 
+#: the engines of :func:`run_pem`: Exudyn runs (the reference) or the batched linear integrator
+ENGINES: tuple[str, ...] = ("exudyn", "batched")
+
 
 @dataclass(frozen=True)
 class PemTask:
@@ -110,6 +113,7 @@ def run_pem(
     resume: bool = False,
     progress: bool = True,
     keep_psd: bool = True,
+    engine: str = "exudyn",
 ) -> RandomResponse:
     """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
 
@@ -122,6 +126,9 @@ def run_pem(
     resume : skip tasks already finished in ``out/checkpoint``
     progress : show a progress bar with the time left
     keep_psd : keep the PSD map (channels x frequencies x output times); sigma is always kept
+    engine : "exudyn" (two Exudyn runs per type and frequency: the reference) or "batched" (all
+        pseudo-excitations in one integration of the same linear model with Exudyn's
+        generalized-alpha step, :mod:`.batched`; the mean is Exudyn's run in both)
 
     Returns
     -------
@@ -129,6 +136,13 @@ def run_pem(
     """
     from .deterministic import run_deterministic
 
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(repr(e) for e in ENGINES)}, got {engine!r}")
+    if engine == "batched":
+        from .batched import run_pem_batched
+
+        return run_pem_batched(scenario, workers=workers, executor=executor, out=out, resume=resume,
+                               progress=progress, keep_psd=keep_psd)
     t0 = _time.perf_counter()
     if not scenario.track.irregularities:
         raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
