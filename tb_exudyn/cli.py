@@ -69,7 +69,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
     elif args.method == "pem":
         from .solvers.pem import run_pem
 
-        result = run_pem(scenario, workers=args.workers, out=out, resume=args.resume, progress=not args.no_progress)
+        result = run_pem(scenario, workers=args.workers, out=out, resume=args.resume, progress=not args.no_progress,
+                         engine=args.engine)
         print(_summary_table(result))
         print(f"PEM: {result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
@@ -135,6 +136,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
     p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
+    p.add_argument("--engine", choices=("exudyn", "batched"), default="exudyn",
+                   help="PEM engine: one Exudyn run per frequency and part (the reference, default) or all "
+                        "pseudo-excitations in one batched integration of the same model")
     p.add_argument("--samples", type=_positive_int, default=None, help="Monte Carlo samples (default: the scenario's)")
     p.add_argument("--seed", type=int, default=None, help="Monte Carlo seed (default: the scenario's)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from tb_exudyn.cli import main
@@ -70,6 +71,10 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
     assert list((out / "pem" / "figures").glob("*.png"))
     assert main(["report", str(out)]) == 0
     assert main(["plot", str(out), "--channels", "car1.body.acc_z"]) == 0
+    assert main(["run", str(path), "--engine", "batched", "--out", str(tmp_path / "b"), "--workers", "1",
+                 "--no-progress", "--no-figures"]) == 0
+    exudyn_std, batched_std = load_results(out / "pem").std, load_results(tmp_path / "b" / "pem").std
+    assert np.allclose(batched_std, exudyn_std, rtol=0, atol=1e-6 * exudyn_std.max())
     assert main(["run", str(path), "--method", "mc", "--samples", "4", "--seed", "7", "--out", str(out),
                  "--workers", "1", "--no-progress", "--no-figures"]) == 0
     assert load_results(out / "mc").n_samples == 4
