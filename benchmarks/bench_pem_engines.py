@@ -3,11 +3,11 @@
     python benchmarks/bench_pem_engines.py [--repeat 3] [--workers 2] [--reduced 2] [--tight]
 
 1. The full reference study (scenario ``li_zhu_2011``: 200 frequencies x 3 irregularity types, all
-   channels) with ``run_pem(engine="batched")``: wall time (median of ``--repeat`` runs), the
-   sweep and the Exudyn mean run inside it (they overlap: the mean runs in a thread while the
-   workers integrate), and the peak memory: resident set of the whole process tree (this process
-   and its workers, sampled every 20 ms; shared libraries count once per process, so this is an
-   upper bound) and this process's own peak.
+   channels) with ``run_pem(engine="batched")``: wall time (median of ``--repeat`` runs; the mean,
+   Exudyn's deterministic run, is one of the tasks), the CPU seconds of all processes, and the peak
+   memory: resident set of the whole process tree (this process and its workers, sampled every
+   20 ms; shared libraries count once per process, so this is an upper bound) and this process's
+   own peak.
 2. The Exudyn engine on a reduced grid (``--reduced`` frequencies, same band, 3 types) on the same
    workers: wall time, seconds per pseudo-run, and the full study's time extrapolated as
    mean run + sweep x (full tasks / reduced tasks), with the ratio to the batched engine.
@@ -148,7 +148,7 @@ def main() -> None:
     print(f"load average before: {os.getloadavg()[0]:.2f} (the machine may be shared: medians below)")
 
     # 1. batched, full study
-    walls, sweeps, means, peaks, own, cpus = [], [], [], [], [], []
+    walls, means, peaks, own, cpus = [], [], [], [], []
     for i in range(args.repeat):
         with PeakMemory() as mem:
             c0 = _cpu_seconds()
@@ -158,18 +158,17 @@ def main() -> None:
             cpus.append(_cpu_seconds() - c0)
         prov, psd_mib = r.provenance, r.psd.nbytes / 2**20
         del r  # not held while the next run computes
-        sweeps.append(prov["sweep_seconds"])
         means.append(prov["mean_seconds"])
         peaks.append(mem.peak)
         own.append(mem.own_peak)
-        print(f"  batched run {i + 1}: {walls[-1]:.2f} s (sweep {sweeps[-1]:.2f} s, Exudyn mean {means[-1]:.2f} s), "
+        print(f"  batched run {i + 1}: {walls[-1]:.2f} s (of which the Exudyn mean run {means[-1]:.2f} s in a worker), "
               f"CPU {cpus[-1]:.1f} s (this process and its workers), "
               f"peak RSS: process tree {mem.peak / 2**20:.0f} MiB, this process {mem.own_peak / 2**20:.0f} MiB; "
               f"load {os.getloadavg()[0]:.2f}")
     t_batched = statistics.median(walls)
     print(f"batched engine, full study ({prov['columns']} columns = {2 * prov['columns']} pseudo-runs, "
-          f"{prov['tasks']} slices): median {t_batched:.2f} s (sweep {statistics.median(sweeps):.2f} s, "
-          f"mean {statistics.median(means):.2f} s); peak memory: process tree {max(peaks) / 2**20:.0f} MiB, "
+          f"{prov['tasks'] - 1} column slices and the mean): median {t_batched:.2f} s "
+          f"(mean run {statistics.median(means):.2f} s); peak memory: process tree {max(peaks) / 2**20:.0f} MiB, "
           f"this process {max(own) / 2**20:.0f} MiB (ru_maxrss {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MiB); "
           f"PSD map {psd_mib:.0f} MiB")
     print(f"  CPU seconds of a run (median, all processes): {statistics.median(cpus):.1f} s, i.e. "

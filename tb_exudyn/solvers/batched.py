@@ -42,7 +42,9 @@ where f~ is the contact force at the predictor. So the contact forces come out o
 - complex columns are stored as complex and computed on their float64 view (real BLAS);
 - the corrector of a step and the predictor of the next are seven in-place BLAS level-1 updates of
   (q~, v~, a~) by Delta: no temporaries; products accumulate in place (dgemm with beta = 1);
-- single-threaded BLAS, one process per core, each owning a slice of the columns (one task);
+- single-threaded BLAS, one process per core, each owning large slices of the columns (tasks); the
+  mean (Exudyn's deterministic run, exactly the Exudyn engine's) is a task too, so that no core
+  runs two things at once (a third thread made every process 20-30 % slower);
 - outputs are reduced at every output step (|y~|^2 into the PSD map and sigma^2), never stored as
   histories; a task's PSD map travels to the parent in float32 (relative rounding 6e-8, far below
   the engines' agreement; sigma^2 is float64 throughout), which halves the largest messages.
@@ -50,9 +52,11 @@ where f~ is the contact force at the predictor. So the contact forces come out o
 
 from __future__ import annotations
 
+import json
 import math
-import threading
+import os
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -64,7 +68,7 @@ from scipy.linalg.blas import daxpy, dgemm, dscal
 
 from ..builder.excitation import taper
 from ..results.random_response import RandomResponse
-from ..results.storage import check_writable
+from ..results.storage import check_writable, json_default
 from ..scenario import Scenario, ScenarioError, scenario_to_toml
 from ..track import get_spectrum
 from .batched_model import (
@@ -675,26 +679,61 @@ class BatchedTask:
     keep_psd: bool
 
 
+@dataclass(frozen=True)
+class MeanTask:
+    """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the worker's
+    built model, the very run of the Exudyn engine."""
+
+
 def _setup(scenario: Scenario) -> BatchedModel:
     return BatchedModel(scenario)
 
 
 def _work(bm: BatchedModel, task: Task) -> dict[str, np.ndarray]:
+    if isinstance(task.data, MeanTask):
+        return _mean(bm)
     data: BatchedTask = task.data
     return integrate_columns(bm, task_columns(data.columns, bm.scenario), data.keep_psd)
 
 
-def column_slices(ptasks: Sequence[PemTask], n_slices: int, keep_psd: bool) -> list[Task]:
-    """The sweep's (type, frequency) pairs cut into ``n_slices`` tasks of contiguous frequencies
-    (all types of a frequency in the same task), as equal as possible."""
-    freqs = sorted({p.freq_index for p in ptasks})
-    n_slices = max(1, min(int(n_slices), len(freqs)))
+def _mean(bm: BatchedModel) -> dict[str, np.ndarray]:
+    """The deterministic run as plain arrays (checkpointable): values, time, names, units, the run's
+    provenance (JSON) and the scenario's warnings."""
+    from .deterministic import run_deterministic
+
+    start = _time.perf_counter()
+    th = run_deterministic(bm.scenario, model=bm.model)
+    bm.model.set_gravity(False)  # back to the sweep's state (the batched engine reads only the coupling)
+    bm.model.set_excitation(None)
+    return {
+        "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
+        "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
+        "provenance": np.array(json.dumps(th.provenance, default=json_default)),
+        "warnings": np.array(bm.model.warnings, dtype=str).reshape(-1),
+        "seconds": np.array(_time.perf_counter() - start),
+    }
+
+
+def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool) -> list[Task]:
+    """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
+    frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
+    freqs = np.array(sorted({p.freq_index for p in ptasks}))
+    w = np.asarray(weights, dtype=float)[: freqs.size]
+    edges = np.unique(np.round(np.concatenate(([0.0], np.cumsum(w) / w.sum())) * freqs.size).astype(int))
     out = []
-    for part in np.array_split(np.array(freqs), n_slices):
-        chosen = set(part.tolist())
+    for a, b in zip(edges[:-1], edges[1:]):
+        chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"pemb-{part[0]:05d}-{part[-1]:05d}", BatchedTask(cols, keep_psd)))
+        out.append(Task(f"pemb-{freqs[a]:05d}-{freqs[b - 1]:05d}", BatchedTask(cols, keep_psd)))
     return out
+
+
+def default_slices(cores: int) -> list[float]:
+    """Slice weights: one per core and a half one. With the mean as the first task, on as many workers
+    as cores the worker that runs the mean takes a full slice after it and another the half slice:
+    the work evens out without oversubscribing the cores (the mean costs about half a slice's
+    share: one Exudyn run against the batched columns)."""
+    return [1.0] * max(1, cores) + [0.5]
 
 
 def run_pem_batched(
@@ -705,22 +744,20 @@ def run_pem_batched(
     resume: bool = False,
     progress: bool = True,
     keep_psd: bool = True,
-    slices: int | None = None,
+    slices: Sequence[float] | None = None,
 ) -> RandomResponse:
     """The PEM sweep with the batched engine; arguments and result as :func:`~.pem.run_pem`.
 
+    The tasks are the mean (Exudyn's deterministic run, as in the Exudyn engine) and slices of the
+    columns, each integrating all its columns at once.
+
     Parameters
     ----------
-    slices : number of column slices (tasks), each integrating all its columns at once; default:
-        the number of cores (one slice per process). Results depend on the slicing only at
-        round-off level, and the slicing not on ``workers`` or ``executor``: a result is the same
-        for any number of workers, any executor and after a resume.
-
-    The mean is Exudyn's deterministic run, computed in a thread of this process while the
-    workers integrate the columns.
+    slices : relative sizes of the column slices (default :func:`default_slices` of the number of
+        cores). Results depend on the slicing only at round-off level, and the slicing not on
+        ``workers`` or ``executor``: a result is bitwise the same for any number of workers, any
+        executor and after a resume. Give more slices for an executor with more workers.
     """
-    from .deterministic import run_deterministic
-
     t0 = _time.perf_counter()
     if not scenario.track.irregularities:
         raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
@@ -737,51 +774,33 @@ def run_pem_batched(
     elif resume:
         raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
     ptasks = [t.data for t in pem_tasks(scenario, grid)]
-    in_process = executor is None and (workers or _cores()) <= 1  # as run_tasks decides
-    # the slicing (hence every rounding) depends on the machine's cores, not on workers or executor
-    n_slices = slices or _cores()
-    tasks = column_slices(ptasks, n_slices, keep_psd)
-
+    tasks = [Task("pemb-mean", MeanTask())]
+    tasks += column_slices(ptasks, default_slices(_cores()) if slices is None else slices, keep_psd)
     n_types = len(spectra)
-    state: dict[str, Any] = {}
-    lock = threading.Lock()
+    state: dict[str, Any] = {"check": 0.0}
 
     def allocate(n_ch: int, n_t: int) -> None:
         """The result arrays, touched once: the kernel maps and zeroes the PSD map's pages (0.5 s
-        for the reference study's 420 MB) while the workers still compute, not after them."""
-        with lock:
-            if "var" not in state:
-                state["var"] = np.zeros((n_types, n_ch, n_t))
-                state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None
-                if keep_psd:
-                    state["psd"].fill(0.0)
-
-    mean_box: dict[str, Any] = {}
-
-    def mean_run() -> None:
-        start = _time.perf_counter()
-        try:
-            th = run_deterministic(scenario)
-            mean_box["th"], mean_box["seconds"] = th, _time.perf_counter() - start
-            allocate(len(th.names), th.time.size)
-        except BaseException as err:  # noqa: BLE001 - handed to the caller below
-            mean_box["error"] = err
-
-    thread = None
-    if in_process:
-        mean_run()
-    else:  # the Exudyn mean alongside the workers' sweep
-        thread = threading.Thread(target=mean_run, name="tb_exudyn-mean", daemon=True)
-        thread.start()
+        for the reference study's 420 MB) when the mean arrives, while the workers still compute."""
+        if "var" not in state:
+            state["var"] = np.zeros((n_types, n_ch, n_t))
+            state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None
+            if keep_psd:
+                state["psd"].fill(0.0)
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
+        if isinstance(task.data, MeanTask):
+            state["mean"] = result
+            allocate(result["mean"].shape[0], result["mean"].shape[1])
+            for message in result["warnings"]:
+                warnings.warn(str(message), stacklevel=4)
+            return
         var_t = result["var_t"]
-        allocate(var_t.shape[2], var_t.shape[0])
         var = state["var"]
         if var_t.shape != (var.shape[2], n_types, var.shape[1]):
-            raise RuntimeError(f"task {task.key}: result shape {var_t.shape} does not fit {var.shape}")
+            raise RuntimeError(f"task {task.key}: result shape {var_t.shape} does not fit the mean's {var.shape[1:]}")
         var += var_t.transpose(1, 2, 0)
-        state["check"] = max(state.get("check", 0.0), float(np.max(result["contact_check"])))
+        state["check"] = max(state["check"], float(np.max(result["contact_check"])))
         state["components"] = [
             {"coordinates": int(n), "bridge_modes": int(b), "contacts": int(c),
              "kinds": [kind for j, kind in enumerate(("vertical", "alignment", "cross_level")) if mask >> j & 1]}
@@ -796,50 +815,33 @@ def run_pem_batched(
             else:
                 state["psd"][:, k, :] = result["psd"]
 
-    t_sweep = _time.perf_counter()
-    try:
-        stats = run_tasks(
-            tasks, setup=_setup, setup_args=(scenario,), work=_work, reduce=reduce, workers=workers,
-            executor=executor, checkpoint=checkpoint, progress=progress, desc="PEM (batched)",
-        )
-        t_sweep = _time.perf_counter() - t_sweep
-    finally:
-        if thread is not None:
-            thread.join()
-    if "error" in mean_box:
-        raise mean_box["error"]
-    mean_th = mean_box["th"]
-    channels, nt = tuple(mean_th.names), mean_th.time.size
-    var_by_type, psd = state["var"], state["psd"]
-    if var_by_type.shape[1:] != (len(channels), nt):
-        raise RuntimeError(f"batched sweep shape {var_by_type.shape[1:]} does not fit the mean's {(len(channels), nt)}")
+    stats = run_tasks(
+        tasks, setup=_setup, setup_args=(scenario,), work=_work, reduce=reduce, workers=workers,
+        executor=executor, checkpoint=checkpoint, progress=progress, desc="PEM (batched)",
+    )
+    mean = state["mean"]
+    channels = tuple(str(c) for c in mean["names"])
     provenance = {
-        **mean_th.provenance,
+        **json.loads(str(mean["provenance"])),
         "engine": "batched",
         "mean_engine": "exudyn",
         "method": "pem",
         "seconds": _time.perf_counter() - t0,
-        "sweep_seconds": t_sweep,
-        "mean_seconds": mean_box["seconds"],
+        "mean_seconds": float(mean["seconds"]),
         "n_frequencies": int(grid.f.size),
         "n_frequencies_in_band": int(band_mask(grid, scenario).sum()),
         "quadrature": grid.rule,
         "columns": len(ptasks),
         "contact_check": state["check"],
-        "components": state["components"],
-        "generalized_alpha": state["alpha"],
+        "components": state.get("components", []),
+        "generalized_alpha": state.get("alpha", {}),
         **stats,
     }
-    return _result(scenario, grid, spectra, mean_th, var_by_type, psd, provenance, out)
-
-
-def _result(scenario, grid, spectra, mean_th, var_by_type, psd, provenance, out) -> RandomResponse:  # noqa: ANN001
-    channels = tuple(mean_th.names)
+    var_by_type, psd = state["var"], state["psd"]
     result = RandomResponse(
-        method="pem", time=mean_th.time, channels=channels, units=tuple(mean_th.units[c] for c in channels),
-        mean=np.stack([mean_th.channels[c] for c in channels]), std=np.sqrt(var_by_type.sum(axis=0)),
-        band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=psd, var_by_type=var_by_type,
-        types=tuple(spectra), provenance=provenance,
+        method="pem", time=mean["time"], channels=channels, units=tuple(str(u) for u in mean["units"]),
+        mean=mean["mean"], std=np.sqrt(var_by_type.sum(axis=0)), band=grid.band, scenario=scenario,
+        freq=grid.f, df=grid.df, psd=psd, var_by_type=var_by_type, types=tuple(spectra), provenance=provenance,
     )
     if out is not None:
         result.save(Path(out) / "pem")
@@ -847,6 +849,4 @@ def _result(scenario, grid, spectra, mean_th, var_by_type, psd, provenance, out)
 
 
 def _cores() -> int:
-    import os
-
     return os.cpu_count() or 1

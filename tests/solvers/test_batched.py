@@ -223,12 +223,12 @@ def test_batched_symmetric_car_splits_into_in_plane_and_out_of_plane_components(
 
 @pytest.mark.exudyn
 def test_batched_result_is_the_same_for_workers_checkpoints_and_resume(tmp_path):
-    """Problem: the sprung mass over the span, 6 frequencies, two column slices.
+    """Problem: the sprung mass over the span, 6 frequencies, the mean and two column slices.
 
     Reference: the in-process run (workers=1). The slicing depends on neither workers nor
     executor, and the reduction is in task order, so results must be bitwise equal (tolerance
-    zero): with 2 worker processes, when every slice is read back from the checkpoint folder, and
-    when one slice is missing and recomputed.
+    zero): with 2 worker processes, when every task (the mean too) is read back from the checkpoint
+    folder, and when one slice is missing and recomputed.
     """
     from tb_exudyn.solvers.batched import run_pem_batched
 
@@ -236,14 +236,14 @@ def test_batched_result_is_the_same_for_workers_checkpoints_and_resume(tmp_path)
                               channels=("bridge.span1.mid.acc_z", "car1.body.acc_z", "car1.axle1.force_z"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, slices=2)
-        again = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, resume=True, slices=2)
-        assert again.provenance["tasks_from_checkpoint"] == 2
+        ref = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, slices=(1, 1))
+        again = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1))
+        assert again.provenance["tasks_from_checkpoint"] == 3
         sorted((tmp_path / "checkpoint" / "tasks").glob("*.npz"))[0].unlink()
-        part = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, resume=True, slices=2)
+        part = run_pem_batched(sc, workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1))
         assert part.provenance["tasks_run"] == 1
-        pool = run_pem_batched(sc, workers=2, progress=False, slices=2)
-        no_psd = run_pem_batched(sc, workers=1, progress=False, slices=2, keep_psd=False)
+        pool = run_pem_batched(sc, workers=2, progress=False, slices=(1, 1))
+        no_psd = run_pem_batched(sc, workers=1, progress=False, slices=(1, 1), keep_psd=False)
     for r in (again, part, pool):
         for name in ("time", "mean", "std", "psd", "var_by_type"):
             assert np.array_equal(getattr(r, name), getattr(ref, name)), name
@@ -264,10 +264,10 @@ def test_batched_dask_executor_gives_the_same_result():
                               channels=("bridge.span1.mid.acc_z", "car1.body.acc_z"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = run_pem_batched(sc, workers=1, progress=False, slices=2)
+        ref = run_pem_batched(sc, workers=1, progress=False, slices=(1, 1))
         with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                       dashboard_address=None) as cluster:
             with distributed.Client(cluster) as client:
-                got = run_pem_batched(sc, executor=client.get_executor(), progress=False, slices=2)
+                got = run_pem_batched(sc, executor=client.get_executor(), progress=False, slices=(1, 1))
     for name in ("time", "mean", "std", "psd", "var_by_type"):
         assert np.array_equal(getattr(got, name), getattr(ref, name)), name
