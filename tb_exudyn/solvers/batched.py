@@ -68,9 +68,8 @@ from scipy.linalg.blas import daxpy, dgemm, dscal
 
 from ..builder.excitation import taper
 from ..results.random_response import RandomResponse
-from ..results.storage import check_writable, json_default
-from ..scenario import Scenario, ScenarioError, scenario_to_toml
-from ..track import get_spectrum
+from ..results.storage import json_default
+from ..scenario import Scenario
 from .batched_model import (
     CHECK_TOLERANCE,
     Component,
@@ -80,9 +79,9 @@ from .batched_model import (
     output_times,
     spectral_radius_alphas,
 )
-from .grid import band_mask, check_grid_against_spectra, scenario_grid
-from .pem import PemTask, kind_and_unit, pem_tasks
-from .tasks import Checkpoint, Task, fingerprint, run_tasks
+from .grid import band_mask
+from .pem import PemTask, kind_and_unit, pem_tasks, prepare_sweep
+from .tasks import Task, run_tasks
 from .threads import single_threaded_blas
 
 FloatArray = NDArray[np.float64]
@@ -759,20 +758,7 @@ def run_pem_batched(
         executor and after a resume. Give more slices for an executor with more workers.
     """
     t0 = _time.perf_counter()
-    if not scenario.track.irregularities:
-        raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
-    grid = scenario_grid(scenario)
-    spectra = {n: get_spectrum(n) for n in scenario.track.irregularities}
-    for n in spectra:
-        kind_and_unit(n)
-    check_grid_against_spectra(grid, scenario, spectra)
-    checkpoint = None
-    if out is not None:
-        out = check_writable(out)
-        fp = fingerprint({"method": "pem", "engine": "batched", "scenario": scenario_to_toml(scenario)})
-        checkpoint = Checkpoint(out / "checkpoint", fp, resume)
-    elif resume:
-        raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
+    grid, spectra, out, checkpoint = prepare_sweep(scenario, out, resume, {"method": "pem", "engine": "batched"})
     ptasks = [t.data for t in pem_tasks(scenario, grid)]
     tasks = [Task("pemb-mean", MeanTask())]
     tasks += column_slices(ptasks, default_slices(_cores()) if slices is None else slices, keep_psd)

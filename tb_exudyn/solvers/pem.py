@@ -105,6 +105,27 @@ def _work(model, task: Task) -> dict[str, np.ndarray]:
 
 
 # ---------------------------------------------------------------------------------- driver
+def prepare_sweep(scenario: Scenario, out: str | Path | None, resume: bool, identity: dict[str, Any]):
+    """Checks shared by the PEM engines, before any run: irregularities present and modelled, the grid
+    inside every spectrum's validity and the wavelength band, the output folder writable, and the
+    checkpoint (whose fingerprint is ``identity`` plus the scenario). Returns grid, spectra, out, checkpoint."""
+    if not scenario.track.irregularities:
+        raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
+    grid = scenario_grid(scenario)
+    spectra = {n: get_spectrum(n) for n in scenario.track.irregularities}
+    for n in spectra:
+        kind_and_unit(n)
+    check_grid_against_spectra(grid, scenario, spectra)
+    checkpoint = None
+    if out is not None:
+        out = check_writable(out)
+        fp = fingerprint({**identity, "scenario": scenario_to_toml(scenario)})
+        checkpoint = Checkpoint(out / "checkpoint", fp, resume)
+    elif resume:
+        raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
+    return grid, spectra, out, checkpoint
+
+
 def run_pem(
     scenario: Scenario,
     workers: int | None = None,
@@ -144,20 +165,7 @@ def run_pem(
         return run_pem_batched(scenario, workers=workers, executor=executor, out=out, resume=resume,
                                progress=progress, keep_psd=keep_psd)
     t0 = _time.perf_counter()
-    if not scenario.track.irregularities:
-        raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
-    grid = scenario_grid(scenario)
-    spectra = {n: get_spectrum(n) for n in scenario.track.irregularities}
-    for n in spectra:
-        kind_and_unit(n)
-    check_grid_against_spectra(grid, scenario, spectra)
-    checkpoint = None
-    if out is not None:
-        out = check_writable(out)
-        fp = fingerprint({"method": "pem", "scenario": scenario_to_toml(scenario)})
-        checkpoint = Checkpoint(out / "checkpoint", fp, resume)
-    elif resume:
-        raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
+    grid, spectra, out, checkpoint = prepare_sweep(scenario, out, resume, {"method": "pem"})
 
     mean_th = run_deterministic(scenario)
     channels, nt = tuple(mean_th.names), mean_th.time.size
