@@ -48,6 +48,7 @@ import numpy as np
 import tb_exudyn as tbx
 from tb_exudyn.plotting.data import crossing_times
 from tb_exudyn.results import RandomResponse
+from tb_exudyn.atomic import write_text_atomic
 
 from li_zhu_2011_psd_maps import (
     add_common_arguments,
@@ -155,10 +156,7 @@ def write_csv(rows: list[dict], path: Path) -> None:
     writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
     writer.writeheader()
     writer.writerows(rows)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(buf.getvalue(), encoding="utf-8")
-    tmp.replace(path)
+    write_text_atomic(path, buf.getvalue())
 
 
 def save_figures(pem: RandomResponse, folder: Path) -> list[Path]:

@@ -50,6 +50,7 @@ import tb_exudyn as tbx
 from tb_exudyn.results import RandomResponse
 from tb_exudyn.scenario import Scenario
 from tb_exudyn.solvers.tasks import single_threaded_blas
+from tb_exudyn.atomic import write_text_atomic
 
 from li_zhu_2011_psd_maps import add_common_arguments, quiet_quick_warnings, run_study_pem, study_scenario
 
@@ -105,10 +106,7 @@ def write_csv(rows: list[dict], path: Path) -> None:
     writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
     writer.writeheader()
     writer.writerows(rows)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(buf.getvalue(), encoding="utf-8")
-    tmp.replace(path)
+    write_text_atomic(path, buf.getvalue())
 
 
 def plot(rows: list[dict], title: str):
