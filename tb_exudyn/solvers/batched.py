@@ -178,6 +178,23 @@ class Columns:
     df: FloatArray
     n_types: int
 
+    # the column-source interface of the integrator (see SampleColumns in .batched_mc for the other)
+    @property
+    def width(self) -> int:
+        """Number of complex columns."""
+        return int(self.kinds.size)
+
+    def columns_for(self, kinds: Sequence[int]) -> IntArray:
+        """The columns a component excited by ``kinds`` integrates: those of its kinds."""
+        return np.flatnonzero(np.isin(self.kinds, kinds))
+
+    def at(self, step: "_Step", speed: float) -> ComplexArray:
+        """What every column's input needs at a step: exp(i Omega v t)."""
+        return np.exp(1j * (self.omega * speed) * step.t)
+
+    def run_inputs(self, run: "_Run", cols: IntArray, coupling) -> "_HarmonicInputs":  # noqa: ANN001
+        return _HarmonicInputs(run, self, cols, coupling)
+
 
 def task_columns(ptasks: Sequence[PemTask], scenario: Scenario) -> Columns:
     """Order (type, frequency) pairs frequency-major; every frequency must carry every type."""
@@ -276,12 +293,13 @@ def _most_axles_on_bridge(coupling, times: FloatArray) -> float:  # noqa: ANN001
 # =============================================================================== one component
 @dataclass(frozen=True)
 class _Step:
-    """What a step's time gives: axle positions on the bridge, the coupling's rail shapes S and
+    """What a step's time gives: axle positions x and which are on the bridge, the coupling's rail shapes S and
     slopes dS there (None while no axle is on the bridge: zero rows), the approach taper w, w' of
     every axle (``steady``: w = 1, w' = 0 for all; ``zero``: w = w' = 0 for all)."""
 
     t: float
     speed: float
+    x: FloatArray
     on: NDArray[np.bool_]
     S: FloatArray | None
     dS: FloatArray | None
@@ -354,11 +372,11 @@ class _Run:
     """State (q~, v~, a~, Delta of the columns on the float64 view) and constant operators of one
     component for one task's columns."""
 
-    def __init__(self, bm: BatchedModel, comp: Component, cols: IntArray, columns: Columns) -> None:
+    def __init__(self, bm: BatchedModel, comp: Component, cols: IntArray, source: Any) -> None:
         lin, ga = bm.lin, bm.alpha
         cp = lin.coupling
         self.comp, self.cols = comp, cols
-        self.sel: Any = slice(None) if cols.size == columns.kinds.size else cols
+        self.sel: Any = slice(None) if cols.size == source.width else cols
         bp, gp = ga.beta_p, ga.gamma_p
         g = comp.coords
         M, K0, D0 = (X[np.ix_(g, g)] for X in (lin.M, lin.K0, lin.D0))
@@ -389,13 +407,8 @@ class _Run:
         self.vehicles = [_Vehicle(veh, A0inv, K0, D0, Gl, k, c, kap, self.H0) for veh in comp.vehicles]
         if sum(v.r1 - v.r0 for v in self.vehicles) != rows.size:
             raise NotImplementedError("a contact row acting on no vehicle coordinate")
-        # columns: r_c = P0 exp(i Omega v t) w(x_c); k r + c r' = w Qss z + c v w' P0 z
         m = cols.size
-        self.omega = columns.omega[cols]
-        x0 = cp.positions(0.0)[self.axle] - float(cp.axle_start[0])
-        W = cp.contacts.input_map[np.ix_(rows, columns.kinds[cols])] * columns.scale[cols][None, :]
-        self.P0 = W * np.exp(1j * np.outer(x0, self.omega))
-        self.Qss = self.P0 * (k[:, None] + 1j * (c * cp.speed)[:, None] * self.omega[None, :])
+        self.input = source.run_inputs(self, cols, cp)  # k r + c r' of the rows, per step
         n = g.size
         self.QP, self.VP, self.AP, self.DL = (np.zeros((n, 2 * m)) for _ in range(4))
         self.tmp = np.zeros((nb, 2 * m))
@@ -406,23 +419,16 @@ class _Run:
         self.qdd0 = np.zeros((n, 2 * m))
         self.bridge_moving = False
 
-    def inputs(self, step: "_Step", z: ComplexArray, out: ComplexArray) -> None:
-        """k r + c r' of the component's contact rows (``z`` = exp(i Omega v t) of its columns)."""
+    def inputs(self, step: "_Step", shared: Any, out: ComplexArray) -> None:
+        """k r + c r' of the component's contact rows (``shared``: the column source's ``at(step)``)."""
         if step.zero:
             out.fill(0.0)
-            return
-        np.multiply(self.Qss, z, out=out)
-        if step.steady:
-            return
-        wr, dwr = step.w[self.axle], step.dw[self.axle]
-        out *= wr[:, None]
-        idx = np.flatnonzero(dwr)
-        if idx.size:
-            out[idx] += (self.c[idx, 0] * step.speed * dwr[idx])[:, None] * (self.P0[idx] * z)
+        else:
+            self.input(step, shared, out)
 
-    def start(self, step: "_Step", z: ComplexArray, ga: GeneralizedAlpha) -> None:
+    def start(self, step: "_Step", shared: Any, ga: GeneralizedAlpha) -> None:
         """Rest; M qdd0 = -B(0)^T (k r + c r'); the first predictor."""
-        self.inputs(step, z, self.Gc)
+        self.inputs(step, shared, self.Gc)
         B = -self.Gl
         if self.nb and step.S is not None:
             B = B.copy()
@@ -433,11 +439,11 @@ class _Run:
         self.F[:] = self.G
         self.R[:] = self.Gc
 
-    def solve(self, step: "_Step", z: ComplexArray, record: bool) -> None:
+    def solve(self, step: "_Step", shared: Any, record: bool) -> None:
         """Delta (self.DL) and contact forces (self.F; of vehicles off the bridge only when recording)
         of the step ending at step.t."""
         nb, QP, VP, DL, G, F = self.nb, self.QP, self.VP, self.DL, self.G, self.F
-        self.inputs(step, z, self.Gc)  # g = f~ + C Y0 starts with k r + c r'
+        self.inputs(step, shared, self.Gc)  # g = f~ + C Y0 starts with k r + c r'
         if record:
             self.R[:] = self.Gc
         on_rows = np.flatnonzero(step.on[self.axle]) if nb and step.S is not None else ()
@@ -488,6 +494,31 @@ class _Run:
         daxpy(dl, vp, a=rho_d)
         dscal(mu_a, ap)
         daxpy(dl, ap, a=mu_d)
+
+
+class _HarmonicInputs:
+    """k r + c r' of a run's contact rows for harmonic (PEM) columns: r_c = P0 exp(i Omega v t) w(x_c),
+    so k r + c r' = w Qss z + c v w' P0 z with z = exp(i Omega v t) (``Columns.at``)."""
+
+    def __init__(self, run: _Run, columns: Columns, cols: IntArray, coupling) -> None:  # noqa: ANN001
+        self.sel, self.axle = run.sel, run.axle
+        omega = columns.omega[cols]
+        x0 = coupling.positions(0.0)[run.axle] - float(coupling.axle_start[0])
+        W = coupling.contacts.input_map[np.ix_(run.rows, columns.kinds[cols])] * columns.scale[cols][None, :]
+        self.P0 = W * np.exp(1j * np.outer(x0, omega))
+        self.cv = run.c[:, 0] * coupling.speed
+        self.Qss = self.P0 * (run.k + 1j * self.cv[:, None] * omega[None, :])
+
+    def __call__(self, step: "_Step", z_all: ComplexArray, out: ComplexArray) -> None:
+        z = z_all[self.sel]
+        np.multiply(self.Qss, z, out=out)
+        if step.steady:
+            return
+        out *= step.w[self.axle][:, None]
+        dwr = step.dw[self.axle]
+        idx = np.flatnonzero(dwr)
+        if idx.size:
+            out[idx] += (self.cv[idx] * dwr[idx])[:, None] * (self.P0[idx] * z)
 
 
 class _Outputs:
@@ -567,15 +598,68 @@ def integrate_columns(bm: BatchedModel, columns: Columns, keep_psd: bool = True)
     precision; ``freq_index`` (n_f,).
     """
     with single_threaded_blas():
-        return _integrate(bm, columns, keep_psd)
+        reducer = PsdReducer(columns, len(bm.channels.names), bm.output_time.size, keep_psd)
+        return integrate(bm, columns, reducer)
 
 
-def _integrate(bm: BatchedModel, columns: Columns, keep_psd: bool) -> dict[str, np.ndarray]:
+class PsdReducer:
+    """PEM's reduction at an output time: |y~|^2 summed per type (sigma^2) and, with ``keep_psd``,
+    summed over types and divided by df (the PSD map, gathered in blocks of output times)."""
+
+    def __init__(self, columns: Columns, n_ch: int, n_t: int, keep_psd: bool) -> None:
+        m, n_f, nty = columns.width, columns.freq_index.size, columns.n_types
+        self.columns = columns
+        self.var = np.zeros((n_t, nty, n_ch))
+        self.psd = np.zeros((n_ch, n_f, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
+        self.per_freq = np.zeros((n_ch, n_f))
+        self.block = np.zeros((n_ch, n_f, PSD_BLOCK), dtype=PSD_TRANSPORT)  # output times gathered before a write
+        self.P2, self.power = np.zeros((n_ch, 2 * m)), np.zeros((n_ch, m))
+        self.type_sum = np.zeros((m, nty))  # (m, n_types): which type each column is
+        self.type_sum[np.arange(m), np.arange(m) % nty] = 1.0
+        self.by_type = np.zeros((n_ch, nty))
+        self.inv_df = 1.0 / columns.df
+        self.n_t = n_t
+
+    def record(self, i: int, Y: ComplexArray, ext: IntArray) -> None:
+        """Reduce the columns' outputs Y (internal channel order; ``ext``: internal row of each channel)."""
+        P2, power, nty = self.P2, self.power, self.columns.n_types
+        np.multiply(Y.view(np.float64), Y.view(np.float64), out=P2)
+        np.add(P2[:, 0::2], P2[:, 1::2], out=power)  # |y~|^2 (no reductions over short axes: slow)
+        np.matmul(power, self.type_sum, out=self.by_type)
+        self.var[i] = self.by_type[ext].T
+        if self.psd is not None:
+            per_freq = self.per_freq
+            p3 = power.reshape(power.shape[0], -1, nty)
+            per_freq[:] = p3[:, :, 0]
+            for ti in range(1, nty):
+                np.add(per_freq, p3[:, :, ti], out=per_freq)
+            np.multiply(per_freq, self.inv_df, out=per_freq)
+            self.block[:, :, i % PSD_BLOCK] = per_freq[ext]
+            if i % PSD_BLOCK == PSD_BLOCK - 1 or i == self.n_t - 1:  # a strided write per time: 3x slower
+                i0 = i - i % PSD_BLOCK
+                self.psd[:, :, i0:i + 1] = self.block[:, :, : i + 1 - i0]
+
+    def result(self) -> dict[str, np.ndarray]:
+        out = {"var_t": self.var, "freq_index": self.columns.freq_index}
+        if self.psd is not None:
+            out["psd"] = self.psd
+        return out
+
+
+def integrate(bm: BatchedModel, source: Any, reducer: Any) -> dict[str, np.ndarray]:
+    """Integrate the columns of ``source`` over the crossing, handing the outputs of every output
+    time to ``reducer.record(i, Y, ext)``; returns ``reducer.result()`` and the run's provenance.
+
+    ``source`` is a column source: ``width`` (number of complex columns), ``columns_for(kinds)``
+    (the columns a component excited by those kinds integrates), ``at(step, speed)`` (what the
+    inputs of every column need at a step, computed once per step) and ``run_inputs(run, cols,
+    coupling)`` (a callable filling k r + c r' of a run's contact rows). PEM's :class:`Columns`
+    (harmonic) and :class:`~.batched_mc.SampleColumns` (sampled profiles) are the two.
+    """
     lin, ga, cm = bm.lin, bm.alpha, bm.channels
     cp = lin.coupling
-    n_ch, n_t, m, n_f = len(cm.names), bm.output_time.size, columns.kinds.size, columns.freq_index.size
-    runs = [_Run(bm, comp, cols, columns) for comp in bm.components
-            if (cols := np.flatnonzero(np.isin(columns.kinds, comp.kinds))).size]
+    n_ch, m = len(cm.names), source.width
+    runs = [_Run(bm, comp, cols, source) for comp in bm.components if (cols := source.columns_for(comp.kinds)).size]
     overlap = np.zeros((lin.k.size, m), dtype=np.int64)  # components integrating (contact row, column)
     for run in runs:
         overlap[np.ix_(run.rows, run.cols)] += 1
@@ -592,39 +676,16 @@ def _integrate(bm: BatchedModel, columns: Columns, keep_psd: bool) -> dict[str, 
     order += sorted(set(range(n_ch)) - set(order))  # moving loads and channels no input reaches: zero
     ext = np.argsort(np.array(order, dtype=np.int64))  # internal row of each channel
     shared_rows = slice(shared0, n_ch)  # summed over components: cleared at every output time
-    var = np.zeros((n_t, columns.n_types, n_ch))
-    psd = np.zeros((n_ch, n_f, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
-    per_freq = np.zeros((n_ch, n_f))
-    block = np.zeros((n_ch, n_f, PSD_BLOCK), dtype=PSD_TRANSPORT)  # output times gathered before a write
     Y = np.zeros((n_ch, m), dtype=complex)
-    Yf, P2, power = Y.view(np.float64), np.zeros((n_ch, 2 * m)), np.zeros((n_ch, m))
-    type_sum = np.zeros((m, columns.n_types))  # (m, n_types): which type each column is
-    type_sum[np.arange(m), np.arange(m) % columns.n_types] = 1.0
-    by_type = np.zeros((n_ch, columns.n_types))
-    inv_df = 1.0 / columns.df
 
     def record(i: int, first: bool) -> None:
         Y[shared_rows] = 0.0
         for run, out in zip(runs, outs):
             out.write(run, Y, ga, first)
-        np.multiply(Yf, Yf, out=P2)
-        np.add(P2[:, 0::2], P2[:, 1::2], out=power)  # |y~|^2 (no reductions over short axes: slow)
-        np.matmul(power, type_sum, out=by_type)
-        var[i] = by_type[ext].T
-        if psd is not None:
-            p3 = power.reshape(n_ch, n_f, columns.n_types)
-            per_freq[:] = p3[:, :, 0]
-            for ti in range(1, columns.n_types):
-                np.add(per_freq, p3[:, :, ti], out=per_freq)
-            np.multiply(per_freq, inv_df, out=per_freq)
-            block[:, :, i % PSD_BLOCK] = per_freq[ext]
-            if i % PSD_BLOCK == PSD_BLOCK - 1 or i == n_t - 1:  # a strided write per time: 3x slower
-                i0 = i - i % PSD_BLOCK
-                psd[:, :, i0:i + 1] = block[:, :, : i + 1 - i0]
+        reducer.record(i, Y, ext)
 
     coef = ga.update_coefficients()
     h = ga.h
-    omega_v = columns.omega * cp.speed
     x_ref, length = float(cp.axle_start[0]), cp.bridge.length
 
     taper_end = (x_ref + cp.taper_length - float(cp.positions(0.0).min())) / cp.speed
@@ -638,35 +699,31 @@ def _integrate(bm: BatchedModel, columns: Columns, keep_psd: bool) -> dict[str, 
             w, dw = ones, zeros
         else:
             w, dw = taper(x, x_ref, cp.taper_length)
-        return _Step(t, cp.speed, on, None if st is None else st.S, None if st is None else st.dS,
+        return _Step(t, cp.speed, x, on, None if st is None else st.S, None if st is None else st.dS,
                      w, dw, t >= taper_end, not (w.any() or dw.any()))
 
     step = step_at(0.0)
-    z = np.exp(1j * omega_v * 0.0)
+    shared = source.at(step, cp.speed)
     for run in runs:
-        run.start(step, z[run.sel], ga)
+        run.start(step, shared, ga)
     record(0, True)
     for n in range(1, bm.n_steps + 1):
-        t = n * h
-        step = step_at(t)
-        z = np.exp(1j * omega_v * t)
+        step = step_at(n * h)
+        shared = source.at(step, cp.speed)
         rec = n % bm.ratio == 0
         for run in runs:
-            run.solve(step, z[run.sel], rec)
+            run.solve(step, shared, rec)
         if rec:
             record(n // bm.ratio, False)
         for run in runs:
             run.update(coef, h)
-    out: dict[str, np.ndarray] = {
-        "var_t": var, "freq_index": columns.freq_index,
+    return {
+        **reducer.result(),
         "contact_check": np.array([bm.check["coupling"], bm.check["inputs"]]),
         "components": np.array([[c.size, c.n_bridge, c.rows.size, sum(1 << k for k in c.kinds)] for c in bm.components],
                                dtype=np.int64).reshape(-1, 4),
         "alpha": np.array([ga.rho, ga.alpha_m, ga.alpha_f, ga.gamma, ga.beta, ga.h]),
     }
-    if psd is not None:
-        out["psd"] = psd
-    return out
 
 
 # =================================================================================== the driver
