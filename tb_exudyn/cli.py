@@ -78,10 +78,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .solvers.monte_carlo import run_monte_carlo
 
         result = run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers, out=out,
-                                 resume=args.resume, progress=not args.no_progress)
+                                 resume=args.resume, progress=not args.no_progress, engine=args.engine)
         print(_summary_table(result))
         p = result.provenance
-        print(f"Monte Carlo: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
+        what = "Monte Carlo of the LINEAR model (batched engine)" if args.engine == "batched" else "Monte Carlo"
+        print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
     if not args.no_figures:
         from .plotting import plot_folder
@@ -137,8 +138,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
     p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
     p.add_argument("--engine", choices=("exudyn", "batched"), default="exudyn",
-                   help="PEM engine: one Exudyn run per frequency and part (the reference, default) or all "
-                        "pseudo-excitations in one batched integration of the same model")
+                   help="exudyn: one Exudyn run per PEM frequency and part, or per Monte Carlo sample (the "
+                        "reference, default); batched: all pseudo-excitations, or all samples, integrated together "
+                        "on the model linearised about rest (Monte Carlo results labelled monte_carlo_linear)")
     p.add_argument("--samples", type=_positive_int, default=None, help="Monte Carlo samples (default: the scenario's)")
     p.add_argument("--seed", type=int, default=None, help="Monte Carlo seed (default: the scenario's)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

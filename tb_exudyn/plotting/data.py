@@ -123,9 +123,12 @@ def psd_slices(
 
 
 def mc_label(resp: RandomResponse) -> str:
-    """'PEM', or 'MC500' as the reference study names a Monte Carlo run of 500 samples."""
+    """'PEM', or 'MC500' as the reference study names a Monte Carlo run of 500 samples ('MC500 (linear)'
+    for the batched engine's Monte Carlo of the linear model)."""
     if resp.method == "pem":
         return "PEM"
+    if resp.method == "monte_carlo_linear":
+        return f"MC{resp.n_samples} (linear)"
     if resp.method.startswith("monte_carlo"):
         return f"MC{resp.n_samples}"
     return resp.method

@@ -234,10 +234,13 @@ class BatchedModel:
     generalized-alpha coefficients, the step grid and the channel map; and the once-only checks of
     the contact description (``check``: largest relative differences, must be round-off)."""
 
-    def __init__(self, scenario: Scenario, spectral_radius: float | None = None) -> None:
+    def __init__(self, scenario: Scenario, spectral_radius: float | None = None, wheel_forces: bool = False) -> None:
+        """``wheel_forces``: also output every vertical wheel-rail force (``*.force_z``) the scenario's
+        channels leave out, after the selected channels (the Monte Carlo loss-of-contact check)."""
         from ..builder import build_model
 
         self.scenario = scenario
+        self.wheel_forces = wheel_forces
         with single_threaded_blas():
             self.model = build_model(scenario, warn=False)
             self.lin = LinearTrainBridge(self.model)
@@ -257,18 +260,31 @@ class BatchedModel:
             raise RuntimeError(f"the batched engine's contact description disagrees with the coupling: {self.check}")
         self.channels = self._channel_map()
 
+    @property
+    def n_selected(self) -> int:
+        """Number of the scenario's channels (the first of ``channels.names``)."""
+        return len(self.model.selected)
+
+    @property
+    def force_channels(self) -> list[Any]:
+        """The vertical wheel-rail force channels (``*.force_z``) of the channel map."""
+        return [c for c in self._outputs if c.name.endswith(".force_z")]
+
     def _channel_map(self) -> ChannelMap:
         model = self.model
         node, bridge, contact = [], [], []
         shapes = model.bridge.station_shapes
-        for i, ch in enumerate(model.selected):
+        self._outputs = list(model.selected)
+        if self.wheel_forces:
+            self._outputs += [c for c in model.channels if c.name.endswith(".force_z") and c not in model.selected]
+        for i, ch in enumerate(self._outputs):
             if ch.source == "node":
                 node.append((i, int(model.node_indices(ch.index)[ch.coordinate]), ch.order))
             elif ch.source == "bridge":
                 bridge.append((i, shapes[ch.index, ch.coordinate], ch.order))
             elif ch.source == "contact":
                 contact.append((i, ch.index))
-        return ChannelMap(tuple(c.name for c in model.selected), tuple(c.unit for c in model.selected),
+        return ChannelMap(tuple(c.name for c in self._outputs), tuple(c.unit for c in self._outputs),
                           tuple(node), tuple(bridge), tuple(contact))
 
     def describe(self) -> dict[str, Any]:
@@ -757,11 +773,20 @@ def _mean(bm: BatchedModel) -> dict[str, np.ndarray]:
     provenance (JSON) and the scenario's warnings."""
     from .deterministic import run_deterministic
 
+    from ..builder.channels import evaluate
+
     start = _time.perf_counter()
     th = run_deterministic(bm.scenario, model=bm.model)
+    forces = bm.force_channels if bm.wheel_forces else []
+    if forces:  # the wheel forces of the run, selected or not (Monte Carlo's loss-of-contact check)
+        values = evaluate(forces, bm.model.recording(), bm.model.bridge.station_shapes)
+        force_mean = np.stack([values[c.name] for c in forces])
+    else:
+        force_mean = np.zeros((0, th.time.size))
     bm.model.set_gravity(False)  # back to the sweep's state (the batched engine reads only the coupling)
     bm.model.set_excitation(None)
     return {
+        "force_mean": force_mean,
         "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
         "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
         "provenance": np.array(json.dumps(th.provenance, default=json_default)),

@@ -153,22 +153,27 @@ def compare(pem: RandomResponse, mc: RandomResponse, channels: str | Sequence[st
                       pem_band=tuple(pem.band), mc_band=tuple(mc.band), rows=tuple(rows))  # type: ignore[arg-type]
 
 
-def _result_folder(folder: str | Path, sub: str) -> Path:
-    """A result folder itself, or an ``--out`` folder holding it as ``sub``."""
+def _result_folder(folder: str | Path, *subs: str) -> Path:
+    """A result folder itself, or an ``--out`` folder holding it as the first of ``subs`` present."""
     folder = Path(folder)
-    return folder if (folder / "meta.json").exists() or not (folder / sub / "meta.json").exists() else folder / sub
+    if not (folder / "meta.json").exists():
+        for sub in subs:
+            if (folder / sub / "meta.json").exists():
+                return folder / sub
+    return folder
 
 
 def compare_folders(pem_dir: str | Path, mc_dir: str | Path, channels: str | Sequence[str] | None = None, *,
                     k: float = 3.0, threshold: float = 0.05, t_min: float | None = None) -> str:
     """The comparison table of saved results (for ``tb-exudyn compare PEM_DIR MC_DIR``).
 
-    Each folder is a saved result or an ``--out`` folder holding ``pem/`` resp. ``mc/``.
+    Each folder is a saved result or an ``--out`` folder holding ``pem/`` resp. ``mc/`` (the Exudyn
+    Monte Carlo) or, without it, ``mc_linear/`` (the linear model's).
     """
     from ..results import load_results
 
     pem = load_results(_result_folder(pem_dir, "pem"))
-    mc = load_results(_result_folder(mc_dir, "mc"))
+    mc = load_results(_result_folder(mc_dir, "mc", "mc_linear"))
     if not isinstance(pem, RandomResponse) or not isinstance(mc, RandomResponse):
         raise ComparisonError(f"{pem_dir} and {mc_dir} must hold random responses (PEM and Monte Carlo results)")
     return compare(pem, mc, channels, k=k, threshold=threshold, t_min=t_min).table()

@@ -50,7 +50,7 @@ import time as _time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -63,7 +63,7 @@ from ..results.storage import check_writable
 from ..scenario import Scenario, ScenarioError, scenario_to_toml
 from ..track import HarmonicProfile, band_from_wavelengths, fft_profile, get_spectrum, sample_rng
 from .grid import band_mask, check_grid_against_spectra, scenario_grid
-from .pem import kind_and_unit
+from .pem import ENGINES, kind_and_unit
 from .tasks import Checkpoint, Task, fingerprint, run_tasks
 
 Discretisation = Literal["pem_grid", "fft"]
@@ -245,6 +245,25 @@ class ProfileSampler:
             out[kind] = out[kind] + values if kind in out else values
         return out
 
+    def grids_batch(self, seed: int, indices: Sequence[int]) -> dict[str, NDArray[np.float64]]:
+        """Samples ``indices`` of a run seeded with ``seed`` at once: kind -> (n_points, n) values on the
+        grid ``self.x``, column j being ``grids(sample_rng(seed, indices[j]))[kind]`` (the same draws;
+        on the PEM grid the harmonic sums are one matrix product per spectrum instead of one per
+        sample, equal to round-off)."""
+        rngs = [sample_rng(seed, int(k)) for k in indices]
+        table = self._trig_table() if self.discretisation == "pem_grid" else None
+        if table is None:
+            per_sample = [self.grids(rng) for rng in rngs]
+            return {kind: np.stack([g[kind] for g in per_sample], axis=1) for kind in per_sample[0]} if rngs else {}
+        phases = [[rng.uniform(0.0, 2 * math.pi, h.omega.size) for h in self.harmonics] for rng in rngs]
+        out: dict[str, NDArray[np.float64]] = {}
+        for i, (kind, _) in enumerate(self.kinds):
+            a = self.harmonics[i].amplitude[:, None]
+            phase = np.stack([p[i] for p in phases], axis=1)  # (n_frequencies, n)
+            values = table @ np.concatenate((a * np.cos(phase), -a * np.sin(phase))) * self._scale[i]
+            out[kind] = out[kind] + values if kind in out else values
+        return out
+
     def excitation(self, rng: np.random.Generator) -> ProfileExcitation:
         """One sample as an excitation of the model (cubic-spline profiles, one evaluation per step)."""
         grids = self.grids(rng)
@@ -309,13 +328,54 @@ def _work(state: tuple[Any, ProfileSampler], task: Task) -> dict[str, np.ndarray
     }
 
 
-# ---------------------------------------------------------------------------------- driver
-def _positive_int(value: Any, key: str, low: int) -> int:
+# ---------------------------------------------------------------------------------- statistics
+STATISTICS_PROVENANCE = {
+    "std_estimator": "sample standard deviation (ddof = 1)",
+    "confidence": "95 %: mean +- 1.96 s/sqrt(N); std: chi-square interval",
+}
+
+
+def sample_statistics(mean: NDArray[np.float64], m2: NDArray[np.float64], n: int
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Sample standard deviation (ddof = 1) from the sum of squared deviations ``m2`` of ``n``
+    samples, and the 95 % confidence intervals (2, ...) of the mean (normal) and of the std
+    (chi-square)."""
+    std = np.sqrt(m2 / (n - 1))
+    half = Z95 * std / math.sqrt(n)
+    mean_ci = np.stack([mean - half, mean + half])
+    q_hi, q_lo = chi2.ppf([0.975, 0.025], n - 1)
+    std_ci = np.stack([std * math.sqrt((n - 1) / q_hi), std * math.sqrt((n - 1) / q_lo)])
+    return std, mean_ci, std_ci
+
+
+def warn_loss_of_contact(min_force: NDArray[np.float64]) -> NDArray[np.int64]:
+    """Indices of the samples whose minimum vertical wheel force is <= 0, with a
+    :class:`LossOfContactWarning` when there are any."""
+    lost = np.flatnonzero(min_force <= 0.0)
+    if lost.size:
+        warnings.warn(
+            f"{lost.size} of {min_force.size} Monte Carlo samples lost wheel-rail contact (minimum vertical wheel "
+            f"force {np.nanmin(min_force):.4g} N <= 0; first samples {lost[:5].tolist()}): the linear contact pulls "
+            "the wheel back, so these samples, and a comparison with PEM (which assumes a linear system), "
+            "are not reliable", LossOfContactWarning, stacklevel=3,
+        )
+    return lost
+
+
+def contact_provenance(min_force: NDArray[np.float64], lost: NDArray[np.int64]) -> dict[str, Any]:
+    return {
+        "samples_with_loss_of_contact": int(lost.size),
+        "min_wheel_force_N": float(np.nanmin(min_force)) if np.isfinite(min_force).any() else None,
+    }
+
+
+def positive_int(value: Any, key: str, low: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
         raise ScenarioError(None, key, value, f"an integer >= {low}", "bad value")
     return int(value)
 
 
+# ---------------------------------------------------------------------------------- driver
 def run_monte_carlo(
     scenario: Scenario,
     n_samples: int | None = None,
@@ -327,6 +387,7 @@ def run_monte_carlo(
     progress: bool = True,
     keep_samples: bool = False,
     discretisation: Discretisation = "pem_grid",
+    engine: str = "exudyn",
 ) -> RandomResponse:
     """Sample mean and standard deviation of every channel over sampled irregularity profiles.
 
@@ -345,10 +406,13 @@ def run_monte_carlo(
     keep_samples : keep every sample's channels, (N, nc, nt), in ``samples``
     discretisation : "pem_grid" (the PEM grid's discretised spectrum: comparable with PEM exactly)
         or "fft" (FFT profiles over the wavelength band, for long tracks)
+    engine : "exudyn" (one Exudyn run per sample: the reference) or "batched" (the same samples on the
+        linear model, all integrated together by the batched engine: method "monte_carlo_linear",
+        see :mod:`.batched_mc`)
 
     Returns
     -------
-    RandomResponse (method "monte_carlo") with the sample mean, the sample standard deviation
+    RandomResponse (method "monte_carlo", or "monte_carlo_linear" with the batched engine) with the sample mean, the sample standard deviation
     (ddof = 1), their 95 % confidence intervals ``mean_ci`` (mean +- 1.96 s / sqrt(N)) and ``std_ci``
     (chi-square interval), ``min_wheel_force`` per sample and, if asked, the samples.
 
@@ -359,9 +423,17 @@ def run_monte_carlo(
     from ..builder import build_model
     from .deterministic import versions
 
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(repr(e) for e in ENGINES)}, got {engine!r}")
+    if engine == "batched":
+        from .batched_mc import run_monte_carlo_linear
+
+        return run_monte_carlo_linear(scenario, n_samples=n_samples, seed=seed, workers=workers, executor=executor,
+                                      out=out, resume=resume, progress=progress, keep_samples=keep_samples,
+                                      discretisation=discretisation)
     t0 = _time.perf_counter()
-    n = _positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
-    seed = _positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
+    n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
+    seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
     sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
     checkpoint = None
     if out is not None:
@@ -409,19 +481,8 @@ def run_monte_carlo(
         workers=workers, executor=executor, checkpoint=checkpoint, progress=progress, desc="Monte Carlo",
     )
     mean = acc["mean"]
-    std = np.sqrt(acc["m2"] / (n - 1))
-    half = Z95 * std / math.sqrt(n)
-    mean_ci = np.stack([mean - half, mean + half])
-    q_hi, q_lo = chi2.ppf([0.975, 0.025], n - 1)
-    std_ci = np.stack([std * math.sqrt((n - 1) / q_hi), std * math.sqrt((n - 1) / q_lo)])
-    lost = np.flatnonzero(min_force <= 0.0)
-    if lost.size:
-        warnings.warn(
-            f"{lost.size} of {n} Monte Carlo samples lost wheel-rail contact (minimum vertical wheel force "
-            f"{np.nanmin(min_force):.4g} N <= 0; first samples {lost[:5].tolist()}): the linear contact pulls "
-            "the wheel back, so these samples, and a comparison with PEM (which assumes a linear system), "
-            "are not reliable", LossOfContactWarning, stacklevel=2,
-        )
+    std, mean_ci, std_ci = sample_statistics(mean, acc["m2"], n)
+    lost = warn_loss_of_contact(min_force)
     provenance = {
         "engine": "exudyn",
         "method": "monte_carlo",
@@ -432,10 +493,8 @@ def run_monte_carlo(
         "gravity": True,
         "initial_state": "static",
         "sample_run_time_median_s": float(np.median(run_times)),
-        "samples_with_loss_of_contact": int(lost.size),
-        "min_wheel_force_N": float(np.nanmin(min_force)) if np.isfinite(min_force).any() else None,
-        "std_estimator": "sample standard deviation (ddof = 1)",
-        "confidence": "95 %: mean +- 1.96 s/sqrt(N); std: chi-square interval",
+        **contact_provenance(min_force, lost),
+        **STATISTICS_PROVENANCE,
         "warnings": warnings_,
         **sampler.describe(),
         **stats,
