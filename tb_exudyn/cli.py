@@ -70,7 +70,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .solvers.pem import run_pem
 
         result = run_pem(scenario, workers=args.workers, out=out, resume=args.resume, progress=not args.no_progress,
-                         engine=args.engine)
+                         engine=args.engine, linearization=args.linearization or "rest")
         print(_summary_table(result))
         print(f"PEM: {result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
@@ -78,7 +78,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         from .solvers.monte_carlo import run_monte_carlo
 
         result = run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers, out=out,
-                                 resume=args.resume, progress=not args.no_progress, engine=args.engine)
+                                 resume=args.resume, progress=not args.no_progress, engine=args.engine,
+                                 linearization=args.linearization)
         print(_summary_table(result))
         p = result.provenance
         what = "Monte Carlo of the LINEAR model (batched engine)" if args.engine == "batched" else "Monte Carlo"
@@ -141,6 +142,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="exudyn: one Exudyn run per PEM frequency and part, or per Monte Carlo sample (the "
                         "reference, default); batched: all pseudo-excitations, or all samples, integrated together "
                         "on the model linearised about rest (Monte Carlo results labelled monte_carlo_linear)")
+    p.add_argument("--linearization", choices=("rest", "static"), default=None,
+                   help="batched engine: linearise about rest (default; PEM's model, as the Exudyn PEM engine) or "
+                        "about the static equilibrium under gravity (adds the suspension preload's stiffness, which "
+                        "the Exudyn model with gravity has)")
     p.add_argument("--samples", type=_positive_int, default=None, help="Monte Carlo samples (default: the scenario's)")
     p.add_argument("--seed", type=int, default=None, help="Monte Carlo seed (default: the scenario's)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

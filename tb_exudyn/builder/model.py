@@ -288,13 +288,18 @@ class TrainBridgeModel:
         self.mbs.systemData.SetODE2Coordinates_t(qd.tolist(), configuration=initial)
         self.mbs.systemData.SetODE2Coordinates_tt(np.zeros(self.n_ode2).tolist(), configuration=initial)
 
-    def linearized_system(self, t: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """M, K, D of the whole system linearised at the reference configuration, with the train
-        standing at its positions of time t (no convective terms). Sets the initial state to rest."""
+    def linearized_system(
+        self, t: float = 0.0, state: NDArray[np.float64] | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """M, K, D of the whole system linearised at the reference configuration (or at the
+        displacements ``state``, e.g. ``static_state()``: then K includes the geometric stiffness of
+        the forces carried there, the suspensions' preload under gravity), with the train standing
+        at its positions of time t (no convective terms). Sets the initial state to rest."""
         zero = np.zeros(self.n_ode2)
-        self._set_initial(zero, zero)
+        self._set_initial(zero if state is None else np.asarray(state, dtype=float), zero)
         with self.coupling.frozen(t):
             M, K, D = self.mbs.ComputeLinearizedSystem(exu.SimulationSettings())
+        self._set_initial(zero, zero)
         return np.asarray(M), np.asarray(K), np.asarray(D)
 
     def dead_load(self, t: float = 0.0) -> NDArray[np.float64]:

@@ -69,9 +69,10 @@ from scipy.linalg.blas import daxpy, dgemm, dscal
 from ..builder.excitation import taper
 from ..results.random_response import RandomResponse
 from ..results.storage import json_default
-from ..scenario import Scenario
+from ..scenario import Scenario, ScenarioError
 from .batched_model import (
     CHECK_TOLERANCE,
+    LINEARIZATIONS,
     Component,
     LinearTrainBridge,
     find_components,
@@ -234,16 +235,18 @@ class BatchedModel:
     generalized-alpha coefficients, the step grid and the channel map; and the once-only checks of
     the contact description (``check``: largest relative differences, must be round-off)."""
 
-    def __init__(self, scenario: Scenario, spectral_radius: float | None = None, wheel_forces: bool = False) -> None:
+    def __init__(self, scenario: Scenario, spectral_radius: float | None = None, wheel_forces: bool = False,
+                 linearization: str = "rest") -> None:
         """``wheel_forces``: also output every vertical wheel-rail force (``*.force_z``) the scenario's
-        channels leave out, after the selected channels (the Monte Carlo loss-of-contact check)."""
+        channels leave out, after the selected channels (the Monte Carlo loss-of-contact check).
+        ``linearization``: "rest" or "static" (:mod:`.batched_model`)."""
         from ..builder import build_model
 
         self.scenario = scenario
         self.wheel_forces = wheel_forces
         with single_threaded_blas():
             self.model = build_model(scenario, warn=False)
-            self.lin = LinearTrainBridge(self.model)
+            self.lin = LinearTrainBridge(self.model, linearization)
             cp = self.lin.coupling
             self.n_steps, self.ratio, h = output_times(scenario)
             rho = scenario.analysis.spectral_radius if spectral_radius is None else spectral_radius
@@ -291,6 +294,7 @@ class BatchedModel:
         """Provenance: components, generalized-alpha parameters, checks."""
         ga = self.alpha
         return {
+            "linearization": self.lin.linearization,
             "generalized_alpha": {"spectral_radius": ga.rho, "alpha_m": ga.alpha_m, "alpha_f": ga.alpha_f,
                                   "gamma": ga.gamma, "beta": ga.beta, "time_step_s": ga.h, "steps": self.n_steps},
             "components": [{"coordinates": c.size, "bridge_modes": c.n_bridge, "contacts": int(c.rows.size),
@@ -757,8 +761,8 @@ class MeanTask:
     built model, the very run of the Exudyn engine."""
 
 
-def _setup(scenario: Scenario) -> BatchedModel:
-    return BatchedModel(scenario)
+def _setup(scenario: Scenario, linearization: str = "rest") -> BatchedModel:
+    return BatchedModel(scenario, linearization=linearization)
 
 
 def _work(bm: BatchedModel, task: Task) -> dict[str, np.ndarray]:
@@ -826,6 +830,7 @@ def run_pem_batched(
     progress: bool = True,
     keep_psd: bool = True,
     slices: Sequence[float] | None = None,
+    linearization: str = "rest",
 ) -> RandomResponse:
     """The PEM sweep with the batched engine; arguments and result as :func:`~.pem.run_pem`.
 
@@ -838,9 +843,13 @@ def run_pem_batched(
         cores). Results depend on the slicing only at round-off level, and the slicing not on
         ``workers`` or ``executor``: a result is bitwise the same for any number of workers, any
         executor and after a resume. Give more slices for an executor with more workers.
+    linearization : "rest" (default: the Exudyn engine's model) or "static" (about the static
+        equilibrium under gravity, with the suspensions' preload stiffness: see :mod:`.batched_model`)
     """
     t0 = _time.perf_counter()
-    grid, spectra, out, checkpoint = prepare_sweep(scenario, out, resume, {"method": "pem", "engine": "batched"})
+    check_linearization(linearization)
+    key = {"method": "pem", "engine": "batched"} | ({} if linearization == "rest" else {"linearization": linearization})
+    grid, spectra, out, checkpoint = prepare_sweep(scenario, out, resume, key)
     ptasks = [t.data for t in pem_tasks(scenario, grid)]
     tasks = [Task("pemb-mean", MeanTask())]
     tasks += column_slices(ptasks, default_slices(_cores()) if slices is None else slices, keep_psd)
@@ -884,7 +893,7 @@ def run_pem_batched(
                 state["psd"][:, k, :] = result["psd"]
 
     stats = run_tasks(
-        tasks, setup=_setup, setup_args=(scenario,), work=_work, reduce=reduce, workers=workers,
+        tasks, setup=_setup, setup_args=(scenario, linearization), work=_work, reduce=reduce, workers=workers,
         executor=executor, checkpoint=checkpoint, progress=progress, desc="PEM (batched)",
     )
     mean = state["mean"]
@@ -894,6 +903,7 @@ def run_pem_batched(
         "engine": "batched",
         "mean_engine": "exudyn",
         "method": "pem",
+        "linearization": linearization,
         "seconds": _time.perf_counter() - t0,
         "mean_seconds": float(mean["seconds"]),
         "n_frequencies": int(grid.f.size),
@@ -914,6 +924,13 @@ def run_pem_batched(
     if out is not None:
         result.save(Path(out) / "pem")
     return result
+
+
+def check_linearization(linearization: str) -> None:
+    """ScenarioError (a user error: exit 2 in the CLI) for an unknown linearization point."""
+    if linearization not in LINEARIZATIONS:
+        raise ScenarioError(None, "linearization", linearization, " or ".join(LINEARIZATIONS),
+                            "unknown linearization point of the batched engine")
 
 
 def _cores() -> int:

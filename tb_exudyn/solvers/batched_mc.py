@@ -51,7 +51,7 @@ from ..builder.excitation import KINDS
 from ..results.random_response import RandomResponse
 from ..results.storage import check_writable
 from ..scenario import Scenario, ScenarioError, scenario_to_toml
-from .batched import BatchedModel, MeanTask, _mean, _Run, _Step, default_slices, integrate
+from .batched import BatchedModel, MeanTask, _mean, _Run, _Step, check_linearization, default_slices, integrate
 from .monte_carlo import (
     POINTS_PER_WAVELENGTH,
     STATISTICS_PROVENANCE,
@@ -72,6 +72,8 @@ TASK_PROFILE_BYTES = 192 * 2**20
 #: columns of samples whose knot slopes are computed at once (bounds CubicSpline's temporaries)
 SPLINE_CHUNK = 32
 METHOD = "monte_carlo_linear"
+LINEARIZED_ABOUT = {"rest": "rest (unloaded, as PEM)",
+                    "static": "the static equilibrium under gravity (with the suspension preload's stiffness)"}
 
 
 # ======================================================================================= columns
@@ -222,8 +224,9 @@ class SampleTask:
     keep_samples: bool
 
 
-def _setup(scenario: Scenario, discretisation: Discretisation) -> tuple[BatchedModel, ProfileSampler]:
-    return BatchedModel(scenario, wheel_forces=True), ProfileSampler(scenario, discretisation)
+def _setup(scenario: Scenario, discretisation: Discretisation, linearization: str = "rest"
+           ) -> tuple[BatchedModel, ProfileSampler]:
+    return BatchedModel(scenario, wheel_forces=True, linearization=linearization), ProfileSampler(scenario, discretisation)
 
 
 def _work(state: tuple[BatchedModel, ProfileSampler], task: Task) -> dict[str, np.ndarray]:
@@ -258,6 +261,7 @@ def run_monte_carlo_linear(
     keep_samples: bool = False,
     discretisation: Discretisation = "pem_grid",
     slices: Sequence[float] | None = None,
+    linearization: str = "rest",
 ) -> RandomResponse:
     """Monte Carlo of the linear model with the batched engine; arguments as
     :func:`~.monte_carlo.run_monte_carlo` (which calls this with ``engine="batched"``).
@@ -267,6 +271,9 @@ def run_monte_carlo_linear(
     slices : relative sizes of the sample blocks (tasks; default one per core and a half one); a
         block holds at most ``TASK_PROFILE_BYTES`` of profiles. The result depends on the blocks only
         at round-off level, and the blocks not on ``workers`` or ``executor``.
+    linearization : "rest" (default: PEM's model, also the Exudyn PEM engine's) or "static" (about the
+        static equilibrium under gravity, with the suspensions' preload stiffness, as the Exudyn model
+        with gravity has it: see :mod:`.batched_model`)
 
     Returns
     -------
@@ -279,6 +286,7 @@ def run_monte_carlo_linear(
     LossOfContactWarning when a sample's minimum vertical wheel-rail force is <= 0.
     """
     t0 = _time.perf_counter()
+    check_linearization(linearization)
     n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
     seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
     sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
@@ -287,7 +295,8 @@ def run_monte_carlo_linear(
         out = check_writable(out)
         key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
         fp = fingerprint({"method": METHOD, "engine": "batched", "scenario": scenario_to_toml(key_scenario),
-                          "seed": seed, "discretisation": discretisation, "points_per_wavelength": POINTS_PER_WAVELENGTH})
+                          "seed": seed, "discretisation": discretisation, "points_per_wavelength": POINTS_PER_WAVELENGTH,
+                          "linearization": linearization})
         checkpoint = Checkpoint(out / "checkpoint-mc-linear", fp, resume)
     elif resume:
         raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
@@ -331,7 +340,7 @@ def run_monte_carlo_linear(
         state["alpha"] = result["alpha"]
 
     stats = run_tasks(
-        tasks, setup=_setup, setup_args=(scenario, discretisation), work=_work, reduce=reduce, workers=workers,
+        tasks, setup=_setup, setup_args=(scenario, discretisation, linearization), work=_work, reduce=reduce, workers=workers,
         executor=executor, checkpoint=checkpoint, progress=progress, desc="Monte Carlo (linear, batched)",
     )
     det = state["det"]
@@ -344,8 +353,10 @@ def run_monte_carlo_linear(
         "mean_engine": "exudyn",
         "method": METHOD,
         "model": "linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response of "
-                 "the model linearised about rest (M, K, D from Exudyn, the linear wheel-rail contact) to the "
-                 "sample's profiles, integrated by the batched engine; the samples are the Exudyn Monte Carlo's",
+                 f"the model linearised about {LINEARIZED_ABOUT[linearization]} (M, K, D from Exudyn, the linear "
+                 "wheel-rail contact) to the sample's profiles, integrated by the batched engine; the samples are "
+                 "the Exudyn Monte Carlo's",
+        "linearization": linearization,
         "seconds": _time.perf_counter() - t0,
         "mean_seconds": float(det["seconds"]),
         "seed": seed,

@@ -7,6 +7,13 @@ One physics, two integrators: the batched engine reads the very objects the Exud
   that time (``WheelRailCoupling.jacobians`` in ``frozen(0)``): the vehicles, the bridge's modal
   matrices and the weak springs, without the wheel-rail contact. For the models the builder makes,
   M is diagonal, the bridge block diagonal and every vehicle an independent block.
+- The linearization point (``LINEARIZATIONS``): ``"rest"`` (default), the unloaded reference
+  configuration, the state of the Exudyn engine's pseudo-runs (gravity off, from rest), so that
+  both PEM engines integrate the same model; or ``"static"``, the static equilibrium under gravity
+  on the approach (``static_state(0)``), where K also holds the geometric stiffness of the
+  suspensions' preload (the car body's weight acting above its springs lowers its roll stiffness,
+  m g h). The Exudyn model with gravity has that stiffness, so the Exudyn Monte Carlo (samples run
+  with gravity) agrees with "static"; the Exudyn PEM engine cannot linearise there.
 - The contact at time t: ``WheelRailCoupling.contact_state(t)`` (S, dS, B) with the layout's
   stiffness k, damping c and wheel map G, i.e. the contact forces f = k (B u + r) + c (B u' +
   v dS q_b + r') and generalised forces -B^T f of the Exudyn user functions.
@@ -35,6 +42,8 @@ from scipy.sparse.csgraph import connected_components
 
 from ..builder.excitation import KINDS, HarmonicExcitation, rail_inputs, taper
 
+#: linearization points of the batched engine (see the module docstring)
+LINEARIZATIONS: tuple[str, ...] = ("rest", "static")
 #: entries of the coupling below this fraction of its largest entry count as zero (round-off)
 COUPLING_ZERO = 1e-12
 #: largest relative difference the one-time checks of the contact description against the coupling
@@ -91,21 +100,28 @@ class LinearTrainBridge:
     Attributes
     ----------
     model : the built model; ``coupling`` its wheel-rail coupling
-    M, K0, D0 : (n, n) global matrices without the contact
+    M, K0, D0 : (n, n) global matrices without the contact, at the linearization point
     bridge : (n_b,) global indices of the bridge's modal coordinates
     wheel : (n_w,) global indices of the coupling's wheel coordinates
     k, c : (n_c,) contact stiffness and damping; G (n_c, n_w) the wheel map
     """
 
-    def __init__(self, model) -> None:  # noqa: ANN001 - TrainBridgeModel (imports Exudyn)
+    def __init__(self, model, linearization: str = "rest") -> None:  # noqa: ANN001 - TrainBridgeModel (Exudyn)
+        if linearization not in LINEARIZATIONS:
+            raise ValueError(f"linearization must be one of {', '.join(map(repr, LINEARIZATIONS))}, got {linearization!r}")
         self.model = model
+        self.linearization = linearization
         cp = model.coupling
         self.coupling = cp
         model.set_excitation(None)
-        model.set_gravity(False)
         if cp.contact_state(0.0).on_bridge:
             raise ValueError("an axle stands on the bridge at t = 0: the batched engine needs a lead-in")
-        M, K, D = model.linearized_system(0.0)
+        state = None
+        if linearization == "static":
+            model.set_gravity(True)
+            state = model.static_state(0.0)
+        model.set_gravity(False)
+        M, K, D = model.linearized_system(0.0, state)
         with cp.frozen(0.0):
             Kc, Dc = cp.jacobians(0.0)
         ci = model.coupling_indices()

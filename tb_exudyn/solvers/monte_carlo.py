@@ -388,6 +388,7 @@ def run_monte_carlo(
     keep_samples: bool = False,
     discretisation: Discretisation = "pem_grid",
     engine: str = "exudyn",
+    linearization: str | None = None,
 ) -> RandomResponse:
     """Sample mean and standard deviation of every channel over sampled irregularity profiles.
 
@@ -409,6 +410,8 @@ def run_monte_carlo(
     engine : "exudyn" (one Exudyn run per sample: the reference) or "batched" (the same samples on the
         linear model, all integrated together by the batched engine: method "monte_carlo_linear",
         see :mod:`.batched_mc`)
+    linearization : with the batched engine, "rest" (default: PEM's model) or "static" (about the
+        static equilibrium under gravity); the Exudyn engine runs the full model and takes none
 
     Returns
     -------
@@ -430,7 +433,10 @@ def run_monte_carlo(
 
         return run_monte_carlo_linear(scenario, n_samples=n_samples, seed=seed, workers=workers, executor=executor,
                                       out=out, resume=resume, progress=progress, keep_samples=keep_samples,
-                                      discretisation=discretisation)
+                                      discretisation=discretisation, linearization=linearization or "rest")
+    if linearization is not None:
+        raise ScenarioError(None, "linearization", linearization, "none with engine 'exudyn' (or engine 'batched')",
+                            "the Exudyn Monte Carlo runs the full model, it linearises nothing")
     t0 = _time.perf_counter()
     n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
     seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)

@@ -135,6 +135,7 @@ def run_pem(
     progress: bool = True,
     keep_psd: bool = True,
     engine: str = "exudyn",
+    linearization: str = "rest",
 ) -> RandomResponse:
     """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
 
@@ -150,6 +151,10 @@ def run_pem(
     engine : "exudyn" (two Exudyn runs per type and frequency: the reference) or "batched" (all
         pseudo-excitations in one integration of the same linear model with Exudyn's
         generalized-alpha step, :mod:`.batched`; the mean is Exudyn's run in both)
+    linearization : "rest" (both engines: pseudo-runs from the unloaded rest state without gravity) or,
+        with the batched engine only, "static" (about the static equilibrium under gravity, which adds
+        the suspensions' preload stiffness that the Exudyn model with gravity, hence its Monte Carlo,
+        has; see :mod:`.batched_model`)
 
     Returns
     -------
@@ -163,7 +168,10 @@ def run_pem(
         from .batched import run_pem_batched
 
         return run_pem_batched(scenario, workers=workers, executor=executor, out=out, resume=resume,
-                               progress=progress, keep_psd=keep_psd)
+                               progress=progress, keep_psd=keep_psd, linearization=linearization)
+    if linearization != "rest":
+        raise ScenarioError(None, "linearization", linearization, "'rest' with engine 'exudyn' ('static' needs "
+                            "engine 'batched')", "the Exudyn engine's pseudo-runs start from rest without gravity")
     t0 = _time.perf_counter()
     grid, spectra, out, checkpoint = prepare_sweep(scenario, out, resume, {"method": "pem"})
 
