@@ -12,7 +12,11 @@ quantities visibly closer to PEM at 2500.
 The 2500 samples extend the 500 (the checkpoint is reused: samples 0-499 are the same), so the
 second run costs 2000 samples, not 2500.
 
-Writes to OUT: ``pem/``, ``mc500/``, ``mc/`` (2500 samples), ``comparison.txt`` and
+The same 2500 samples also run on the linear model (the batched engine's Monte Carlo, PEM's model:
+``mc_linear/``, seconds): against PEM it checks the statistics alone; the Exudyn samples also carry
+what the Exudyn model has beyond the linear one (docs/findings.md, section 5).
+
+Writes to OUT: ``pem/``, ``mc500/``, ``mc/`` (2500 samples), ``mc_linear/``, ``comparison.txt`` and
 ``figures/<channel>.pem_vs_mc.png``; prints the comparison tables.
 
     python examples/li_zhu_2011_verification.py [--quick] [--workers N] [--out DIR]
@@ -40,6 +44,7 @@ except ImportError:  # run from a checkout without installing: put the repositor
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import tb_exudyn as tbx
+from tb_exudyn.atomic import write_text_atomic
 from tb_exudyn.scenario import Scenario
 from tb_exudyn.solvers.compare import compare
 from tb_exudyn.solvers.monte_carlo import run_monte_carlo
@@ -82,23 +87,28 @@ def main(argv: list[str] | None = None) -> int:
         mc_small.save(out / f"mc{n_small}")
         mc_large = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, resume=True,
                                    progress=not args.quick)  # reuses the first n_small samples
-    t_all = time.perf_counter() - t0
-    tables = [compare(pem, mc, CHANNELS).table() for mc in (mc_small, mc_large)]
+        t_all = time.perf_counter() - t0
+        # the same n_large samples on the linear model (batched engine): PEM's model, in seconds
+        mc_linear = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, progress=not args.quick,
+                                    engine="batched")
+        t_linear = time.perf_counter() - t0 - t_all
+    tables = [compare(pem, mc, CHANNELS).table() for mc in (mc_small, mc_large, mc_linear)]
     header = (f"{sc.name}: {sc.description}\nPEM {pem.provenance['n_frequencies_in_band']} frequencies x "
               f"{len(pem.types)} types in {t_pem:.1f} s; Monte Carlo {n_small} + {n_large - n_small} samples "
-              f"in {t_all - t_pem:.1f} s ({args.workers} workers); seed {mc_large.provenance['seed']}")
+              f"in {t_all - t_pem:.1f} s ({args.workers} workers); seed {mc_large.provenance['seed']}; "
+              f"the same {n_large} samples on the linear model (batched engine, last table) in {t_linear:.1f} s")
     lost = mc_large.provenance["samples_with_loss_of_contact"]
     footer = (f"minimum vertical wheel force over all samples {mc_large.provenance['min_wheel_force_N']:.4g} N; "
               f"samples with loss of contact: {lost}")
     text = "\n\n".join([header, *tables, footer])
     print(text)
-    (out / "comparison.txt").write_text(text + "\n", encoding="utf-8")
+    write_text_atomic(out / "comparison.txt", text + "\n")
     try:
         from tb_exudyn.plotting import plot_pem_vs_mc, save_figure
     except ImportError:  # plotting is optional (matplotlib)
         return 0
     for ch in CHANNELS:
-        save_figure(plot_pem_vs_mc(pem, [mc_small, mc_large], ch), out / "figures" / f"{ch}.pem_vs_mc.png")
+        save_figure(plot_pem_vs_mc(pem, [mc_small, mc_large, mc_linear], ch), out / "figures" / f"{ch}.pem_vs_mc.png")
     print(f"results and figures in {out}")
     return 0
 
