@@ -49,20 +49,18 @@ from scipy.interpolate import CubicSpline
 
 from ..builder.excitation import KINDS
 from ..results.random_response import RandomResponse
-from ..results.storage import check_writable
-from ..scenario import Scenario, ScenarioError, scenario_to_toml
+from ..scenario import Scenario
 from .batched import BatchedModel, MeanTask, _mean, _Run, _Step, check_linearization, default_slices, integrate
 from .monte_carlo import (
-    POINTS_PER_WAVELENGTH,
     STATISTICS_PROVENANCE,
     Discretisation,
     ProfileSampler,
     contact_provenance,
-    positive_int,
+    prepare_monte_carlo,
     sample_statistics,
     warn_loss_of_contact,
 )
-from .tasks import Checkpoint, Task, fingerprint, run_tasks
+from .tasks import Task, run_tasks
 from .threads import single_threaded_blas
 
 FloatArray = NDArray[np.float64]
@@ -287,19 +285,9 @@ def run_monte_carlo_linear(
     """
     t0 = _time.perf_counter()
     check_linearization(linearization)
-    n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
-    seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
-    sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
-    checkpoint = None
-    if out is not None:
-        out = check_writable(out)
-        key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
-        fp = fingerprint({"method": METHOD, "engine": "batched", "scenario": scenario_to_toml(key_scenario),
-                          "seed": seed, "discretisation": discretisation, "points_per_wavelength": POINTS_PER_WAVELENGTH,
-                          "linearization": linearization})
-        checkpoint = Checkpoint(out / "checkpoint-mc-linear", fp, resume)
-    elif resume:
-        raise ScenarioError(None, "resume", True, "resume only together with an output folder", "nothing to resume from")
+    identity = {"method": METHOD, "engine": "batched"} | ({} if linearization == "rest" else {"linearization": linearization})
+    n, seed, sampler, out, checkpoint = prepare_monte_carlo(
+        scenario, n_samples, seed, discretisation, out, resume, identity, "checkpoint-mc-linear")
     largest = max(2, TASK_PROFILE_BYTES // SampleColumns.profile_bytes(sampler))
     blocks = sample_blocks(n, default_slices(os.cpu_count() or 1) if slices is None else slices, largest)
     tasks = [Task("mcl-mean", MeanTask())]

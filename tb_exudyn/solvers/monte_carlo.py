@@ -375,6 +375,29 @@ def positive_int(value: Any, key: str, low: int) -> int:
     return int(value)
 
 
+def prepare_monte_carlo(scenario: Scenario, n_samples: int | None, seed: int | None, discretisation: Discretisation,
+                        out: str | Path | None, resume: bool, identity: dict[str, Any], folder: str
+                        ) -> tuple[int, int, ProfileSampler, Path | None, Checkpoint | None]:
+    """Checks shared by the Monte Carlo engines, before any run: N >= 2, seed >= 0, the spectra and band
+    (the sampler), the output folder writable; the checkpoint ``out/folder``, whose fingerprint is
+    ``identity`` plus the scenario (without N: a larger N with resume reuses the samples run), the seed
+    and the sampling. Returns N, seed, sampler, out, checkpoint."""
+    n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
+    seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
+    sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
+    checkpoint = None
+    if out is not None:
+        out = check_writable(out)
+        key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
+        fp = fingerprint({**identity, "scenario": scenario_to_toml(key_scenario), "seed": seed,
+                          "discretisation": discretisation, "points_per_wavelength": POINTS_PER_WAVELENGTH})
+        checkpoint = Checkpoint(out / folder, fp, resume)
+    elif resume:
+        raise ScenarioError(None, "resume", True, "resume only together with an output folder",
+                            "nothing to resume from")
+    return n, seed, sampler, out, checkpoint
+
+
 # ---------------------------------------------------------------------------------- driver
 def run_monte_carlo(
     scenario: Scenario,
@@ -438,19 +461,8 @@ def run_monte_carlo(
         raise ScenarioError(None, "linearization", linearization, "none with engine 'exudyn' (or engine 'batched')",
                             "the Exudyn Monte Carlo runs the full model, it linearises nothing")
     t0 = _time.perf_counter()
-    n = positive_int(scenario.analysis.n_samples if n_samples is None else n_samples, "n_samples", 2)
-    seed = positive_int(scenario.analysis.seed if seed is None else seed, "seed", 0)
-    sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
-    checkpoint = None
-    if out is not None:
-        out = check_writable(out)
-        key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
-        fp = fingerprint({"method": "monte_carlo", "scenario": scenario_to_toml(key_scenario), "seed": seed,
-                          "discretisation": discretisation, "points_per_wavelength": POINTS_PER_WAVELENGTH})
-        checkpoint = Checkpoint(out / "checkpoint-mc", fp, resume)
-    elif resume:
-        raise ScenarioError(None, "resume", True, "resume only together with an output folder",
-                            "nothing to resume from")
+    n, seed, sampler, out, checkpoint = prepare_monte_carlo(
+        scenario, n_samples, seed, discretisation, out, resume, {"method": "monte_carlo"}, "checkpoint-mc")
 
     model = build_model(scenario)  # shows the scenario's warnings once; names and units of the channels
     channels = tuple(c.name for c in model.selected)
