@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.integrate import quad
 
 from .spectra import Spectrum, SpectrumError, check_band_order
 
@@ -49,6 +48,8 @@ def band_variance(spectrum: Spectrum, omega_min: float | None = None, omega_max:
     def in_log(u: float) -> float:
         w = math.exp(u)
         return float(spectrum.psd(w)) * w
+
+    from scipy.integrate import quad  # here: importing scipy.integrate costs 0.5 s per worker process
 
     kw = dict(epsabs=0.0, epsrel=1e-12, limit=200)
     total = sum(quad(in_log, a, b, **kw)[0] for a, b in zip(edges[:-1], edges[1:]))

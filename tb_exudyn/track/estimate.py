@@ -7,7 +7,6 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.signal import welch
 
 
 def welch_psd(profile_values: ArrayLike, dx: float, nperseg: int | None = None,
@@ -28,6 +27,8 @@ def welch_psd(profile_values: ArrayLike, dx: float, nperseg: int | None = None,
         raise ValueError(f"profile_values must be 1-D with at least 8 points, got shape {values.shape}")
     if not (math.isfinite(dx) and dx > 0):
         raise ValueError(f"dx must be finite and > 0 m, got {dx!r}")
+    from scipy.signal import welch  # here: importing scipy.signal costs 0.5 s per worker process
+
     if welch_kwargs.pop("scaling", "density") != "density":
         raise ValueError("welch_psd only computes a density (scaling='density')")
     n, s_n = welch(values, fs=1.0 / dx, nperseg=min(values.size, nperseg or 4096), scaling="density",
