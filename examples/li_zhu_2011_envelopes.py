@@ -30,8 +30,6 @@ converges the wheel-rail forces (docs/findings.md). ``--quick``: the PSD-map scr
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import math
 import sys
 import time
@@ -48,7 +46,7 @@ import numpy as np
 import tb_exudyn as tbx
 from tb_exudyn.plotting.data import crossing_times
 from tb_exudyn.results import RandomResponse
-from tb_exudyn.atomic import write_text_atomic
+from tb_exudyn.results.export import write_table_csv
 
 from li_zhu_2011_psd_maps import (
     add_common_arguments,
@@ -151,14 +149,6 @@ def growth_table(pem: RandomResponse) -> str:
     return "\n".join(lines)
 
 
-def write_csv(rows: list[dict], path: Path) -> None:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    write_text_atomic(path, buf.getvalue())
-
-
 def save_figures(pem: RandomResponse, folder: Path) -> list[Path]:
     from tb_exudyn.plotting import plot_bounds, save_figure
 
@@ -195,7 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     print(text)
     out.mkdir(parents=True, exist_ok=True)
     (out / "envelopes.txt").write_text(text + "\n", encoding="utf-8")
-    write_csv(rows, out / "envelopes.csv")
+    write_table_csv(rows, out / "envelopes.csv")
     try:
         paths = save_figures(pem, out / "figures")
     except ImportError:  # plotting is optional (matplotlib)

@@ -29,8 +29,6 @@ with a softer contact: a smoke run of the pipeline, not a result.
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import multiprocessing
 import sys
 import time
@@ -50,7 +48,7 @@ import tb_exudyn as tbx
 from tb_exudyn.results import RandomResponse
 from tb_exudyn.scenario import Scenario
 from tb_exudyn.solvers.tasks import single_threaded_blas
-from tb_exudyn.atomic import write_text_atomic
+from tb_exudyn.results.export import write_table_csv
 
 from li_zhu_2011_psd_maps import add_common_arguments, quiet_quick_warnings, run_study_pem, study_scenario
 
@@ -99,14 +97,6 @@ def summary_row(sc: Scenario, pem: RandomResponse, seconds: float) -> dict:
         row[f"{tag}_max_abs_mean_plus_3sigma"] = float(np.max(np.abs(pem.mean[i]) + 3 * pem.std[i]))
     row["seconds"] = seconds
     return row
-
-
-def write_csv(rows: list[dict], path: Path) -> None:
-    buf = io.StringIO()
-    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
-    write_text_atomic(path, buf.getvalue())
 
 
 def plot(rows: list[dict], title: str):
@@ -171,7 +161,7 @@ def main(argv: list[str] | None = None) -> int:
                   f"lateral {r['acc_y_max_abs_mean_plus_3sigma']:.4g} "
                   f"m/s^2 (max |mean| + 3 sigma); {seconds:.1f} s", flush=True)
     sc0 = scenarios[0]
-    write_csv(rows, out / "speed_sweep.csv")
+    write_table_csv(rows, out / "speed_sweep.csv")
     title = (f"{sc0.name}: {len(sc0.train.vehicles)} cars, bridge.span2.mid; PEM {rows[0]['n_freq']} frequencies over "
              f"wavelengths {sc0.track.wavelength_min:g}-{sc0.track.wavelength_max:g} m")
     try:

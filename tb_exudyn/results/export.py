@@ -24,7 +24,7 @@ import scipy.io
 
 from ..scenario import scenario_to_toml
 from .random_response import RandomResponse
-from ..atomic import write_atomic
+from ..atomic import write_atomic, write_text_atomic
 from .storage import json_default
 from .time_history import TimeHistory
 
@@ -50,6 +50,17 @@ def write_csv(path: str | Path, time: np.ndarray, names: Sequence[str], units: S
     text = buf.getvalue().encode("utf-8")
     write_atomic(path, lambda fh: fh.write(text))
     return path
+
+
+def write_table_csv(rows: Sequence[dict[str, Any]], path: str | Path) -> Path:
+    """Write a table (one dict per row, the first row's keys as header) as CSV, atomically."""
+    import csv
+
+    buf = io.StringIO()
+    writer = csv.DictWriter(buf, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    return write_text_atomic(path, buf.getvalue())
 
 
 def read_csv(path: str | Path) -> tuple[np.ndarray, list[str], np.ndarray]:
@@ -115,4 +126,4 @@ def export_mat(result: Result, path: str | Path) -> Path:
     return path
 
 
-__all__ = ["MAT_NAMES", "export_csv", "export_mat", "mat_dict", "read_csv", "write_csv"]
+__all__ = ["MAT_NAMES", "export_csv", "export_mat", "mat_dict", "read_csv", "write_csv", "write_table_csv"]
