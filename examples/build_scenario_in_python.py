@@ -179,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"bridge.span2.mid.acc_z: max |mean| + 3 sigma = {np.max(np.abs(pem.mean[i]) + 3 * pem.std[i]):.3g} m/s^2")
     try:
         from tb_exudyn.plotting import plot_folder
-        from tb_exudyn.results.report import write_report
+        from tb_exudyn.report import write_report
     except ImportError:  # plotting is optional (matplotlib)
         print(f"results in {out.resolve()}")
         return 0

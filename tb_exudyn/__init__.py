@@ -18,7 +18,7 @@ from .scenario import (
     save_scenario,
 )
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 
 _LAZY = {

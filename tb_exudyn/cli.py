@@ -10,7 +10,8 @@ import argparse
 import sys
 from typing import Sequence
 
-from .scenario import ScenarioError, list_models, load_scenario
+from .errors import UserError
+from .scenario import list_models, load_scenario
 from .scenario.show import scenario_table
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
@@ -87,7 +88,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
     if not args.no_figures:
         from .plotting import plot_folder
-        from .results.report import write_report
+        from .report import write_report
 
         figures = plot_folder(out)
         report = write_report(out)
@@ -113,7 +114,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from .results.report import write_report
+    from .report import write_report
 
     print(write_report(args.folder, args.html))
     return EXIT_OK
@@ -186,16 +187,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.func(args))
-    except ScenarioError as exc:
+    except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
-    except (ValueError, OSError) as exc:
-        # user-caused problems found outside scenario loading: an unwritable or foreign output folder,
-        # a folder without results
-        if getattr(exc, "user_error", False) or isinstance(exc, (OSError, FileNotFoundError)):
-            print(f"tb-exudyn: error: {exc}", file=sys.stderr)
-            return EXIT_USER_ERROR
-        raise
+    except OSError as exc:  # a file or folder the user named cannot be read or written
+        print(f"tb-exudyn: error: {exc}", file=sys.stderr)
+        return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("tb-exudyn: interrupted; finished tasks are kept (run again with --resume)", file=sys.stderr)
         return 130

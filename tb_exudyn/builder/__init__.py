@@ -1,10 +1,9 @@
 """Builder: turns a scenario into an Exudyn train-bridge system.
 
-With the solvers, the only place that imports Exudyn. :mod:`.coupling` (the wheel-rail physics),
-:mod:`.excitation` (irregularity input as data) and :mod:`.channels` (output names and values)
-are plain numpy and usable by other integrators without Exudyn: the Exudyn parts
-(:func:`build_model`, :class:`TrainBridgeModel`, :class:`BuildOptions`, ...) are imported on
-first use.
+With the Exudyn engine, the only place that imports Exudyn. The plain-numpy physics it uses (the
+wheel-rail coupling, the excitation, the channels) lives in :mod:`tb_exudyn.system` and is
+re-exported here; the Exudyn parts (:func:`build_model`, :class:`TrainBridgeModel`,
+:class:`BuildOptions`, ...) are imported on first use.
 """
 
 from __future__ import annotations
@@ -12,9 +11,9 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from .channels import Channel, Recording
-from .coupling import ContactLayout, ContactState, WheelRailCoupling
-from .excitation import (
+from ..system.channels import Channel, Recording
+from ..system.coupling import ContactLayout, ContactState, WheelRailCoupling
+from ..system.excitation import (
     Excitation,
     HarmonicExcitation,
     NoExcitation,

@@ -27,10 +27,10 @@ from numpy.typing import NDArray
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Car15, MovingForce, Scenario, SimpleBeam, SprungMass
 from ..structure.modal import ModalBridge, simply_supported_modes
-from . import channels as chan
+from ..system import channels as chan
 from .bridge_body import add_modal_bridge_body
-from .coupling import WheelRailCoupling
-from .excitation import Excitation, as_excitation
+from ..system.coupling import WheelRailCoupling
+from ..system.excitation import Excitation, as_excitation
 from .vehicles import BuildOptions, TrainParts, add_car15, add_moving_force, add_sprung_mass
 
 #: fewest time steps per period of the stiffest contact mode before a warning

@@ -30,7 +30,7 @@ import numpy as np
 from exudyn import itemInterface as ei
 
 from ..scenario.model import Car15, MovingForce, SprungMass
-from .coupling import LATERAL, VERTICAL, ContactRows
+from ..system.coupling import LATERAL, VERTICAL, ContactRows
 
 # rigid-body node coordinates (NodeRigidBodyRxyz): x, y, z, rx, ry, rz
 RIGID_COMPONENTS: tuple[tuple[str, int], ...] = (("y", 1), ("z", 2), ("rx", 3), ("ry", 4), ("rz", 5))

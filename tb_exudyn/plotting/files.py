@@ -7,8 +7,7 @@ from typing import Sequence
 
 from matplotlib.figure import Figure
 
-from ..results import RandomResponse
-from ..results.report import find_results
+from ..results import RandomResponse, find_results
 from ..atomic import write_atomic
 from . import data
 from .figures import plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history

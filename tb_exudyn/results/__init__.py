@@ -15,7 +15,8 @@ from .storage import load_json
 from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 
-__all__ = ["RandomResponse", "TimeHistory", "load_random_response", "load_results", "load_time_history"]
+__all__ = ["RandomResponse", "TimeHistory", "find_results", "load_random_response", "load_results", "load_time_history"]
+Result = Union[TimeHistory, RandomResponse]
 
 
 def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:
@@ -32,3 +33,28 @@ def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:
     raise ValueError(
         f"{folder}: unknown result format {fmt!r} (expected {TIME_HISTORY_FORMAT!r} or {RANDOM_RESPONSE_FORMAT!r})"
     )
+
+
+def find_results(folder: str | Path) -> list[tuple[Path, Result]]:
+    """The result in ``folder``, or the results in its immediate sub-folders (sorted by name).
+
+    Raises FileNotFoundError naming the folder when it holds none.
+    """
+    folder = Path(folder)
+
+    def is_result(p: Path) -> bool:
+        try:
+            return load_json(p / "meta.json").get("format") in (RANDOM_RESPONSE_FORMAT, TIME_HISTORY_FORMAT)
+        except (OSError, ValueError):
+            return False
+
+    if is_result(folder):
+        paths = [folder]
+    elif folder.is_dir():
+        paths = sorted(p for p in folder.iterdir() if p.is_dir() and is_result(p))
+    else:
+        paths = []
+    if not paths:
+        raise FileNotFoundError(f"{folder}: no tb_exudyn result here (a folder with meta.json and arrays.npz, "
+                                "or a folder of such folders)")
+    return [(p, load_results(p)) for p in paths]

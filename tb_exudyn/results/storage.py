@@ -17,6 +17,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from ..atomic import write_atomic, write_text_atomic
+from ..errors import OutputFolderError
 
 
 def save_npz_atomic(path: str | Path, arrays: Mapping[str, np.ndarray]) -> None:
@@ -68,7 +69,3 @@ def check_writable(folder: str | Path) -> Path:
     except OSError as exc:
         raise OutputFolderError(f"output folder {str(folder)!r} is not writable: {exc.strerror or exc}") from None
     return folder
-
-
-class OutputFolderError(OSError):
-    """The output folder cannot be created or written."""

@@ -1,15 +1,18 @@
-"""The one error type a user's scenario data can raise."""
+"""The error a user's scenario data can raise (part of the hierarchy in :mod:`tb_exudyn.errors`)."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from ..errors import UserError, format_message, short_repr
 
-class ScenarioError(ValueError):
+
+class ScenarioError(UserError, ValueError):
     """A scenario, vehicle or bridge description is not valid.
 
     The message names the file, the key path, the value found and what is allowed, so that
     the command-line tool can print it as it is (no traceback) and the user can fix the file.
+    Picklable (a worker's ScenarioError reaches the parent intact).
     """
 
     def __init__(self, file: str | None, key: str, value: Any, allowed: str, reason: str = ""):
@@ -18,14 +21,7 @@ class ScenarioError(ValueError):
         self.value = value
         self.allowed = allowed
         self.reason = reason
-        shown = _short_repr(value)
-        text = f"{self.file}: key '{self.key}' = {shown}"
-        if reason:
-            text += f": {reason}"
-        text += f" (allowed: {allowed})"
-        super().__init__(text)
+        super().__init__(format_message(self.file, self.key, value, allowed, reason))
 
 
-def _short_repr(value: Any, limit: int = 80) -> str:
-    text = repr(value)
-    return text if len(text) <= limit else text[: limit - 3] + "..."
+_short_repr = short_repr

@@ -66,7 +66,7 @@ from numpy.typing import NDArray
 from scipy.linalg import lapack
 from scipy.linalg.blas import daxpy, dgemm, dscal
 
-from ..builder.excitation import taper
+from ..system.excitation import taper
 from ..results.random_response import RandomResponse
 from ..results.storage import json_default
 from ..scenario import Scenario, ScenarioError
@@ -777,7 +777,7 @@ def _mean(bm: BatchedModel) -> dict[str, np.ndarray]:
     provenance (JSON) and the scenario's warnings."""
     from .deterministic import run_deterministic
 
-    from ..builder.channels import evaluate
+    from ..system.channels import evaluate
 
     start = _time.perf_counter()
     th = run_deterministic(bm.scenario, model=bm.model)

@@ -47,7 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.interpolate import CubicSpline
 
-from ..builder.excitation import KINDS
+from ..system.excitation import KINDS
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario
 from .batched import BatchedModel, MeanTask, _mean, _Run, _Step, check_linearization, default_slices, integrate

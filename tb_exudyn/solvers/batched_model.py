@@ -19,7 +19,7 @@ One physics, two integrators: the batched engine reads the very objects the Exud
   v dS q_b + r') and generalised forces -B^T f of the Exudyn user functions.
   :meth:`LinearTrainBridge.check_coupling` compares this description once with the coupling's
   ``forces`` and ``jacobians``; :meth:`LinearTrainBridge.check_inputs` the pseudo-inputs with
-  :func:`~tb_exudyn.builder.excitation.rail_inputs`.
+  :func:`~tb_exudyn.system.excitation.rail_inputs`.
 
 Independent components: the graph of the nonzero entries of M, K0, D0 and of the coupling's
 Jacobians (including the convective term, at every output time: :func:`coupling_pattern`) splits
@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
 
-from ..builder.excitation import KINDS, HarmonicExcitation, rail_inputs, taper
+from ..system.excitation import KINDS, HarmonicExcitation, rail_inputs, taper
 
 #: linearization points of the batched engine (see the module docstring)
 LINEARIZATIONS: tuple[str, ...] = ("rest", "static")
@@ -200,7 +200,7 @@ def pseudo_inputs(
     r_c = W[c, kind] s w(x_c) exp(i Omega (x_c - x_ref)), the real part being the cosine run's input
     and the imaginary part the sine run's; r'_c = v W s (w' + i Omega w) exp(...). x_c is the
     position of contact c's axle, x_ref the first axle's start and w the approach taper
-    (:func:`~tb_exudyn.builder.excitation.taper`).
+    (:func:`~tb_exudyn.system.excitation.taper`).
     """
     x = coupling.positions(t)
     w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)

@@ -27,13 +27,10 @@ from typing import Sequence
 
 import numpy as np
 
+from ..errors import ComparisonError
 from ..results.random_response import RandomResponse
 
 
-class ComparisonError(ValueError):
-    """The two results cannot be compared (a user error: the CLI prints it without a traceback)."""
-
-    user_error = True
 
 
 @dataclass(frozen=True)

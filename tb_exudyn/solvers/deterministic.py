@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ..builder.excitation import Excitation, HarmonicExcitation, NoExcitation, ProfileExcitation, as_excitation
+from ..system.excitation import Excitation, HarmonicExcitation, NoExcitation, ProfileExcitation, as_excitation
 from ..builder.model import TrainBridgeModel, build_model
 from ..results.time_history import TimeHistory
 from ..scenario import Scenario

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import exudyn as exu
 import numpy as np
 
-from ..builder.channels import Recording
+from ..system.channels import Recording
 from ..builder.model import TrainBridgeModel
 from .settings import SolverSettings, number_of_steps, simulation_settings
 from .threads import single_threaded_blas

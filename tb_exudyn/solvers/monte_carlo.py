@@ -22,7 +22,7 @@ Discretisation of a spectrum S (one-sided, rad/m):
   the track, but a different discretisation from PEM's grid.
 
 Start: the model tapers every input in over ``track.taper_length`` after the first axle's start
-(see ``tb_exudyn.builder.excitation``), so a sample starts in static equilibrium with zero input,
+(see ``tb_exudyn.system.excitation``), so a sample starts in static equilibrium with zero input,
 exactly as PEM's runs start at rest: both analyse the same process from t = 0.
 
 Speed: the profile is evaluated at every wheel at every time step, so each sample's profile is
@@ -56,7 +56,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import CubicSpline
 
-from ..builder.excitation import KINDS, ProfileExcitation
+from ..system.excitation import KINDS, ProfileExcitation
 from ..results.random_response import RandomResponse
 from ..results.storage import check_writable
 from ..scenario import Scenario, ScenarioError, scenario_to_toml

@@ -86,7 +86,7 @@ def _setup(scenario: Scenario):
 
 def _work(model, task: Task) -> dict[str, np.ndarray]:
     """Real and imaginary pseudo-runs for one (spectrum, frequency); returns |y~|^2 per channel and time."""
-    from ..builder.excitation import HarmonicExcitation
+    from ..system.excitation import HarmonicExcitation
     from .deterministic import run_model
 
     p: PemTask = task.data

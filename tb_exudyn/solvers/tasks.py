@@ -28,6 +28,7 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
+from ..errors import CheckpointError
 from ..results.storage import check_writable, load_json, load_npz, save_json_atomic, save_npz_atomic
 
 THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
@@ -42,10 +43,6 @@ class Task:
     data: Any
 
 
-class CheckpointMismatch(ValueError):
-    """A checkpoint folder belongs to another computation."""
-
-    user_error = True
 
 
 # ------------------------------------------------------------------------------------- worker side
@@ -93,7 +90,7 @@ class Checkpoint:
             old = load_json(manifest).get("fingerprint")
             if old != fingerprint_:
                 if resume:
-                    raise CheckpointMismatch(
+                    raise CheckpointError(
                         f"checkpoint folder {str(self.folder)!r} holds another computation (fingerprint {old}, "
                         f"this one {fingerprint_}): use another --out folder or drop --resume"
                     )

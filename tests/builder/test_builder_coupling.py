@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tb_exudyn.builder.channels import catalogue, select
-from tb_exudyn.builder.coupling import LATERAL, VERTICAL, ContactLayout, WheelRailCoupling
-from tb_exudyn.builder.excitation import HarmonicExcitation, ProfileExcitation, rail_inputs, sampled_profile
+from tb_exudyn.system.channels import catalogue, select
+from tb_exudyn.system.coupling import LATERAL, VERTICAL, ContactLayout, WheelRailCoupling
+from tb_exudyn.system.excitation import HarmonicExcitation, ProfileExcitation, rail_inputs, sampled_profile
 from tb_exudyn.structure.modal import simply_supported_modes
 
 B = 0.75  # half gauge

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tb_exudyn.builder.excitation import HarmonicExcitation, ProfileExcitation, rail_inputs, taper
+from tb_exudyn.system.excitation import HarmonicExcitation, ProfileExcitation, rail_inputs, taper
 
 
 def test_taper_is_zero_before_and_one_after_and_c1():

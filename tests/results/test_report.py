@@ -12,7 +12,7 @@ from pathlib import Path
 import matplotlib
 import pytest
 
-from tb_exudyn.results.report import code_limit, find_results, summary, write_report
+from tb_exudyn.report import code_limit, find_results, summary, write_report
 
 matplotlib.use("Agg")
 _spec = importlib.util.spec_from_file_location(

@@ -99,7 +99,7 @@ def test_car15_sample_is_exudyns_tangent_model():
     """
     import tb_exudyn as tbx
     from tb_exudyn.builder import build_model
-    from tb_exudyn.builder.excitation import ProfileExcitation
+    from tb_exudyn.system.excitation import ProfileExcitation
     from tb_exudyn.solvers.batched import BatchedModel
     from tb_exudyn.solvers.batched_mc import integrate_samples
     from tb_exudyn.solvers.deterministic import run_model
@@ -302,7 +302,7 @@ def test_cross_level_as_a_height_difference_is_converted_as_exudyn_does():
     """
     import tb_exudyn as tbx
     from tb_exudyn.builder import build_model
-    from tb_exudyn.builder.excitation import ProfileExcitation
+    from tb_exudyn.system.excitation import ProfileExcitation
     from tb_exudyn.solvers.batched import BatchedModel
     from tb_exudyn.solvers.batched_mc import integrate_samples
     from tb_exudyn.solvers.deterministic import run_model

@@ -13,7 +13,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from tb_exudyn.solvers.tasks import Checkpoint, CheckpointMismatch, Task, run_tasks
+from tb_exudyn.errors import CheckpointError
+from tb_exudyn.solvers.tasks import Checkpoint, Task, run_tasks
 
 
 def setup_model(n: int, seed: int) -> np.ndarray:
@@ -80,7 +81,7 @@ def test_interrupted_then_resumed_equals_uninterrupted(tmp_path):
 
 def test_resume_refuses_another_computation(tmp_path):
     Checkpoint(tmp_path, "fp1", resume=False)
-    with pytest.raises(CheckpointMismatch, match="another computation"):
+    with pytest.raises(CheckpointError, match="another computation"):
         Checkpoint(tmp_path, "fp2", resume=True)
 
 

@@ -21,43 +21,15 @@ from typing import Any, Iterable, Sequence, Union
 
 import numpy as np
 
-from ..scenario import Car15, Scenario
-from . import load_results
-from .random_response import FORMAT as RR_FORMAT
-from .random_response import RandomResponse
-from ..atomic import write_text_atomic
-from .storage import load_json
-from .time_history import FORMAT as TH_FORMAT
-from .time_history import TimeHistory
+from ._version import __version__
+from .atomic import write_text_atomic
+from .plotting import plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_time_history, select_channels
+from .plotting.data import band_text, crossing_times, mc_label
+from .results import RandomResponse, TimeHistory, find_results
+from .scenario import Car15, Scenario
 
 Result = Union[RandomResponse, TimeHistory]
 esc = html.escape
-
-
-# ============================================================================================ results
-def find_results(folder: str | Path) -> list[tuple[Path, Result]]:
-    """The result in ``folder``, or the results in its immediate sub-folders (sorted by name).
-
-    Raises FileNotFoundError naming the folder when it holds none.
-    """
-    folder = Path(folder)
-
-    def is_result(p: Path) -> bool:
-        try:
-            return load_json(p / "meta.json").get("format") in (RR_FORMAT, TH_FORMAT)
-        except (OSError, ValueError):
-            return False
-
-    if is_result(folder):
-        paths = [folder]
-    elif folder.is_dir():
-        paths = sorted(p for p in folder.iterdir() if p.is_dir() and is_result(p))
-    else:
-        paths = []
-    if not paths:
-        raise FileNotFoundError(f"{folder}: no tb_exudyn result here (a folder with meta.json and arrays.npz, "
-                                "or a folder of such folders)")
-    return [(p, load_results(p)) for p in paths]
 
 
 # ============================================================================================ limits
@@ -162,7 +134,6 @@ def flat_rows(obj: Any, prefix: str = "") -> list[tuple[str, str, str, str]]:
 def scenario_sections(sc: Scenario) -> list[tuple[str, str, list[str], list[Sequence[str]]]]:
     """(id, title, header, rows) of the scenario's tables: train, vehicles, bridge, track, settings,
     derived quantities and sources."""
-    from ..plotting.data import crossing_times  # matplotlib-free module
 
     offsets = sc.train.axle_positions
     train, first = [], 0
@@ -289,9 +260,7 @@ def _result_name(path: Path, result: Result) -> str:
 def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
                   channels: str | Sequence[str] | None = None, title: str | None = None) -> str:
     """The HTML text of a report on ``found`` results (see :func:`write_report`)."""
-    from .. import __version__
-    from ..plotting import plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_time_history, select_channels
-    from ..plotting.data import band_text, mc_label
+
 
     scenarios = [r.scenario for _, r in found if r.scenario is not None]
     sc = scenarios[0] if scenarios else None
