@@ -30,8 +30,8 @@ except ImportError:  # run from a checkout without installing: put the repositor
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import tb_exudyn as tbx
-from tb_exudyn.solvers.monte_carlo import run_monte_carlo
-from tb_exudyn.solvers.pem import run_pem
+from tb_exudyn.methods import run_monte_carlo
+from tb_exudyn.methods import run_pem
 
 FULL_SAMPLES = 500
 

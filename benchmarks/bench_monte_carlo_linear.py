@@ -39,7 +39,7 @@ except ImportError:  # run from a checkout without installing: put the repositor
 import numpy as np
 
 import tb_exudyn as tbx
-from tb_exudyn.solvers.monte_carlo import run_monte_carlo
+from tb_exudyn.methods import run_monte_carlo
 
 KEY_CHANNELS = ("bridge.span1.mid.disp_z", "bridge.span1.mid.disp_y", "bridge.span1.mid.acc_y",
                 "car1.body.acc_z", "car1.body.acc_y", "car1.body.disp_rx", "car1.axle1.force_y",

@@ -19,7 +19,7 @@ import tempfile
 import time
 
 import tb_exudyn as tbx
-from tb_exudyn.solvers.pem import run_pem
+from tb_exudyn.methods import run_pem
 
 
 def main() -> None:

@@ -37,7 +37,7 @@ import warnings
 import numpy as np
 
 from tb_exudyn.scenario import load_scenario
-from tb_exudyn.solvers.pem import run_pem
+from tb_exudyn.methods import run_pem
 
 
 class PeakMemory:
@@ -89,47 +89,14 @@ def agreement(a, b) -> tuple[float, float, str]:  # noqa: ANN001 - RandomRespons
 
 
 def tight_reference(scenario, workers: int):  # noqa: ANN001
-    """sigma^2 and PSD from Exudyn pseudo-runs at 1e-5 m with Newton tolerances 1e-10 / 1e-8 (the
-    Exudyn engine's runs and reduction with tighter settings)."""
-    from concurrent.futures import ProcessPoolExecutor
-    import multiprocessing
+    """sigma and PSD of the Exudyn engine at a working amplitude of 1e-5 m with Newton tolerances
+    1e-10 / 1e-8 (its runs and reduction with tighter settings)."""
+    from tb_exudyn.engines.exudyn_runs import SolverSettings
 
-    from tb_exudyn.solvers.grid import scenario_grid
-    from tb_exudyn.solvers.pem import pem_tasks
-
-    grid = scenario_grid(scenario)
-    tasks = pem_tasks(scenario, grid)
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn")) as pool:
-        results = list(pool.map(_tight_task, [(scenario, t.data) for t in tasks]))
-    var = sum(r for r, _ in results)
-    psd = np.zeros((var.shape[0], grid.f.size, var.shape[1]))
-    for r, t in zip(results, tasks):
-        psd[:, t.data.freq_index, :] += r[0] / t.data.df
-    return np.sqrt(var), psd
-
-
-_MODEL = {}
-
-
-def _tight_task(args):  # noqa: ANN001, ANN202
-    from tb_exudyn.builder import HarmonicExcitation, build_model
-    from tb_exudyn.solvers.deterministic import run_model
-    from tb_exudyn.solvers.pem import kind_and_unit
-    from tb_exudyn.solvers.settings import SolverSettings
-
-    scenario, p = args
-    if "m" not in _MODEL:
-        _MODEL["m"] = build_model(scenario, warn=False)
-    model, amp = _MODEL["m"], 1e-5
-    kind, unit = kind_and_unit(p.spectrum)
-    settings = SolverSettings(newton_relative_tolerance=1e-10, newton_absolute_tolerance=1e-8)
-    parts = []
-    for part in ("real", "imag"):
-        exc = HarmonicExcitation(kind=kind, spatial_frequency=2 * math.pi * p.f / scenario.speed, amplitude=amp,
-                                 part=part, cross_level_unit=unit)
-        th, _ = run_model(model, exc, gravity=False, initial="rest", settings=settings)
-        parts.append(np.stack([th.channels[n] for n in th.names]))
-    return (parts[0] ** 2 + parts[1] ** 2) * (p.amplitude / amp) ** 2, p.freq_index
+    sc = scenario.replace(analysis=scenario.analysis.replace(pem_amplitude=1e-5))
+    r = run_pem(sc, workers=workers, progress=False, engine="exudyn",
+                options=SolverSettings(newton_relative_tolerance=1e-10, newton_absolute_tolerance=1e-8))
+    return r.std, r.psd
 
 
 def main() -> None:

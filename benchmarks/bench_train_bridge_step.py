@@ -24,7 +24,7 @@ import numpy as np
 from tb_exudyn.builder import HarmonicExcitation, build_model
 from tb_exudyn.builder.model import bridge_modes, closed_form_modes
 from tb_exudyn.scenario import load_bridge, load_scenario
-from tb_exudyn.solvers import run_model
+from tb_exudyn.engines.exudyn_runs import run_model
 
 
 

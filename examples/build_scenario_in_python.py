@@ -53,7 +53,7 @@ from tb_exudyn.scenario import (
     Train,
     WheelsetInertia,
 )
-from tb_exudyn.solvers.deterministic import summarize
+from tb_exudyn.methods import summarize
 
 from li_zhu_2011_psd_maps import add_common_arguments, run_study_pem
 

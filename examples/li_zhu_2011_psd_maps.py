@@ -50,8 +50,8 @@ import numpy as np
 import tb_exudyn as tbx
 from tb_exudyn.results import RandomResponse
 from tb_exudyn.scenario import Scenario
-from tb_exudyn.solvers.pem import run_pem
-from tb_exudyn.solvers.tasks import single_threaded_blas
+from tb_exudyn.methods import run_pem
+from tb_exudyn.execution import single_threaded_workers as single_threaded_blas
 
 NAME = "li_zhu_2011_psd_maps"
 

@@ -46,10 +46,10 @@ except ImportError:  # run from a checkout without installing: put the repositor
 import tb_exudyn as tbx
 from tb_exudyn.atomic import write_text_atomic
 from tb_exudyn.scenario import Scenario
-from tb_exudyn.solvers.compare import compare
-from tb_exudyn.solvers.monte_carlo import run_monte_carlo
-from tb_exudyn.solvers.pem import run_pem
-from tb_exudyn.solvers.tasks import single_threaded_blas
+from tb_exudyn.results.compare import compare
+from tb_exudyn.methods import run_monte_carlo
+from tb_exudyn.methods import run_pem
+from tb_exudyn.execution import single_threaded_workers as single_threaded_blas
 
 CHANNELS = ("bridge.span1.mid.disp_y", "car1.body.acc_y", "car1.axle1.force_y")
 

@@ -47,7 +47,7 @@ import numpy as np
 import tb_exudyn as tbx
 from tb_exudyn.results import RandomResponse
 from tb_exudyn.scenario import Scenario
-from tb_exudyn.solvers.tasks import single_threaded_blas
+from tb_exudyn.execution import single_threaded_workers as single_threaded_blas
 from tb_exudyn.results.export import write_table_csv
 
 from li_zhu_2011_psd_maps import add_common_arguments, quiet_quick_warnings, run_study_pem, study_scenario

@@ -4,10 +4,14 @@ Vehicles are Exudyn rigid bodies on spring-damper suspensions, the bridge a redu
 from a spatial-beam finite-element model, wheel and rail coupled by a user function that carries
 the track irregularity. Random responses by the pseudo-excitation method, checked by Monte Carlo.
 
-The public API is re-exported here explicitly; see README.md and docs/.
+The public API is re-exported here explicitly; see README.md and docs/develop.md.
 """
 
+from ._version import __version__
+from .errors import TbExudynError, UserError
+from .execution import Execution
 from .results import RandomResponse, TimeHistory, load_results
+from .results.compare import compare
 from .scenario import (
     Scenario,
     ScenarioError,
@@ -18,19 +22,17 @@ from .scenario import (
     save_scenario,
 )
 
-from ._version import __version__
-
-
+#: the methods build and run Exudyn models: loaded on first use, so that reading scenarios and
+#: results stays light
 _LAZY = {
-    "run_deterministic": "tb_exudyn.solvers.deterministic",
-    "run_pem": "tb_exudyn.solvers.pem",
-    "run_monte_carlo": "tb_exudyn.solvers.monte_carlo",
-    "compare": "tb_exudyn.solvers.compare",
+    "run_deterministic": "tb_exudyn.methods",
+    "run_pem": "tb_exudyn.methods",
+    "run_monte_carlo": "tb_exudyn.methods",
+    "simulate": "tb_exudyn.methods",
 }
 
 
 def __getattr__(name: str):
-    """The solvers import Exudyn: load them on first use, so the rest works without it."""
     if name in _LAZY:
         import importlib
 
@@ -39,19 +41,23 @@ def __getattr__(name: str):
 
 
 __all__ = [
+    "Execution",
     "RandomResponse",
     "Scenario",
     "ScenarioError",
+    "TbExudynError",
     "TimeHistory",
+    "UserError",
     "__version__",
+    "compare",
     "list_models",
     "load_bridge",
     "load_results",
     "load_scenario",
     "load_vehicle",
-    "compare",
     "run_deterministic",
     "run_monte_carlo",
     "run_pem",
     "save_scenario",
+    "simulate",
 ]

@@ -10,8 +10,12 @@ import argparse
 import sys
 from typing import Sequence
 
+from .engines import ENGINES
 from .errors import UserError
+from .results.compare import compare_folders
+from .results.storage import check_writable
 from .scenario import list_models, load_scenario
+from .track import get_spectrum, spectrum_names
 from .scenario.show import scenario_table
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
@@ -24,8 +28,6 @@ def _cmd_list(args: argparse.Namespace) -> int:
         print(f"{category}:")
         for e in (e for e in entries if e.category == category):
             print(f"  {e.name:<{width}}  {e.description}")
-    from .track import get_spectrum, spectrum_names
-
     print("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
     names = spectrum_names()
     width = max(len(n) for n in names)
@@ -55,41 +57,47 @@ def _summary_table(result, k: float = 3.0) -> str:
     return "\n".join(lines)
 
 
-def _cmd_run(args: argparse.Namespace) -> int:
-    from .results.storage import check_writable
+def _methods():  # noqa: ANN202
+    """The methods (they build Exudyn models): imported when a command runs one."""
+    from . import methods
 
+    return methods
+
+
+def _figures():  # noqa: ANN202
+    """plot_folder and write_report (matplotlib): imported when a command draws."""
+    from . import report
+
+    return report.plot_folder, report.write_report
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
     out = check_writable(args.out)
+    methods = _methods()
     print(f"scenario {scenario.name}: {scenario.description}")
     if args.method == "det":
-        from .solvers.deterministic import run_deterministic, summarize
-
-        th = run_deterministic(scenario)
+        th = methods.run_deterministic(scenario)
         th.save(out / "det")
-        print(summarize(th))
+        print(methods.summarize(th))
     elif args.method == "pem":
-        from .solvers.pem import run_pem
-
-        result = run_pem(scenario, workers=args.workers, out=out, resume=args.resume, progress=not args.no_progress,
-                         engine=args.engine, linearization=args.linearization or "rest")
+        result = methods.run_pem(scenario, workers=args.workers, out=out, resume=args.resume,
+                                 progress=not args.no_progress, engine=args.engine, linearization=args.linearization)
         print(_summary_table(result))
         print(f"PEM: {result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
     else:
-        from .solvers.monte_carlo import run_monte_carlo
-
-        result = run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers, out=out,
-                                 resume=args.resume, progress=not args.no_progress, engine=args.engine,
-                                 linearization=args.linearization)
+        result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers,
+                                         out=out, resume=args.resume, progress=not args.no_progress,
+                                         engine=args.engine, linearization=args.linearization)
         print(_summary_table(result))
         p = result.provenance
-        what = "Monte Carlo of the LINEAR model (batched engine)" if args.engine == "batched" else "Monte Carlo"
+        what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
+            else "Monte Carlo"
         print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
     if not args.no_figures:
-        from .plotting import plot_folder
-        from .report import write_report
-
+        plot_folder, write_report = _figures()
         figures = plot_folder(out)
         report = write_report(out)
         print(f"{len(figures)} figures and the report: {report}")
@@ -98,15 +106,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_compare(args: argparse.Namespace) -> int:
-    from .solvers.compare import compare_folders
-
     print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
     return EXIT_OK
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    from .plotting import plot_folder
-
+    plot_folder, _ = _figures()
     paths = plot_folder(args.folder, channels=args.channels, formats=tuple(args.formats))
     for p in paths:
         print(p)
@@ -114,8 +119,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    from .report import write_report
-
+    _, write_report = _figures()
     print(write_report(args.folder, args.html))
     return EXIT_OK
 
@@ -139,7 +143,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
     p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
-    p.add_argument("--engine", choices=("exudyn", "batched"), default="exudyn",
+    p.add_argument("--engine", choices=tuple(ENGINES), default="exudyn",
                    help="exudyn: one Exudyn run per PEM frequency and part, or per Monte Carlo sample (the "
                         "reference, default); batched: all pseudo-excitations, or all samples, integrated together "
                         "on the model linearised about rest (Monte Carlo results labelled monte_carlo_linear)")

@@ -71,6 +71,22 @@ def short_repr(value: Any, limit: int = 80) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+class ScenarioError(UserError, ValueError):
+    """A scenario, vehicle, bridge or limit description is not valid.
+
+    The message names the file, the key path, the value found and what is allowed, so that
+    the command-line tool can print it as it is (no traceback) and the user can fix the file.
+    """
+
+    def __init__(self, file: str | None, key: str, value: Any, allowed: str, reason: str = ""):
+        self.file = file or "<scenario>"
+        self.key = key or "<top level>"
+        self.value = value
+        self.allowed = allowed
+        self.reason = reason
+        super().__init__(format_message(self.file, self.key, value, allowed, reason))
+
+
 class SettingError(UserError, ValueError):
     """A function argument or a command-line option is not allowed.
 
@@ -117,5 +133,5 @@ class SimulationIncomplete(TbExudynError, RuntimeError):
 
 __all__ = [
     "CapabilityError", "CheckpointError", "ComparisonError", "OutputFolderError", "ResourceError", "ResultsError",
-    "SettingError", "SimulationIncomplete", "TbExudynError", "UserError", "format_message", "short_repr",
+    "ScenarioError", "SettingError", "SimulationIncomplete", "TbExudynError", "UserError", "format_message", "short_repr",
 ]

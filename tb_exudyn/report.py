@@ -23,7 +23,7 @@ import numpy as np
 
 from ._version import __version__
 from .atomic import write_text_atomic
-from .plotting import plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_time_history, select_channels
+from .plotting import plot_bounds, plot_folder, plot_pem_vs_mc, plot_psd_map, plot_time_history, select_channels
 from .plotting.data import band_text, crossing_times, mc_label
 from .results import RandomResponse, TimeHistory, find_results
 from .scenario import Car15, Scenario

@@ -56,7 +56,7 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
     from tb_exudyn.results import load_results
     from tb_exudyn.scenario import save_scenario
 
-    from .solvers.test_pem import sprung_mass_scenario
+    from .methods.test_pem import sprung_mass_scenario
 
     sc = sprung_mass_scenario(lead_in=25.0, run_out=2.0, f_min=2.0, f_max=12.0, n_freq=3,
                               channels=("bridge.span1.mid.*", "car1.body.acc_z"))

@@ -1,15 +1,15 @@
 """Builder: turns a scenario into an Exudyn train-bridge system.
 
 With the Exudyn engine, the only place that imports Exudyn. The plain-numpy physics it uses (the
-wheel-rail coupling, the excitation, the channels) lives in :mod:`tb_exudyn.system` and is
-re-exported here; the Exudyn parts (:func:`build_model`, :class:`TrainBridgeModel`,
-:class:`BuildOptions`, ...) are imported on first use.
+wheel-rail coupling, the excitation, the channels, the linear system) lives in
+:mod:`tb_exudyn.system` and is re-exported here for convenience.
+
+- :func:`build_model` -> :class:`TrainBridgeModel` (built once, re-excited many times);
+- :func:`linear_system` -> the model's :class:`~tb_exudyn.system.linear.LinearSystem`;
+- vehicles: one builder per vehicle kind, registered in :data:`.vehicles.VEHICLE_BUILDERS`.
 """
 
 from __future__ import annotations
-
-import importlib
-from typing import Any
 
 from ..system.channels import Channel, Recording
 from ..system.coupling import ContactLayout, ContactState, WheelRailCoupling
@@ -21,25 +21,13 @@ from ..system.excitation import (
     rail_inputs,
     sampled_profile,
 )
-
-_LAZY = {
-    "BuildOptions": ".vehicles",
-    "TrainBridgeModel": ".model",
-    "bridge_modes": ".model",
-    "build_model": ".model",
-    "closed_form_modes": ".model",
-    "channel_list": ".model",
-    "scenario_checks": ".model",
-}
+from .linear import linear_system
+from .model import TrainBridgeModel, bridge_modes, build_model, channel_list, closed_form_modes, scenario_checks
+from .vehicles import VEHICLE_BUILDERS
 
 __all__ = [
-    "BuildOptions", "Channel", "ContactLayout", "ContactState", "Excitation", "HarmonicExcitation",
-    "NoExcitation", "ProfileExcitation", "Recording", "TrainBridgeModel", "WheelRailCoupling", "bridge_modes",
-    "build_model", "channel_list", "closed_form_modes", "rail_inputs", "sampled_profile", "scenario_checks",
+    "Channel", "ContactLayout", "ContactState", "Excitation", "HarmonicExcitation", "NoExcitation",
+    "ProfileExcitation", "Recording", "TrainBridgeModel", "VEHICLE_BUILDERS", "WheelRailCoupling", "bridge_modes",
+    "build_model", "channel_list", "closed_form_modes", "linear_system", "rail_inputs", "sampled_profile",
+    "scenario_checks",
 ]
-
-
-def __getattr__(name: str) -> Any:
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name], __name__), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

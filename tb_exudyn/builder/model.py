@@ -25,13 +25,14 @@ from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
 from ..scenario.errors import ScenarioError
-from ..scenario.model import Car15, MovingForce, Scenario, SimpleBeam, SprungMass
+from ..scenario.model import Scenario, SimpleBeam
+from ..structure import modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
 from .bridge_body import add_modal_bridge_body
 from ..system.coupling import WheelRailCoupling
 from ..system.excitation import Excitation, as_excitation
-from .vehicles import BuildOptions, TrainParts, add_car15, add_moving_force, add_sprung_mass
+from .vehicles import VEHICLE_BUILDERS, TrainParts
 
 #: fewest time steps per period of the stiffest contact mode before a warning
 CONTACT_STEPS_PER_PERIOD = 4.0
@@ -47,7 +48,6 @@ def bridge_modes(scenario: Scenario) -> ModalBridge:
     """The scenario's bridge as a modal model from the finite-element model
     (:func:`tb_exudyn.structure.modal_bridge`): modes up to ``analysis.mode_max_frequency``, at most
     ``analysis.max_modes`` (0: no limit)."""
-    from ..structure import modal_bridge
 
     an = scenario.analysis
     return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
@@ -154,10 +154,9 @@ class TrainBridgeModel:
     warnings : scenario warnings found while building
     """
 
-    def __init__(self, scenario: Scenario, bridge: ModalBridge, options: BuildOptions) -> None:
+    def __init__(self, scenario: Scenario, bridge: ModalBridge) -> None:
         self.scenario = scenario
         self.bridge = bridge
-        self.options = options
         self.system_container = exu.SystemContainer()
         self.mbs = self.system_container.AddSystem()
         self.gravity_on = True
@@ -173,22 +172,14 @@ class TrainBridgeModel:
         self.bridge_body = add_modal_bridge_body(mbs, self.bridge, variant="generic")
         self.bridge_node = int(self.bridge_body.node)
         parts = TrainParts(
-            ground_marker=ground_marker, gravity=an.gravity, options=self.options,
+            ground_marker=ground_marker, gravity=an.gravity, contact_damping_ratio=an.contact_damping_ratio,
             half_gauge=sc.track.half_gauge, contact_stiffness_z=an.contact_stiffness_z,
             contact_stiffness_y=an.contact_stiffness_y,
         )
         axle_offsets = np.asarray(sc.train.axle_positions, dtype=float)
         axle = 0
         for k, veh in enumerate(sc.train.vehicles):
-            prefix = f"car{k + 1}"
-            if isinstance(veh, Car15):
-                add_car15(mbs, parts, veh, prefix, axle, -axle_offsets[axle])
-            elif isinstance(veh, SprungMass):
-                add_sprung_mass(mbs, parts, veh, prefix, axle)
-            elif isinstance(veh, MovingForce):
-                add_moving_force(parts, veh, prefix, axle)
-            else:  # pragma: no cover - Vehicle is a closed union
-                raise TypeError(f"unknown vehicle type {type(veh).__name__}")
+            VEHICLE_BUILDERS[veh.kind](mbs, parts, veh, f"car{k + 1}", axle, -axle_offsets[axle])
             axle += len(veh.axle_offsets)
         self.parts = parts
         self.warnings = scenario_checks(sc, parts.contact_frequencies, parts.vehicle_frequencies)
@@ -385,7 +376,6 @@ def build_model(
     excitation: Excitation | None = None,
     *,
     modal_bridge: ModalBridge | None = None,
-    options: BuildOptions | None = None,
     warn: bool = True,
 ) -> TrainBridgeModel:
     """Build a scenario into an Exudyn train-bridge model.
@@ -395,7 +385,6 @@ def build_model(
     scenario : the scenario (train, bridge, track, speed, analysis settings)
     excitation : irregularity input (None: smooth track); change later with ``set_excitation``
     modal_bridge : use these bridge modes instead of :func:`bridge_modes` (e.g. closed-form modes)
-    options : modelling choices (contact damping, weak springs)
     warn : issue the scenario's warnings with ``warnings.warn``
 
     Returns
@@ -403,7 +392,7 @@ def build_model(
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
     bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
-    model = TrainBridgeModel(scenario, bridge, options or BuildOptions())
+    model = TrainBridgeModel(scenario, bridge)
     if excitation is not None:
         model.set_excitation(excitation)
     if warn:

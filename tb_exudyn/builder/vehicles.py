@@ -18,6 +18,15 @@ wheelset's spin and yaw move its spring ends only along x). The springs only mak
 matrix regular for the static solution and keep the uncoupled coordinates at rest; their frequency
 (``weak_spring_frequency``, 0.1 Hz by default) and damping do not enter any coupled mode.
 A constraint would do the same but adds Lagrange multipliers (an index-3 DAE) for nothing.
+
+Wheel-rail contact damping (``analysis.contact_damping_ratio``, default 0.5): the damping ratio of
+every contact against the wheel mass it carries (vertical: half a wheelset per wheel; lateral: the
+wheelset), c = 2 zeta sqrt(k m). The contact is a penalty form of the reference model's constraint
+"the wheelset follows the rail"; near-critical damping makes its transfer function from rail to
+wheel flattest (least overshoot below the contact frequency, ~200 Hz) and keeps its stiff mode from
+ringing, which 1 ms steps cannot resolve. Measured (1 mm irregularity, 1 ms against 0.25 ms steps):
+wheel forces converge to 0.8 % with 0.5, to 30 % with 0.05. As the contact stiffness grows, c grows
+as sqrt(k) and the contact still tends to the constraint.
 """
 
 from __future__ import annotations
@@ -38,28 +47,8 @@ WHEELSET_COMPONENTS: tuple[tuple[str, int], ...] = (("y", 1), ("z", 2), ("rx", 3
 VERTICAL_COMPONENTS: tuple[tuple[str, int], ...] = (("z", 0),)
 
 
-@dataclass(frozen=True)
-class BuildOptions:
-    """Modelling choices that are not scenario data.
-
-    Attributes
-    ----------
-    contact_damping_ratio : damping ratio of every wheel-rail contact against the wheel mass it
-        carries (vertical: half a wheelset per wheel; lateral: the wheelset); c = 2 zeta sqrt(k m).
-        The contact is a penalty form of the reference model's constraint "the wheelset follows
-        the rail"; near-critical damping makes its transfer function from rail to wheel flattest
-        (least overshoot below the contact frequency, ~200 Hz) and keeps its stiff mode from
-        ringing, which 1 ms steps cannot resolve. Measured (1 mm irregularity, 1 ms against
-        0.25 ms steps): wheel forces converge to 0.8 % with 0.5, to 30 % with 0.05. As the contact
-        stiffness grows, c grows as sqrt(k) and the contact still tends to the constraint.
-    weak_spring_frequency : frequency of the decoupled weak springs holding x, wheelset spin and
-        yaw [Hz]
-    weak_spring_damping_ratio : their damping ratio
-    """
-
-    contact_damping_ratio: float = 0.5
-    weak_spring_frequency: float = 0.1
-    weak_spring_damping_ratio: float = 1.0
+#: frequency [Hz] and damping ratio of the weak decoupled springs holding x, wheelset spin and yaw
+WEAK_SPRING_FREQUENCY, WEAK_SPRING_DAMPING_RATIO = 0.1, 1.0
 
 
 @dataclass(frozen=True)
@@ -78,7 +67,7 @@ class TrainParts:
 
     ground_marker: int
     gravity: float
-    options: BuildOptions
+    contact_damping_ratio: float
     half_gauge: float
     contact_stiffness_z: float
     contact_stiffness_y: float
@@ -101,9 +90,9 @@ class TrainParts:
 
 
 def _weak_spring(mbs: exu.MainSystem, parts: TrainParts, node: int, coordinate: int, inertia: float) -> None:
-    om = 2.0 * math.pi * parts.options.weak_spring_frequency
+    om = 2.0 * math.pi * WEAK_SPRING_FREQUENCY
     k = inertia * om**2
-    c = 2.0 * parts.options.weak_spring_damping_ratio * inertia * om
+    c = 2.0 * WEAK_SPRING_DAMPING_RATIO * inertia * om
     marker = mbs.AddMarker(ei.MarkerNodeCoordinate(nodeNumber=node, coordinate=coordinate))
     mbs.AddObject(ei.ObjectConnectorCoordinateSpringDamper(
         markerNumbers=[parts.ground_marker, marker], stiffness=k, damping=c,
@@ -213,7 +202,7 @@ def add_car15(
 def _add_wheelset_contacts(
     parts: TrainParts, name: str, axle: int, node: int, mass: float, roll_inertia: float, radius: float, b: float
 ) -> None:
-    kz, ky, zeta = parts.contact_stiffness_z, parts.contact_stiffness_y, parts.options.contact_damping_ratio
+    kz, ky, zeta = parts.contact_stiffness_z, parts.contact_stiffness_y, parts.contact_damping_ratio
     cz = 2.0 * zeta * math.sqrt(kz * mass / 2.0)
     cy = 2.0 * zeta * math.sqrt(ky * mass)
     parts.wheel_nodes.append((node, 6))
@@ -242,7 +231,8 @@ def _car15_bounce_frequency(car: Car15) -> float:
     return math.sqrt(2 * k_corner / car.body.mass) / (2 * math.pi)
 
 
-def add_sprung_mass(mbs: exu.MainSystem, parts: TrainParts, veh: SprungMass, prefix: str, axle: int) -> None:
+def add_sprung_mass(mbs: exu.MainSystem, parts: TrainParts, veh: SprungMass, prefix: str, axle: int,
+                    x_first: float = 0.0) -> None:
     """One mass on a spring-damper over one wheel. With ``wheel_mass = 0`` the spring-damper's
     lower end follows the rail exactly (the suspension is the contact row); otherwise a wheel mass
     sits on the rail through the stiff vertical contact. Channels ``<prefix>.body`` (z),
@@ -264,7 +254,7 @@ def add_sprung_mass(mbs: exu.MainSystem, parts: TrainParts, veh: SprungMass, pre
             markerNumbers=[m0, m1], stiffness=veh.stiffness, damping=veh.damping,
             visualization=ei.VObjectConnectorCoordinateSpringDamper(show=False)))
         kz = parts.contact_stiffness_z
-        cz = 2.0 * parts.options.contact_damping_ratio * math.sqrt(kz * veh.wheel_mass)
+        cz = 2.0 * parts.contact_damping_ratio * math.sqrt(kz * veh.wheel_mass)
         parts.wheel_nodes.append((wheel_node, 1))
         parts.contacts.add(name=name, axle=axle, direction=VERTICAL, rail_offset=0.0, stiffness=kz,
                            damping=cz, wheel_terms={(wheel_node, 0): 1.0}, inputs=(1.0, 0.0, 0.0))
@@ -272,9 +262,21 @@ def add_sprung_mass(mbs: exu.MainSystem, parts: TrainParts, veh: SprungMass, pre
     parts.vehicle_frequencies.append(math.sqrt(veh.stiffness / veh.mass) / (2 * math.pi))
 
 
-def add_moving_force(parts: TrainParts, veh: MovingForce, prefix: str, axle: int) -> None:
+def add_moving_force(mbs: exu.MainSystem, parts: TrainParts, veh: MovingForce, prefix: str, axle: int,
+                     x_first: float = 0.0) -> None:
     """A constant downward point load on the track centre line (present while gravity is on).
     Channel ``<prefix>.axle1.force_z``."""
     parts.load_axle.append(axle)
     parts.load_force.append(veh.force)
     parts.load_names.append(f"{prefix}.axle1.force_z")
+
+
+#: the builder of each vehicle kind (``Vehicle.kind``), one signature:
+#: ``add(mbs, parts, vehicle, prefix, first_axle, x_first)`` with ``prefix`` the channel prefix
+#: (``car<k>``), ``first_axle`` the index of its first axle in the train and ``x_first`` that axle's X
+#: in the moving frame. Adding a vehicle kind is a dataclass in tb_exudyn/scenario/model.py and one line here.
+VEHICLE_BUILDERS = {
+    "car15": add_car15,
+    "sprung_mass": add_sprung_mass,
+    "moving_force": add_moving_force,
+}

@@ -1,60 +1,15 @@
 """Result types and their files: TimeHistory (one run), RandomResponse (PEM, Monte Carlo).
 
 Every result is a folder with ``arrays.npz`` (read with allow_pickle=False) and ``meta.json``
-(whose ``format`` names the type); :func:`load_results` reads any of them.
+(whose ``format`` names the type); :func:`load_results` reads any of them. :mod:`.compare` compares
+a PEM result with a Monte Carlo one.
 """
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import Union
-
-from .random_response import FORMAT as RANDOM_RESPONSE_FORMAT
+from .folders import Result, find_results, load_results
 from .random_response import RandomResponse, load_random_response
-from .storage import load_json
-from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 
-__all__ = ["RandomResponse", "TimeHistory", "find_results", "load_random_response", "load_results", "load_time_history"]
-Result = Union[TimeHistory, RandomResponse]
-
-
-def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:
-    """Load a saved result folder of any kind (time history or random response).
-
-    Raises ValueError naming the folder when its ``meta.json`` has an unknown format.
-    """
-    folder = Path(folder)
-    fmt = load_json(folder / "meta.json").get("format")
-    if fmt == TIME_HISTORY_FORMAT:
-        return load_time_history(folder)
-    if fmt == RANDOM_RESPONSE_FORMAT:
-        return load_random_response(folder)
-    raise ValueError(
-        f"{folder}: unknown result format {fmt!r} (expected {TIME_HISTORY_FORMAT!r} or {RANDOM_RESPONSE_FORMAT!r})"
-    )
-
-
-def find_results(folder: str | Path) -> list[tuple[Path, Result]]:
-    """The result in ``folder``, or the results in its immediate sub-folders (sorted by name).
-
-    Raises FileNotFoundError naming the folder when it holds none.
-    """
-    folder = Path(folder)
-
-    def is_result(p: Path) -> bool:
-        try:
-            return load_json(p / "meta.json").get("format") in (RANDOM_RESPONSE_FORMAT, TIME_HISTORY_FORMAT)
-        except (OSError, ValueError):
-            return False
-
-    if is_result(folder):
-        paths = [folder]
-    elif folder.is_dir():
-        paths = sorted(p for p in folder.iterdir() if p.is_dir() and is_result(p))
-    else:
-        paths = []
-    if not paths:
-        raise FileNotFoundError(f"{folder}: no tb_exudyn result here (a folder with meta.json and arrays.npz, "
-                                "or a folder of such folders)")
-    return [(p, load_results(p)) for p in paths]
+__all__ = ["RandomResponse", "Result", "TimeHistory", "find_results", "load_random_response", "load_results",
+           "load_time_history"]

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
+from ..track import spectrum_names
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace
 
 KMH = 1.0 / 3.6  # m/s per km/h
@@ -341,8 +342,6 @@ class Track(_Replaceable):
             )
         if len(set(self.irregularities)) != len(self.irregularities):
             raise ctx.child("irregularities").error(list(self.irregularities), "each spectrum once", "repeated spectrum")
-        from ..track import spectrum_names  # local import: track does not import scenario
-
         names = spectrum_names()
         for i, name in enumerate(self.irregularities):
             if name not in names:
@@ -368,10 +367,19 @@ class Analysis(_Replaceable):
     channels: tuple[str, ...] = param(("*",), doc="output channel patterns (glob, e.g. 'bridge.*', 'car1.body.*')")
     contact_stiffness_z: float = param(2.0e9, unit="N/m", doc="linear wheel-rail contact stiffness, vertical, per wheel", check=POSITIVE)
     contact_stiffness_y: float = param(2.0e9, unit="N/m", doc="linear wheel-rail contact stiffness, lateral, per wheelset", check=POSITIVE)
+    contact_damping_ratio: float = param(
+        0.5, unit="-", check=Check(low=0.0, high=10.0, low_inclusive=True),
+        doc="damping ratio of every wheel-rail contact against the wheel mass it carries (vertical: half a "
+            "wheelset per wheel; lateral: the wheelset): c = 2 zeta sqrt(k m)",
+    )
     mode_max_frequency: float = param(100.0, unit="Hz", doc="bridge modes up to this frequency", check=POSITIVE)
     max_modes: int = param(0, doc="at most this many bridge modes (0: no limit)", check=Check(low=0.0, low_inclusive=True, high=1e5))
     spectral_radius: float = param(0.9, unit="-", doc="generalized-alpha spectral radius at infinite frequency", check=Check(low=0.0, high=1.0, low_inclusive=True))
     gravity: float = param(9.81, unit="m/s^2", doc="gravitational acceleration", check=POSITIVE)
+    linearization: Literal["rest", "static"] = param(
+        "rest", doc="linear engines: the model linearised about rest (PEM's model, as the Exudyn PEM engine's "
+                    "pseudo-runs) or about the static equilibrium under gravity (with the suspensions' preload stiffness)",
+    )
 
     def _validate(self, ctx: Context) -> None:
         ratio = self.output_step / self.time_step

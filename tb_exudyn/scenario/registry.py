@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import ScenarioError
+from .toml_io import read_toml
 
 CATEGORIES = ("vehicles", "bridges", "scenarios")
 
@@ -62,8 +63,6 @@ class ModelEntry:
 
 def list_models() -> list[ModelEntry]:
     """Every named model with its one-line description (read from the file, not validated)."""
-    from .toml_io import read_toml
-
     out = []
     for category in CATEGORIES:
         for name, path in model_files(category).items():

@@ -25,10 +25,12 @@ from __future__ import annotations
 
 import fnmatch
 from dataclasses import dataclass
-from typing import Iterable, Sequence
+from typing import Callable, Iterable, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
+
+from ..scenario.errors import ScenarioError
 
 QUANTITIES: tuple[str, ...] = ("disp", "vel", "acc")
 _UNITS = {
@@ -104,8 +106,6 @@ def select(channels: Sequence[Channel], patterns: Sequence[str]) -> list[Channel
 
     Raises ScenarioError (key ``analysis.channels``) naming the pattern when it matches no channel.
     """
-    from ..scenario.errors import ScenarioError
-
     names = [c.name for c in channels]
     keep = set()
     for i, pattern in enumerate(patterns):
@@ -150,3 +150,40 @@ def evaluate(channels: Sequence[Channel], rec: Recording, station_shapes: NDArra
         else:  # pragma: no cover - catalogue only makes the four kinds
             raise ValueError(f"unknown channel source {ch.source!r}")
     return out
+
+
+@dataclass(frozen=True)
+class OutputMap:
+    """Where every output channel (in ``names`` order) comes from, in the system's global terms:
+    (channel, global coordinate, order) of node channels, (channel, station shape row over the
+    bridge's modal coordinates, order) of bridge channels, (channel, contact row) of contact forces
+    and (channel, point load) of the moving point loads. The engines that integrate global state
+    vectors (batched, dense) read their channels through it; :func:`evaluate` reads the same
+    channels from an Exudyn recording."""
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    node: tuple[tuple[int, int, int], ...]
+    bridge: tuple[tuple[int, NDArray[np.float64], int], ...]
+    contact: tuple[tuple[int, int], ...]
+    load: tuple[tuple[int, int], ...]
+
+
+def output_map(channels: Sequence[Channel], node_indices: Callable[[int], NDArray[np.int64]],
+               station_shapes: NDArray[np.float64]) -> OutputMap:
+    """The :class:`OutputMap` of ``channels``; ``node_indices(node)`` gives a node's global
+    coordinate indices, ``station_shapes`` (n_st, 3, n_modes) the bridge's station shapes."""
+    node, bridge, contact, load = [], [], [], []
+    for i, ch in enumerate(channels):
+        if ch.source == "node":
+            node.append((i, int(node_indices(ch.index)[ch.coordinate]), ch.order))
+        elif ch.source == "bridge":
+            bridge.append((i, station_shapes[ch.index, ch.coordinate], ch.order))
+        elif ch.source == "contact":
+            contact.append((i, ch.index))
+        elif ch.source == "load":
+            load.append((i, ch.index))
+        else:  # pragma: no cover - catalogue only makes the four kinds
+            raise ValueError(f"unknown channel source {ch.source!r}")
+    return OutputMap(tuple(c.name for c in channels), tuple(c.unit for c in channels), tuple(node), tuple(bridge),
+                     tuple(contact), tuple(load))

@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..structure.modal import ModalBridge
+from .conventions import axle_positions
 from .excitation import Excitation, as_excitation, is_zero, rail_inputs
 
 VERTICAL, LATERAL = 0, 1
@@ -213,8 +214,8 @@ class WheelRailCoupling:
             self._clear_cache()
 
     def positions(self, t: float) -> NDArray[np.float64]:
-        """Axle positions x_j(t) = x0_j + v t [m]."""
-        return self.axle_start + self.speed * t
+        """Axle positions x_j(t) = x0_j + v t [m] (:func:`~.conventions.axle_positions`)."""
+        return axle_positions(self.axle_start, self.speed, t)
 
     # ------------------------------------------------------------------ contact description
     def _shapes(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], bool]:
@@ -260,13 +261,21 @@ class WheelRailCoupling:
 
     # ------------------------------------------------------------------ forces
     def _force(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
-        gap = st.B @ u + st.r
+        return self.contact_law(st, u, ud, st.r, st.r_dot)
+
+    def contact_law(self, st: ContactState, u: NDArray, ud: NDArray, r: NDArray, r_dot: NDArray) -> NDArray:
+        """The contact law: f = k (B u + r) + c (B u' + v dS q_b + r') at the contact state ``st``,
+        for coordinates u, u' (n,) or (n, m) (m columns; then r, r' are (n_c, m), real or complex).
+        The one formula of the contact force: the Exudyn user functions and every engine use it."""
+        k = self._k if u.ndim == 1 else self._k[:, None]
+        gap = st.B @ u + r
         if not self._damped:
-            return self._k * gap
-        rate = st.B @ ud + st.r_dot
+            return k * gap
+        c = self._c if u.ndim == 1 else self._c[:, None]
+        rate = st.B @ ud + r_dot
         if st.on_bridge and st.speed != 0.0:
             rate += st.speed * (st.dS @ u[: self.n_bridge])
-        return self._k * gap + self._c * rate
+        return k * gap + c * rate
 
     def contact_forces(
         self, t: float, q_b: ArrayLike, qd_b: ArrayLike, q_w: ArrayLike, qd_w: ArrayLike

@@ -8,7 +8,7 @@ then sit at
     z_left  = z_v + b theta_c,   z_right = z_v - b theta_c,   y_rail = y_a,
 
 with b the half gauge. A cross-level given as a height difference h = z_left - z_right [m] is
-converted to the angle theta_c = h / (2 b).
+converted to the angle theta_c = h / (2 b) (:func:`~.conventions.cross_level_scale`).
 
 A *profile* is any callable ``x -> (value, slope)`` (vectorised over x [m]); a sample drawn by
 ``tb_exudyn.track`` only needs wrapping in such a callable (e.g. :func:`sampled_profile`).
@@ -34,6 +34,8 @@ from typing import Callable, Literal, Optional, Union
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+
+from .conventions import cross_level_scale, harmonic_phase
 
 #: Irregularity kinds in the order of the rows returned by :func:`rail_inputs`.
 KINDS: tuple[str, ...] = ("vertical", "alignment", "cross_level")
@@ -162,15 +164,16 @@ def rail_inputs(
     slopes = np.zeros((3, xs.size))
     if isinstance(excitation, HarmonicExcitation):
         row = KINDS.index(excitation.kind)
-        phase = excitation.spatial_frequency * (xs - x_ref)
+        phase = harmonic_phase(excitation.spatial_frequency, xs, x_ref)
         amp, om = excitation.amplitude, excitation.spatial_frequency
         if excitation.part == "real":
             values[row], slopes[row] = amp * np.cos(phase), -amp * om * np.sin(phase)
         else:
             values[row], slopes[row] = amp * np.sin(phase), amp * om * np.cos(phase)
-        if excitation.kind == "cross_level" and excitation.cross_level_unit == "height":
-            values[2] /= 2.0 * half_gauge
-            slopes[2] /= 2.0 * half_gauge
+        if excitation.kind == "cross_level":
+            scale = cross_level_scale(excitation.cross_level_unit, half_gauge)
+            values[2] *= scale
+            slopes[2] *= scale
     elif isinstance(excitation, ProfileExcitation):
         for row, profile in enumerate((excitation.vertical, excitation.alignment, excitation.cross_level)):
             if profile is None:
@@ -178,9 +181,9 @@ def rail_inputs(
             val, slo = profile(xs)
             values[row] = np.broadcast_to(np.asarray(val, dtype=float), xs.shape)
             slopes[row] = np.broadcast_to(np.asarray(slo, dtype=float), xs.shape)
-        if excitation.cross_level_unit == "height":
-            values[2] /= 2.0 * half_gauge
-            slopes[2] /= 2.0 * half_gauge
+        scale = cross_level_scale(excitation.cross_level_unit, half_gauge)
+        values[2] *= scale
+        slopes[2] *= scale
     else:
         return values, slopes
     w, dw = taper(xs, x_ref, taper_length)

@@ -12,7 +12,7 @@ pytest.importorskip("exudyn")
 
 from tb_exudyn.builder import ProfileExcitation, build_model, sampled_profile  # noqa: E402
 from tb_exudyn.scenario import Analysis, BeamSection, Scenario, SimpleBeam, SprungMass, Track, Train  # noqa: E402
-from tb_exudyn.solvers import run_model  # noqa: E402
+from tb_exudyn.engines.exudyn_runs import run_model  # noqa: E402
 from tb_exudyn.structure import simply_supported_modes  # noqa: E402
 
 pytestmark = pytest.mark.exudyn

@@ -1,0 +1,149 @@
+"""The engine protocol: what a method asks of an engine, and what every engine shares.
+
+An engine integrates the columns of a column source (:mod:`tb_exudyn.system.columns`: PEM's harmonic
+pseudo-excitations, Monte Carlo's sampled profiles) over the crossing and hands the outputs of every
+output time to a reducer (the method's: PSD and sigma^2 for PEM, sample moments for Monte Carlo).
+An engine instance is built once per worker (it builds the scenario's Exudyn model: the same model
+for every engine, so that the mean, the channels and the physics are shared) and then integrates
+many column blocks.
+
+The reducer protocol: ``reducer.record(i, Y, ext)`` at output time i with ``Y`` (n_outputs, m)
+complex, the outputs of the m columns in the engine's internal row order, ``ext[c]`` the internal row
+of output c (``outputs.names`` order); ``reducer.result()`` returns the block's arrays.
+
+Capabilities (class attributes) say what an engine can do; :meth:`Engine.check` refuses the rest
+with a :class:`~tb_exudyn.errors.CapabilityError` before any run.
+"""
+
+from __future__ import annotations
+
+import json
+import time as _time
+from abc import ABC, abstractmethod
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..builder import build_model
+from ..errors import CapabilityError
+from ..results.storage import json_default
+from ..system.channels import OutputMap, evaluate, output_map
+from ..system.conventions import scenario_steps
+from ..system.linear import LINEARIZATIONS
+from .exudyn_runs import run_model
+
+
+class Engine(ABC):
+    """An integrator of column sources on a scenario's model (build one per worker).
+
+    Class attributes (capabilities)
+    -------------------------------
+    name : the registry name
+    full_model : True when the engine integrates the full (nonlinear, rigid-body) Exudyn model, so
+        that a sampled profile's response includes gravity and the mean; False for a linear engine,
+        whose responses are deviations from the mean (the deterministic run)
+    linearizations : the linearization points (``analysis.linearization``) it integrates
+    single_columns : True when columns are separate runs (tasks of one column each); False when it
+        integrates many columns at once (a few large tasks)
+
+    Parameters
+    ----------
+    scenario : the scenario
+    options : engine options (see each engine; None: defaults)
+    wheel_forces : also output every vertical wheel-rail force (``*.force_z``) the scenario's
+        channels leave out, after the selected channels (Monte Carlo's loss-of-contact check)
+    """
+
+    name: ClassVar[str]
+    full_model: ClassVar[bool]
+    linearizations: ClassVar[tuple[str, ...]] = LINEARIZATIONS
+    single_columns: ClassVar[bool] = False
+
+    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
+        self.scenario = scenario
+        self.options = options
+        self.wheel_forces = wheel_forces
+        #: the run's time grid (:func:`~tb_exudyn.system.conventions.run_steps`)
+        self.steps = scenario_steps(scenario)
+        self.model = build_model(scenario, warn=False)
+        model = self.model
+        outputs = list(model.selected)
+        if wheel_forces:
+            outputs += [c for c in model.channels if c.name.endswith(".force_z") and c not in model.selected]
+        self.output_channels = outputs
+        self.outputs: OutputMap = output_map(outputs, model.node_indices, model.bridge.station_shapes)
+
+    # ------------------------------------------------------------------ capabilities
+    @classmethod
+    def check(cls, scenario: Any, options: Any = None, others: str = "") -> None:
+        """Refuse what the engine cannot do (before any run); ``others`` says which engines can."""
+        lin = scenario.analysis.linearization
+        if lin not in cls.linearizations:
+            raise CapabilityError(
+                f"engine {cls.name!r}", "analysis.linearization", lin,
+                " or ".join(repr(x) for x in cls.linearizations) + (f"; {others}" if others else ""),
+                f"the {cls.name} engine cannot linearise about {lin!r}",
+            )
+
+    @classmethod
+    def default_options(cls) -> Any:
+        return None
+
+    @classmethod
+    def describe_options(cls, options: Any) -> dict[str, Any]:
+        """The options as plain data (for provenance and checkpoint fingerprints)."""
+        return {}
+
+    # ------------------------------------------------------------------ outputs
+    @property
+    def n_selected(self) -> int:
+        """Number of the scenario's channels (the first of ``outputs.names``)."""
+        return len(self.model.selected)
+
+    @property
+    def force_rows(self) -> np.ndarray:
+        """Rows (``outputs.names`` order) of the vertical wheel-rail forces."""
+        return np.array([i for i, n in enumerate(self.outputs.names) if n.endswith(".force_z")], dtype=np.int64)
+
+    def channel_values(self, recording: Any) -> np.ndarray:
+        """The outputs (``outputs.names`` order) of an Exudyn recording, (n_outputs, n_t)."""
+        values = evaluate(self.output_channels, recording, self.model.bridge.station_shapes)
+        return np.stack([values[n] for n in self.outputs.names])
+
+    # ------------------------------------------------------------------ the work
+    @abstractmethod
+    def integrate(self, source: Any, reducer: Any) -> dict[str, np.ndarray]:
+        """Integrate every column of ``source`` over the crossing, handing the outputs of each output
+        time to ``reducer.record``; return ``reducer.result()`` and the engine's arrays."""
+
+    def describe(self) -> dict[str, Any]:
+        """Provenance of the engine (what it integrated, with which parameters)."""
+        return {"engine": self.name}
+
+    def mean(self) -> dict[str, np.ndarray]:
+        """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the
+        engine's model, as plain arrays (checkpointable): the selected channels' values, their names
+        and units, the time, the vertical wheel forces of the run (all of them, selected or not),
+        the run's provenance (JSON) and the scenario's warnings."""
+        start = _time.perf_counter()
+        model = self.model
+        th, _ = run_model(model, None, gravity=True, initial="static")
+        forces = [c for c in model.channels if c.name.endswith(".force_z")] if self.wheel_forces else []
+        if forces:
+            values = evaluate(forces, model.recording(), model.bridge.station_shapes)
+            force_mean = np.stack([values[c.name] for c in forces])
+        else:
+            force_mean = np.zeros((0, th.time.size))
+        model.set_gravity(False)  # back to the sweep's state
+        model.set_excitation(None)
+        return {
+            "force_mean": force_mean,
+            "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
+            "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
+            "provenance": np.array(json.dumps(th.provenance, default=json_default)),
+            "warnings": np.array(model.warnings, dtype=str).reshape(-1),
+            "seconds": np.array(_time.perf_counter() - start),
+        }
+
+
+__all__ = ["Engine"]

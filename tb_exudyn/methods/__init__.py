@@ -1,0 +1,181 @@
+"""Methods: what is computed (the mean run, PEM, Monte Carlo), on any engine, under any execution.
+
+:func:`simulate` is the one entry point: ``simulate(scenario, "pem", engine="batched",
+execution=Execution(workers=2, out="out"))``; :func:`run_pem`, :func:`run_monte_carlo` and
+:func:`run_deterministic` are its thin, stable wrappers (the public API). Where a setting comes from:
+
+- the scenario (TOML or dataclasses): every number of the physics and of the analysis (time step,
+  grid, contact, gravity, linearization point, channels);
+- the engine's options (``options``; e.g. the Exudyn engine's :class:`SolverSettings`): how an engine
+  integrates, to within its stated tolerances;
+- the method's options (``keep_psd``; ``n_samples``, ``seed``, ``keep_samples``, ``discretisation``);
+- :class:`~tb_exudyn.execution.Execution`: how the tasks run (workers, executor, output folder,
+  resume, progress, slices); it changes no number.
+
+Every option that changes a number is in the checkpoint's fingerprint (with the package versions).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable
+
+from ..engines import engine_class
+from ..engines.exudyn_runs import SolverSettings
+from ..errors import CapabilityError, SettingError
+from ..execution import Execution
+from ..results.random_response import RandomResponse
+from ..results.time_history import TimeHistory
+from ..scenario import Scenario
+from ..system.linear import LINEARIZATIONS
+from . import monte_carlo, pem
+from .deterministic import run_deterministic, summarize
+from .monte_carlo import LossOfContactWarning
+
+#: the engine the functions use when none is given
+DEFAULT_ENGINE = "exudyn"
+
+
+def _deterministic(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None,
+                   excitation: Any = None) -> TimeHistory:
+    if engine != "exudyn":
+        raise CapabilityError("simulate", "engine", engine, "'exudyn' (the deterministic run is an Exudyn run)")
+    th = run_deterministic(scenario, excitation, settings=options)
+    out = execution.output_folder()
+    if out is not None:
+        th.save(out / "det")
+    return th
+
+
+#: method name -> run(scenario, engine, execution, **method options)
+METHODS: dict[str, Callable[..., Any]] = {
+    "deterministic": _deterministic,
+    "pem": pem.run,
+    "monte_carlo": monte_carlo.run,
+}
+
+
+def simulate(scenario: Scenario, method: str, engine: str = DEFAULT_ENGINE, execution: Execution | None = None,
+             **options: Any) -> Any:
+    """Run ``method`` ("deterministic", "pem" or "monte_carlo") on ``engine`` ("exudyn", "batched",
+    "dense") under ``execution``; ``options`` are the method's (and ``options=`` the engine's)."""
+    if method not in METHODS:
+        raise SettingError("simulate", "method", method, " or ".join(map(repr, METHODS)))
+    if not isinstance(scenario, Scenario):
+        raise SettingError("simulate", "scenario", type(scenario).__name__, "a Scenario (tb_exudyn.load_scenario)")
+    return METHODS[method](scenario, engine, execution or Execution(where="simulate"), **options)
+
+
+def _with_linearization(scenario: Scenario, linearization: str | None, where: str) -> Scenario:
+    if linearization is None or linearization == scenario.analysis.linearization:
+        return scenario
+    if linearization not in LINEARIZATIONS:
+        raise SettingError(where, "linearization", linearization, " or ".join(map(repr, LINEARIZATIONS)),
+                           "unknown linearization point")
+    return scenario.replace(analysis=scenario.analysis.replace(linearization=linearization))
+
+
+def run_pem(
+    scenario: Scenario,
+    workers: int | None = None,
+    executor: Any = None,
+    out: str | Path | None = None,
+    resume: bool = False,
+    progress: bool = True,
+    keep_psd: bool = True,
+    engine: str = DEFAULT_ENGINE,
+    linearization: str | None = None,
+    options: Any = None,
+    slices: Any = None,
+) -> RandomResponse:
+    """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
+
+    Parameters
+    ----------
+    scenario : the scenario (its track.irregularities are the independent spectra)
+    workers : processes of the local pool (None: all cores; 1: in this process)
+    executor : any ``concurrent.futures.Executor`` to use instead (e.g. a Dask client's executor)
+    out : folder for checkpoints (``out/checkpoint``) and the result (``out/pem``); checked writable
+        before any run
+    resume : skip tasks already finished in ``out/checkpoint``
+    progress : show a progress bar with the time left
+    keep_psd : keep the PSD map (channels x frequencies x output times); sigma is always kept
+    engine : "exudyn" (two Exudyn runs per type and frequency: the reference), "batched" (all
+        pseudo-excitations in one integration of the same linear model with Exudyn's
+        generalized-alpha step) or "dense" (the same on full matrices: a small reference); the mean
+        is Exudyn's deterministic run in every case
+    linearization : overrides ``analysis.linearization``: "rest" (every engine: pseudo-runs from the
+        unloaded rest state without gravity) or, with a linear engine, "static" (about the static
+        equilibrium under gravity, with the suspensions' preload stiffness)
+    options : the engine's options (the Exudyn engine: :class:`SolverSettings`)
+    slices : relative task sizes of a linear engine (see :class:`~tb_exudyn.execution.Execution`)
+
+    Returns
+    -------
+    RandomResponse with mean (deterministic run), std, psd [unit^2/Hz], band and provenance.
+    """
+    execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
+                          slices=slices, where="run_pem")
+    return pem.run(_with_linearization(scenario, linearization, "run_pem"), engine, execution, options=options, keep_psd=keep_psd)
+
+
+def run_monte_carlo(
+    scenario: Scenario,
+    n_samples: int | None = None,
+    seed: int | None = None,
+    workers: int | None = None,
+    executor: Any = None,
+    out: str | Path | None = None,
+    resume: bool = False,
+    progress: bool = True,
+    keep_samples: bool = False,
+    discretisation: str = "pem_grid",
+    engine: str = DEFAULT_ENGINE,
+    linearization: str | None = None,
+    options: Any = None,
+    slices: Any = None,
+) -> RandomResponse:
+    """Sample mean and standard deviation of every channel over sampled irregularity profiles.
+
+    Parameters
+    ----------
+    scenario : the scenario (its track.irregularities are sampled independently)
+    n_samples : number of samples N >= 2 (default ``scenario.analysis.n_samples``)
+    seed : seed of the run (default ``scenario.analysis.seed``); sample k uses ``sample_rng(seed, k)``
+    workers, executor, out, resume, progress : as :func:`run_pem` (checkpoints in
+        ``out/checkpoint-mc`` or ``out/checkpoint-mc-linear``, results in ``out/mc`` or
+        ``out/mc_linear``); the checkpoint does not depend on N, so a larger N with ``resume=True``
+        reuses the samples already run
+    keep_samples : keep every sample's channels, (N, nc, nt), in ``samples``
+    discretisation : "pem_grid" (the PEM grid's discretised spectrum: comparable with PEM exactly)
+        or "fft" (FFT profiles over the wavelength band, for long tracks)
+    engine : "exudyn" (one Exudyn run of the full model per sample: the reference, method
+        "monte_carlo") or a linear engine ("batched", "dense": the same samples on the linear model,
+        method "monte_carlo_linear")
+    linearization : a linear engine's linearization point (overrides ``analysis.linearization``); the
+        Exudyn engine runs the full model and takes none
+    options, slices : as :func:`run_pem`
+
+    Returns
+    -------
+    RandomResponse with the sample mean, the sample standard deviation (ddof = 1), their 95 %
+    confidence intervals ``mean_ci`` and ``std_ci``, ``min_wheel_force`` per sample and, if asked,
+    the samples.
+
+    Warns
+    -----
+    LossOfContactWarning when a sample's minimum vertical wheel-rail force is <= 0.
+    """
+    if linearization is not None and engine_class(engine, "run_monte_carlo").full_model:
+        raise CapabilityError("run_monte_carlo", "linearization", linearization,
+                              "none with engine 'exudyn' (or a linear engine: 'batched', 'dense')",
+                              "the Exudyn Monte Carlo runs the full model, it linearises nothing")
+    execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
+                          slices=slices, where="run_monte_carlo")
+    return monte_carlo.run(_with_linearization(scenario, linearization, "run_monte_carlo"), engine, execution, n_samples=n_samples,
+                           seed=seed, keep_samples=keep_samples, discretisation=discretisation,  # type: ignore[arg-type]
+                           options=options)
+
+
+__all__ = ["DEFAULT_ENGINE", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
+           "run_monte_carlo", "run_pem", "simulate", "summarize"]

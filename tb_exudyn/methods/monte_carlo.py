@@ -1,0 +1,306 @@
+"""Monte Carlo: sample mean and standard deviation over sampled irregularity profiles, on any engine.
+
+Sample k is the profile ``sample_rng(seed, k)`` draws (:mod:`.sampling`), whatever engine and worker
+runs it. On an engine of the full model (``full_model``: the Exudyn engine) every sample is one run
+with gravity from static equilibrium on the sampled track (method ``"monte_carlo"``); on a linear
+engine (batched, dense) every sample is Exudyn's deterministic run (the mean task) plus the linear
+model's response to the sample's profiles from rest (method ``"monte_carlo_linear"``). What the linear
+method leaves out is exactly what the Exudyn model has beyond the linear one (the rigid bodies'
+large-rotation terms, and with ``analysis.linearization = "rest"`` the suspensions' preload
+stiffness), which PEM leaves out too: it checks PEM's statistics (time-domain superposition of sampled
+profiles instead of pseudo-excitations), not the linearisation; the full-model Monte Carlo checks that.
+
+Start: every input is tapered in over ``track.taper_length`` after the first axle's start, so a
+sample starts in static equilibrium with zero input, exactly as PEM's runs start at rest: both
+analyse the same process from t = 0.
+
+Reduction: a task (a block of samples: one sample per task on an engine that runs columns
+separately, else blocks of at most ``TASK_PROFILE_BYTES`` of profiles in proportion to the slices)
+reduces its samples to their mean and sum of squared deviations at every output time (exact two-pass
+within the task); the parent merges tasks in task order (Chan, Golub & LeVeque's pairwise update),
+so a result is bitwise the same for any number of workers, any executor and after a resume.
+
+Linearity guard: every sample reports its minimum vertical wheel-rail force (every ``*.force_z``,
+selected or not; compressive wheel load, positive = pressing) over the output times. A value <= 0 is
+a loss of contact, which the linear contact model turns into tension: such samples are counted in the
+provenance, listed in ``min_wheel_force``, and a :class:`LossOfContactWarning` is issued, because PEM
+assumes a linear system and the comparison no longer holds.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time as _time
+import warnings
+from dataclasses import dataclass
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.stats import chi2
+
+from ..engines import check_engine, make_engine
+from ..errors import SettingError
+from ..execution import Execution, Task
+from ..results.random_response import RandomResponse
+from ..scenario import Scenario, scenario_to_toml
+from ..system.columns import ProfileColumns
+from .common import MeanTask, fingerprint_identity, merge_provenance
+from .pem import default_slices
+from .sampling import POINTS_PER_WAVELENGTH, Discretisation, ProfileSampler
+
+FloatArray = NDArray[np.float64]
+IntArray = NDArray[np.int64]
+#: largest profile storage (values and knot slopes of every kind) of one task's samples
+TASK_PROFILE_BYTES = 192 * 2**20
+#: two-sided 95 % normal quantile
+Z95 = 1.959963984540054
+STATISTICS_PROVENANCE = {
+    "std_estimator": "sample standard deviation (ddof = 1)",
+    "confidence": "95 %: mean +- 1.96 s/sqrt(N); std: chi-square interval",
+}
+LINEARIZED_ABOUT = {"rest": "rest (unloaded, as PEM)",
+                    "static": "the static equilibrium under gravity (with the suspension preload's stiffness)"}
+
+
+class LossOfContactWarning(UserWarning):
+    """Some Monte Carlo samples lost wheel-rail contact (the linear model no longer holds)."""
+
+
+@dataclass(frozen=True)
+class SampleTask:
+    """Samples [start, stop) of a run seeded with ``seed``."""
+
+    seed: int
+    start: int
+    stop: int
+    keep_samples: bool
+
+
+class SampleReducer:
+    """At every output time: the mean and the sum of squared deviations of the task's samples over
+    the scenario's channels, the samples' vertical wheel forces and, if asked, the samples."""
+
+    def __init__(self, n_selected: int, force_rows: IntArray, n_t: int, n_samples: int, keep_samples: bool) -> None:
+        self.n_sel, self.n = n_selected, n_samples
+        self.force_rows = force_rows
+        self.mean, self.m2 = np.zeros((n_selected, n_t)), np.zeros((n_selected, n_t))
+        self.force = np.zeros((force_rows.size, n_t, n_samples))
+        self.samples = np.zeros((n_samples, n_selected, n_t)) if keep_samples else None
+
+    def record(self, i: int, Y: NDArray[np.complex128], ext: IntArray) -> None:
+        Yx = Y.view(np.float64)[ext]  # (n_ch, 2 width): the samples in order, channels in map order
+        ys = Yx[: self.n_sel, : self.n]
+        mu = ys.mean(axis=1)
+        d = ys - mu[:, None]
+        self.mean[:, i] = mu
+        self.m2[:, i] = np.einsum("ij,ij->i", d, d)
+        self.force[:, i, :] = Yx[self.force_rows, : self.n]
+        if self.samples is not None:
+            self.samples[:, :, i] = ys.T
+
+    def result(self) -> dict[str, np.ndarray]:
+        out = {"n": np.array(self.n), "mean": self.mean, "m2": self.m2, "force": self.force}
+        if self.samples is not None:
+            out["samples"] = self.samples
+        return out
+
+
+def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation) -> tuple[Any, ProfileSampler]:
+    """The engine (its model, every wheel force as an output) and the sampler, once per worker."""
+    return make_engine(engine, scenario, options, wheel_forces=True), ProfileSampler(scenario, discretisation)
+
+
+def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: Sequence[int],
+                      keep_samples: bool = False) -> dict[str, np.ndarray]:
+    """Samples ``indices`` of a run seeded with ``seed`` on ``engine`` (built with ``wheel_forces``),
+    reduced at every output time by :class:`SampleReducer` (a linear engine: the responses from rest
+    without gravity; the full model: the samples themselves)."""
+    reducer = SampleReducer(engine.n_selected, engine.force_rows, engine.steps.n_outputs, len(indices), keep_samples)
+    return engine.integrate(sampler.columns(seed, indices), reducer)
+
+
+def _work(state: tuple[Any, ProfileSampler], task: Task) -> dict[str, np.ndarray]:
+    engine, sampler = state
+    if isinstance(task.data, MeanTask):
+        return engine.mean()
+    st: SampleTask = task.data
+    result = integrate_samples(engine, sampler, st.seed, range(st.start, st.stop), st.keep_samples)
+    names = engine.outputs.names[: engine.n_selected]
+    units = engine.outputs.units[: engine.n_selected]
+    return {**result, "names": np.array(names, dtype=str), "units": np.array(units, dtype=str),
+            "warnings": np.array(engine.model.warnings, dtype=str).reshape(-1),
+            "describe": np.array(json.dumps(engine.describe()))}
+
+
+# ---------------------------------------------------------------------------------- statistics
+def sample_statistics(mean: FloatArray, m2: FloatArray, n: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Sample standard deviation (ddof = 1) from the sum of squared deviations ``m2`` of ``n``
+    samples, and the 95 % confidence intervals (2, ...) of the mean (normal) and of the std
+    (chi-square)."""
+    std = np.sqrt(m2 / (n - 1))
+    half = Z95 * std / math.sqrt(n)
+    mean_ci = np.stack([mean - half, mean + half])
+    q_hi, q_lo = chi2.ppf([0.975, 0.025], n - 1)
+    std_ci = np.stack([std * math.sqrt((n - 1) / q_hi), std * math.sqrt((n - 1) / q_lo)])
+    return std, mean_ci, std_ci
+
+
+def warn_loss_of_contact(min_force: FloatArray) -> IntArray:
+    """Indices of the samples whose minimum vertical wheel force is <= 0, with a
+    :class:`LossOfContactWarning` when there are any."""
+    lost = np.flatnonzero(min_force <= 0.0)
+    if lost.size:
+        warnings.warn(
+            f"{lost.size} of {min_force.size} Monte Carlo samples lost wheel-rail contact (minimum vertical wheel "
+            f"force {np.nanmin(min_force):.4g} N <= 0; first samples {lost[:5].tolist()}): the linear contact pulls "
+            "the wheel back, so these samples, and a comparison with PEM (which assumes a linear system), "
+            "are not reliable", LossOfContactWarning, stacklevel=3,
+        )
+    return lost
+
+
+def contact_provenance(min_force: FloatArray, lost: IntArray) -> dict[str, Any]:
+    return {
+        "samples_with_loss_of_contact": int(lost.size),
+        "min_wheel_force_N": float(np.nanmin(min_force)) if np.isfinite(min_force).any() else None,
+    }
+
+
+def sample_blocks(n: int, weights: Sequence[float], largest: int) -> list[tuple[int, int]]:
+    """Samples 0..n-1 cut into contiguous blocks in proportion to ``weights``, none above ``largest``."""
+    w = np.asarray(weights, dtype=float)
+    edges = np.unique(np.round(np.concatenate(([0.0], np.cumsum(w) / w.sum())) * n).astype(int))
+    blocks = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        pieces = -(-(b - a) // largest)
+        cuts = np.round(np.linspace(a, b, pieces + 1)).astype(int)
+        blocks += [(int(p), int(q)) for p, q in zip(cuts[:-1], cuts[1:]) if q > p]
+    return blocks
+
+
+def whole_number(value: Any, where: str, key: str, low: int) -> int:
+    """``value`` as an int >= ``low``, else a SettingError naming ``key``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise SettingError(where, key, value, f"a whole number >= {low}")
+    return int(value)
+
+
+# ---------------------------------------------------------------------------------- the method
+def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int | None = None,
+        seed: int | None = None, keep_samples: bool = False, discretisation: Discretisation = "pem_grid",
+        options: Any = None, where: str = "run_monte_carlo") -> RandomResponse:
+    """Monte Carlo of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_monte_carlo`."""
+    t0 = _time.perf_counter()
+    cls = check_engine(engine, scenario, options, linearized=False)
+    n = whole_number(scenario.analysis.n_samples if n_samples is None else n_samples, where, "n_samples", 2)
+    seed = whole_number(scenario.analysis.seed if seed is None else seed, where, "seed", 0)
+    sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
+    linear = not cls.full_model
+    method = "monte_carlo_linear" if linear else "monte_carlo"
+    # the checkpoint does not depend on N: a larger N with resume reuses the samples run
+    key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
+    checkpoint = execution.checkpoint("checkpoint-mc-linear" if linear else "checkpoint-mc", fingerprint_identity(
+        scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
+        method_options={"seed": seed, "discretisation": discretisation,
+                        "points_per_wavelength": POINTS_PER_WAVELENGTH}))
+    if cls.single_columns:
+        blocks = [(k, k + 1) for k in range(n)]
+        tasks = [Task(f"mc-{a:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
+    else:
+        n_kinds = len({kind for kind, _ in sampler.kinds})
+        largest = max(2, TASK_PROFILE_BYTES // ProfileColumns.profile_bytes(sampler.n_points, n_kinds))
+        weights = default_slices(execution.cores) if execution.slices is None else execution.slices
+        blocks = sample_blocks(n, weights, largest)
+        tasks = [Task("mcl-mean", MeanTask())]
+        tasks += [Task(f"mcl-{a:07d}-{b - 1:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
+    state: dict[str, Any] = {"n": 0, "run_times": []}
+    min_force = np.full(n, math.nan)
+    samples: np.ndarray | None = None
+
+    def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
+        nonlocal samples
+        if isinstance(task.data, MeanTask):
+            state["det"] = result
+            for message in result["warnings"]:
+                warnings.warn(str(message), stacklevel=4)
+            return
+        st: SampleTask = task.data
+        nb, mean_b, m2_b = int(result["n"]), result["mean"], result["m2"]
+        if "names" not in state:
+            state["names"], state["units"] = result["names"], result["units"]
+            state["warnings"] = [str(w) for w in result["warnings"]]
+            state["time"] = result.get("time")
+            if not linear:
+                for message in state["warnings"]:
+                    warnings.warn(message, stacklevel=4)
+        det = state.get("det")
+        if nb != st.stop - st.start or (det is not None and mean_b.shape != det["mean"].shape):
+            raise RuntimeError(f"task {task.key}: {nb} samples of shape {mean_b.shape}, expected {st.stop - st.start}")
+        na = state["n"]
+        if na == 0:
+            state["mean"], state["m2"] = mean_b.copy(), m2_b.copy()
+        else:  # Chan, Golub & LeVeque's pairwise update, in task order
+            delta = mean_b - state["mean"]
+            state["mean"] += delta * (nb / (na + nb))
+            state["m2"] += m2_b + delta * delta * (na * nb / (na + nb))
+        state["n"] = na + nb
+        force = result["force"]
+        if det is not None and det["force_mean"].shape[0]:
+            force = det["force_mean"][:, :, None] + force
+        if force.shape[0]:
+            min_force[st.start:st.stop] = force.min(axis=(0, 1))
+        if keep_samples:
+            if samples is None:
+                samples = np.empty((n,) + mean_b.shape)
+            samples[st.start:st.stop] = result["samples"] if det is None else det["mean"][None] + result["samples"]
+        state["describe"] = json.loads(str(result["describe"]))
+        if "run_times" in result:
+            state["run_times"] += result["run_times"].tolist()
+
+    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation), work=_work,
+                          reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
+    det = state.get("det")
+    mean = state["mean"] if det is None else det["mean"] + state["mean"]
+    std, mean_ci, std_ci = sample_statistics(mean, state["m2"], n)
+    lost = warn_loss_of_contact(min_force)
+    extra: dict[str, Any] = {
+        "method": method,
+        "seconds": _time.perf_counter() - t0,
+        "seed": seed,
+        "n_samples": n,
+        "gravity": True,
+        "initial_state": "static",
+        "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
+        **contact_provenance(min_force, lost),
+        **STATISTICS_PROVENANCE,
+        **sampler.describe(),
+        **stats,
+    }
+    if linear:
+        extra["linearization"] = scenario.analysis.linearization
+        extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response "
+                          "of the model linearised about " + LINEARIZED_ABOUT[scenario.analysis.linearization] +
+                          " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, integrated "
+                          f"by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
+        provenance = merge_provenance(det, state["describe"], extra)
+    else:
+        provenance = {**state["describe"], **extra, "warnings": state["warnings"],
+                      "sample_run_time_median_s": float(np.median(state["run_times"]))}
+    result = RandomResponse(
+        method=method, time=state["time"] if det is None else det["time"],
+        channels=tuple(str(c) for c in state["names"]), units=tuple(str(u) for u in state["units"]),
+        mean=mean, std=std, band=tuple(float(b) for b in sampler.band),  # type: ignore[arg-type]
+        scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=seed)),
+        types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
+        min_wheel_force=min_force, samples=samples, provenance=provenance,
+    )
+    out = execution.output_folder()
+    if out is not None:
+        result.save(out / ("mc_linear" if linear else "mc"))
+    return result
+
+
+__all__ = ["LossOfContactWarning", "SampleReducer", "integrate_samples", "run", "sample_blocks", "sample_statistics",
+           "warn_loss_of_contact"]
