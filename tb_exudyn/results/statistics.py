@@ -240,6 +240,30 @@ def gaussian_response_from_pseudo(time: ArrayLike, y_k: ArrayLike, yd_k: ArrayLi
     return GaussianResponse(t, mu, mu_rate, sigma, sigma_rate, np.clip(rho, -1.0, 1.0), delta)
 
 
+def pseudo_derivative(time: ArrayLike, y_k: ArrayLike, freq: ArrayLike) -> NDArray[np.complex128]:
+    """Time derivative of pseudo-responses y_k(t) (n_k, n_t) excited at frequencies ``freq`` [Hz], for
+    channels whose derivative the engines do not record (accelerations, forces).
+
+    Each row is demodulated, Y_k = y_k e^{-i w_k t}, differentiated with second-order differences
+    (numpy.gradient) and modulated back: yd_k = (Y_k' + i w_k Y_k) e^{i w_k t} (pseudo-excitation
+    convention e^{+i w t}, tb_exudyn/track/pseudo.py). Exact for the part of y_k at the excitation
+    frequency with a slowly varying amplitude (the forced response), whatever the output step; a part
+    at another frequency nu (free vibration of a mode) has the relative error of differencing a
+    harmonic of frequency nu - f_k, about (2 pi (nu - f_k) dt)^2 / 6, which is large when the output
+    step does not resolve |nu - f_k|. Prefer a recorded derivative channel where the engine has one
+    (displacement -> velocity -> acceleration).
+    """
+    t = np.asarray(time, dtype=float)
+    y = np.asarray(y_k, dtype=complex)
+    f = np.asarray(freq, dtype=float)
+    if y.ndim != 2 or y.shape != (f.size, t.size):
+        raise SettingError("pseudo_derivative", "y_k", _shape(y), f"an array (n_k = {f.size}, n_t = {t.size})")
+    w = 2.0 * np.pi * f[:, None]
+    rot = np.exp(1j * w * t[None, :])
+    envelope = y * np.conj(rot)
+    return (np.gradient(envelope, t, axis=1) + 1j * w * envelope) * rot
+
+
 def spectral_moments(freq: ArrayLike, psd: ArrayLike, df: ArrayLike = 1.0, axis: int = 0
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """lambda_0, lambda_1, lambda_2 of a one-sided PSD per Hz: lambda_i = sum_k (2 pi f_k)^i S_k df_k.
@@ -576,6 +600,7 @@ def empirical_level(samples: ArrayLike, time: ArrayLike, probability: float, *, 
 __all__ = [
     "Exceedance", "ExceedanceLevel", "GaussianResponse", "LEVEL_KINDS", "METHODS", "bandwidth_from_moments",
     "binomial_interval", "downcrossing_rate", "empirical_exceedance", "empirical_level", "exceedance_level",
-    "first_passage_probability", "gaussian_response_from_pseudo", "spectral_moments", "stationary_upcrossing_rate",
+    "first_passage_probability", "gaussian_response_from_pseudo", "pseudo_derivative", "spectral_moments",
+    "stationary_upcrossing_rate",
     "upcrossing_rate",
 ]

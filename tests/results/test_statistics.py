@@ -34,6 +34,7 @@ from tb_exudyn.results.statistics import (
     exceedance_level,
     first_passage_probability,
     gaussian_response_from_pseudo,
+    pseudo_derivative,
     spectral_moments,
     stationary_upcrossing_rate,
     upcrossing_rate,
@@ -256,6 +257,23 @@ def test_pseudo_response_statistics_of_a_modulated_harmonic_sum():
     np.testing.assert_allclose(r.sigma_rate, np.sqrt(ad ** 2 * L0 + a ** 2 * L2), rtol=1e-12)
     np.testing.assert_allclose(r.rho * r.sigma * r.sigma_rate, a * ad * L0, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(r.bandwidth, math.sqrt(1 - L1 ** 2 / (L0 * L2)), rtol=1e-12)
+
+
+def test_pseudo_derivative_of_forced_responses_at_a_coarse_output_step():
+    """y_k = a(t) c_k e^{i w_k t} at 1-60 Hz sampled at 100 Hz (the project's default output step):
+    the demodulated derivative equals (a' + i w_k a) c_k e^{i w_k t} to 1e-5 of its size (measured 3e-6:
+    the differencing error of the slow envelope a(t) only), where differencing y_k itself is off by
+    1 % at 1 Hz and more than 50 % at 60 Hz (above the 50 Hz Nyquist frequency)."""
+    t = np.arange(0.0, 3.0 + 1e-9, 0.01)
+    f = np.linspace(1.0, 60.0, 30)
+    wk = 2 * np.pi * f[:, None]
+    a, ad = np.sin(np.pi * t / 3.0), np.pi / 3.0 * np.cos(np.pi * t / 3.0)
+    yk = a * np.exp(1j * wk * t)
+    exact = (ad + 1j * wk * a) * np.exp(1j * wk * t)
+    err = np.abs(pseudo_derivative(t, yk, f) - exact).max(axis=1) / np.abs(exact).max(axis=1)
+    assert err.max() < 1e-5
+    naive = np.abs(np.gradient(yk, t, axis=1) - exact).max(axis=1) / np.abs(exact).max(axis=1)
+    assert naive[-1] > 0.5
 
 
 @pytest.mark.slow
