@@ -29,8 +29,7 @@ first-passage probabilities:
   P = 1 - (1 - P0) exp(-Lambda), Lambda = integral over the window of nu+(upper) + nu-(lower)
   (trapezoidal rule on the given time samples), P0 = probability that y is outside at the window's
   start (``initial=False``: P0 = 0, the classical form of code_limits.md). Poisson ignores the
-  clumping of crossings of a narrow-band process and then overestimates P (errs on the safe side);
-  see the tests for measured errors.
+  clumping of crossings of a narrow-band process and then overestimates P (errs on the safe side).
 * ``"vanmarcke"``: Vanmarcke's (1975) hazard, which counts only the "qualified" envelope crossings
   (E. H. Vanmarcke, On the distribution of the first-passage time for normal stationary random
   processes, J. Appl. Mech. 42 (1975) 215-220 [recalled, formula as in code_limits.md and the
@@ -54,6 +53,15 @@ first-passage probabilities:
   E. H. Vanmarcke, C. A. Cornell, First passage of nonstationary random processes, J. Eng. Mech. Div.
   ASCE 98 (1972) 401-414 [recalled]. Where the mean reaches a bound while sigma_y > 0 (r_n <= 0) the
   hazard is infinite (the envelope is above the bound): P = 1.
+
+Measured errors against exact Gaussian Monte Carlo (4e4 samples, levels 2-3.5 sigma, probabilities
+0.02-0.8; tests/results/test_statistics.py), as estimate / Monte Carlo - 1:
+
+    process                                          Poisson            Vanmarcke
+    stationary SDOF, zeta 0.02 (delta 0.16)          +71 % ... +185 %   +8 % ... +27 %
+    stationary SDOF, zeta 0.4 (delta 0.59)           +1 % ... +5 %      -5 % ... +10 %
+    SDOF from rest, modulated input, drifting mean   +17 % ... +46 %    -4 % ... 0 %
+      (zeta 0.05, delta(t) 0.06-0.44)
 
 Both methods are bounded below by the largest instantaneous probability of being outside
 (P >= max_t P(y(t) outside)), which holds for the exact first-passage probability and keeps the
