@@ -30,11 +30,14 @@ from tb_exudyn.results.statistics import (
     binomial_interval,
     downcrossing_rate,
     empirical_exceedance,
+    empirical_exceedance_from_extremes,
     empirical_level,
+    empirical_level_from_extremes,
     exceedance_level,
     first_passage_probability,
     gaussian_response_from_pseudo,
     pseudo_derivative,
+    sample_extremes,
     spectral_moments,
     stationary_upcrossing_rate,
     upcrossing_rate,
@@ -404,6 +407,23 @@ def test_empirical_level_and_exceedance_are_inverse():
         pem = exceedance_level(r, 0.05, kind=kind).level
         widen = 0.01 * abs(lv.level)
         assert lv.interval[0] - widen <= pem <= lv.interval[1] + widen, (kind, lv, pem)
+
+
+def test_empirical_statistics_from_extremes_equal_those_from_samples():
+    """Per-sample (min, max) carry all the empirical statistics need: the same numbers, exactly, and
+    the window restricts the extremes (a sample outside only before the window does not count)."""
+    rng = np.random.default_rng(11)
+    t = np.linspace(0.0, 2.0, 201)
+    y = rng.standard_normal((500, t.size)).cumsum(axis=1) * 0.1
+    y[0, :50] = 100.0  # outside only in the first quarter
+    y_min, y_max, span = sample_extremes(y, t, window=(0.6, 2.0))
+    assert empirical_exceedance_from_extremes(y_min, y_max, span, lower=-1.0, upper=1.2) == empirical_exceedance(
+        y, t, lower=-1.0, upper=1.2, window=(0.6, 2.0))
+    assert empirical_exceedance(y, t, upper=50.0, window=(0.6, 2.0)).n_exceeded == 0
+    assert empirical_exceedance(y, t, upper=50.0).n_exceeded == 1
+    for kind in ("symmetric", "upper", "lower"):
+        assert empirical_level_from_extremes(y_min, y_max, span, 0.1, kind=kind) == empirical_level(
+            y, t, 0.1, kind=kind, window=(0.6, 2.0))
 
 
 # ============================================================================================ binomial
