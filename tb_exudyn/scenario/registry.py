@@ -1,4 +1,4 @@
-"""The library of named models: the TOML files under models/ (vehicles, bridges, scenarios).
+"""The library of named models: the TOML files under models/ (vehicles, bridges, scenarios, limits).
 
 A name is a file's stem: ``models/scenarios/li_zhu_2011.toml`` is the scenario ``li_zhu_2011``.
 The folder is found inside the installed package (``tb_exudyn/models``), next to the package in a
@@ -14,11 +14,11 @@ from pathlib import Path
 from .errors import ScenarioError
 from .toml_io import read_toml
 
-CATEGORIES = ("vehicles", "bridges", "scenarios")
+CATEGORIES = ("vehicles", "bridges", "scenarios", "limits")
 
 
 def models_dir() -> Path:
-    """The folder holding vehicles/, bridges/ and scenarios/."""
+    """The folder holding vehicles/, bridges/, scenarios/ and limits/."""
     env = os.environ.get("TB_EXUDYN_MODELS")
     if env:
         return Path(env)
@@ -33,7 +33,7 @@ def models_dir() -> Path:
 
 
 def model_files(category: str) -> dict[str, Path]:
-    """Name -> file for one category (vehicles, bridges or scenarios), sorted by name."""
+    """Name -> file for one category (vehicles, bridges, scenarios or limits), sorted by name."""
     if category not in CATEGORIES:
         raise ValueError(f"category must be one of {CATEGORIES}, not {category!r}")
     folder = models_dir() / category

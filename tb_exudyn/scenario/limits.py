@@ -1,0 +1,374 @@
+"""Code limits as data: models/limits/*.toml, their validated dataclasses and the quantity vocabulary.
+
+A limit file holds criteria; each names its clause and source, the quantity it applies to (a name of
+:data:`QUANTITIES`), how the quantity is reduced to the number compared with the limit (a name of
+:data:`STATISTICS`, with a window, an averaging length or a frequency band where that statistic or
+the code needs one), and the limit itself: a fixed value, speed bands, graded levels or a formula in
+the static wheel or axle load. ``check = true`` (with a note saying what) marks a criterion whose
+clause text was not read. No limit lives in Python code.
+
+    [[criteria]]
+    id = "deck_twist_3m"
+    title = "deck twist over 3 m, straight track"
+    clause = "EN 1990:2002+A1:2005 Annex A2, A2.4.4.2.2"
+    source = "..."
+    quantity = "deck_twist_3m"
+    statistic = "max_abs"
+
+    [criteria.limit]
+    kind = "speed_bands"
+    speed_max_kmh = [120.0, 200.0, inf]
+    values = [4.5e-3, 3.0e-3, 1.5e-3]
+
+Quantities and their channels
+-----------------------------
+Channel names follow tb_exudyn/system/channels.py. Plain quantities are channels the engines already
+produce; derived ones (``derived = True``) are channels the engines must form on the complex
+pseudo-responses (PEM) and on every Monte Carlo sample alike, so that PEM statistics are exact for them.
+The proposed names of the derived channels:
+
+=====================================  ======  ===========================================================
+channel (proposed)                     unit    definition
+=====================================  ======  ===========================================================
+bridge.<station>.acc_z_en1990          m/s^2   deck vertical acceleration keeping only frequencies up to
+                                               max(30 Hz, 1.5 f1, f3) (f1, f3: first and third deck
+                                               frequencies): PEM frequencies and bridge modes above it
+                                               left out (EN 1990 A2.4.4.2.1)
+bridge.<station>.twist_3m              m       twist at the station x: [z_L - z_R](x + 1.5 m) -
+                                               [z_L - z_R](x - 1.5 m), z_L, z_R the vertical displacement
+                                               of the left and right rail on the deck (the deck's z and
+                                               rx at x, the rail offsets of the track); stations near
+                                               the deck ends are where twist peaks
+car<k>.axle<j>.unloading               -       wheel unloading (P_R - P_L) / (P_R + P_L) (first order
+                                               about the mean; positive: left wheel lighter); |value|
+                                               is dP/P_bar with dP = |P_R - P_L|/2, P_bar = (P_R + P_L)/2
+car<k>.axle<j>.left.derailment         -       Q/P of the left wheel taken as -H / P_L and of the right
+car<k>.axle<j>.right.derailment                wheel as H / P_R (H = axle<j>.force_y, positive toward
+                                               +y: the right wheel's flange is loaded): the whole axle
+                                               force on the flanging wheel, an upper bound, because the
+                                               15-DOF model has one lateral contact per wheelset and
+                                               no Q per wheel (first order, code_limits.md)
+car<k>.body.acc_z_wb                   m/s^2   car-body vertical acceleration, EN 12299 Wb-weighted
+car<k>.body.acc_y_wd                   m/s^2   car-body lateral acceleration, EN 12299 Wd-weighted
+car<k>.body.sperling_z                 -       Sperling Wz of car<k>.body.acc_z per window (PEM: of the
+car<k>.body.sperling_y                         time-dependent PSD averaged over the window; Monte Carlo:
+                                               of each sample's periodogram; tb_exudyn.results.comfort)
+=====================================  ======  ===========================================================
+
+The weighted accelerations come from tb_exudyn.results.comfort.apply_weighting applied to the
+pseudo-responses (linear, so PEM stays exact); the Sperling channels are windowed indices, not
+Gaussian processes: their limits use the statistic ``window_max`` (no exceedance probability).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar, Literal, Sequence
+
+from ..errors import SettingError
+from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param
+from .toml_io import read_toml
+
+
+# ============================================================================================ vocabulary
+@dataclass(frozen=True)
+class Quantity:
+    """A physical quantity a limit applies to.
+
+    name : the key used in limit files
+    unit : SI unit of the channel values ('-' for ratios and indices)
+    description : what it is, sign convention, and what the model can and cannot give
+    channels : glob patterns of the channel names that carry it (tb_exudyn/system/channels.py naming)
+    derived : True when the engines must form the channel (see the module's table); False when the
+        existing channel catalogue has it
+    """
+
+    name: str
+    unit: str
+    description: str
+    channels: tuple[str, ...]
+    derived: bool
+
+    def matches(self, channel: str) -> bool:
+        """Whether a channel name carries this quantity."""
+        return any(fnmatch.fnmatchcase(channel, p) for p in self.channels)
+
+
+QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
+    Quantity("deck_acc_z", "m/s^2", "deck vertical acceleration at a station, the whole analysed band",
+             ("bridge.span*.acc_z",), False),
+    Quantity("deck_acc_z_en1990", "m/s^2",
+             "deck vertical acceleration at a station with frequencies up to max(30 Hz, 1.5 f1, f3) only "
+             "(EN 1990 A2.4.4.2.1; f1, f3 the first and third deck frequencies)",
+             ("bridge.span*.acc_z_en1990",), True),
+    Quantity("deck_twist_3m", "m",
+             "deck twist: change over 3 m of track of the height difference between the two rails, "
+             "[z_L - z_R](x + 1.5 m) - [z_L - z_R](x - 1.5 m) at the station x",
+             ("bridge.span*.twist_3m",), True),
+    Quantity("wheel_force_z", "N",
+             "vertical wheel-rail force per wheel, compressive wheel load including the static load "
+             "(car15: left/right per wheelset; sprung mass and moving force: one per axle)",
+             ("car*.axle*.force_z",), False),
+    Quantity("axle_force_y", "N",
+             "lateral wheel-rail force on a wheelset H = Q_L + Q_R, positive toward +y (left). The 15-DOF "
+             "model has one lateral contact per wheelset: H is defined, Q per wheel is not",
+             ("car*.axle*.force_y",), False),
+    Quantity("wheel_unloading", "-",
+             "wheel unloading (P_R - P_L)/(P_R + P_L) of a wheelset, first order about the mean; |value| is "
+             "dP/P_bar with dP = |P_R - P_L|/2, P_bar = (P_R + P_L)/2",
+             ("car*.axle*.unloading",), True),
+    Quantity("derailment_coefficient", "-",
+             "derailment coefficient Q/P of a wheel, first order. The 15-DOF model has no Q per wheel: the "
+             "channel puts the whole axle force H on the flanging wheel (right: H/P_R, left: -H/P_L), an upper "
+             "bound of the wheel's Q/P",
+             ("car*.axle*.left.derailment", "car*.axle*.right.derailment"), True),
+    Quantity("body_acc_z", "m/s^2", "car-body vertical acceleration at its centre of gravity, unweighted",
+             ("car*.body.acc_z",), False),
+    Quantity("body_acc_y", "m/s^2", "car-body lateral acceleration at its centre of gravity, unweighted",
+             ("car*.body.acc_y",), False),
+    Quantity("body_acc_z_wb", "m/s^2", "car-body vertical acceleration, EN 12299 Wb-weighted",
+             ("car*.body.acc_z_wb",), True),
+    Quantity("body_acc_y_wd", "m/s^2", "car-body lateral acceleration, EN 12299 Wd-weighted",
+             ("car*.body.acc_y_wd",), True),
+    Quantity("sperling_z", "-", "Sperling ride index Wz of the car-body vertical acceleration, per window",
+             ("car*.body.sperling_z",), True),
+    Quantity("sperling_y", "-", "Sperling ride index Wz of the car-body lateral acceleration, per window",
+             ("car*.body.sperling_y",), True),
+)}
+
+#: How a quantity's time history is reduced to the number compared with the limit.
+STATISTICS: dict[str, str] = {
+    "max_abs": "largest |value| over the analysed window (PEM: first passage out of [-limit, limit])",
+    "max": "largest value (PEM: first passage above the limit)",
+    "min": "smallest value; the limit is a lower bound (PEM: first passage below the limit)",
+    "rms_window": "r.m.s. over consecutive windows of `window` s, the largest window",
+    "window_max": "largest value of an index evaluated per window of `window` s (Sperling)",
+    "sliding_mean_max_abs": "largest |value| of the sliding mean over `averaging_length` m of track "
+                            "(EN 14363 style post-processing)",
+}
+Statistic = Literal["max_abs", "max", "min", "rms_window", "window_max", "sliding_mean_max_abs"]
+
+
+def quantity(name: str) -> Quantity:
+    """The quantity of that name (SettingError listing the names otherwise)."""
+    if name not in QUANTITIES:
+        raise SettingError("quantity", "name", name, " | ".join(QUANTITIES))
+    return QUANTITIES[name]
+
+
+def channels_for(name: str, channels: Sequence[str]) -> list[str]:
+    """The channels (of a result's or model's list) that carry quantity ``name``, in their order."""
+    q = quantity(name)
+    return [c for c in channels if q.matches(c)]
+
+
+# ============================================================================================ limit values
+@dataclass(frozen=True, kw_only=True)
+class FixedLimit(Validated):
+    """One value, in the quantity's unit."""
+
+    kind: ClassVar[str] = "fixed"
+    value: float = param(doc="the limit, in the quantity's unit")
+
+    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
+                 static_wheel_load: float | None = None) -> float:
+        return self.value
+
+    def _validate(self, ctx: Context) -> None:
+        pass
+
+
+@dataclass(frozen=True, kw_only=True)
+class SpeedBandLimit(Validated):
+    """Values by train speed: values[i] applies up to speed_max_kmh[i] (inclusive), above the previous one."""
+
+    kind: ClassVar[str] = "speed_bands"
+    speed_max_kmh: tuple[float, ...] = param(unit="km/h", doc="upper end of each band, increasing, the last inf",
+                                             check=Check(low=0.0, allow_inf=True))
+    values: tuple[float, ...] = param(doc="the limit in each band, in the quantity's unit")
+
+    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
+                 static_wheel_load: float | None = None) -> float:
+        if speed_kmh is None or not speed_kmh > 0:
+            raise SettingError("value_at", "speed_kmh", speed_kmh, "the train speed in km/h (> 0): this limit has speed bands")
+        for v_max, value in zip(self.speed_max_kmh, self.values):
+            if speed_kmh <= v_max:
+                return value
+        raise AssertionError("the last band is inf")  # pragma: no cover - _validate guarantees it
+
+    def _validate(self, ctx: Context) -> None:
+        if len(self.values) != len(self.speed_max_kmh) or not self.values:
+            raise ctx.child("values").error(list(self.values), f"one value per band ({len(self.speed_max_kmh)})",
+                                            "length mismatch")
+        if any(b <= a for a, b in zip(self.speed_max_kmh, self.speed_max_kmh[1:])):
+            raise ctx.child("speed_max_kmh").error(list(self.speed_max_kmh), "strictly increasing speeds", "not increasing")
+        if not math.isinf(self.speed_max_kmh[-1]):
+            raise ctx.child("speed_max_kmh").error(list(self.speed_max_kmh), "a last band up to inf (every speed covered)",
+                                                   "speeds above the last band have no limit")
+
+
+@dataclass(frozen=True, kw_only=True)
+class GradedLimit(Validated):
+    """Graded levels (e.g. comfort 'very good', 'good', 'acceptable'): labels[i] holds up to values[i].
+    The pass/fail limit is the last value."""
+
+    kind: ClassVar[str] = "grades"
+    labels: tuple[str, ...] = param(doc="grade names, best first")
+    values: tuple[float, ...] = param(doc="upper end of each grade, increasing, in the quantity's unit")
+
+    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
+                 static_wheel_load: float | None = None) -> float:
+        return self.values[-1]
+
+    def grade(self, value: float) -> str | None:
+        """The best grade whose upper end the value does not exceed, or None (beyond the last grade)."""
+        for label, upper in zip(self.labels, self.values):
+            if value <= upper:
+                return label
+        return None
+
+    def _validate(self, ctx: Context) -> None:
+        if len(self.labels) != len(self.values) or not self.values:
+            raise ctx.child("values").error(list(self.values), f"one value per label ({len(self.labels)})", "length mismatch")
+        if any(b <= a for a, b in zip(self.values, self.values[1:])):
+            raise ctx.child("values").error(list(self.values), "strictly increasing values (best grade first)", "not increasing")
+
+
+@dataclass(frozen=True, kw_only=True)
+class StaticLoadLimit(Validated):
+    """limit = factor * (constant + coefficient * reference) [N], reference the static axle or wheel load [N]
+    (e.g. Prud'homme 0.85 (10 kN + P/3))."""
+
+    kind: ClassVar[str] = "static_load"
+    reference: Literal["static_axle_load", "static_wheel_load"] = param(doc="which static load enters")
+    factor: float = param(doc="alpha", check=POSITIVE)
+    constant: float = param(unit="N", doc="constant term (10 kN in the Prud'homme form)", check=NONNEGATIVE)
+    coefficient: float = param(doc="multiplier of the static load", check=NONNEGATIVE)
+
+    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
+                 static_wheel_load: float | None = None) -> float:
+        load = static_axle_load if self.reference == "static_axle_load" else static_wheel_load
+        if load is None or not load > 0:
+            raise SettingError("value_at", self.reference, load, f"the {self.reference.replace('_', ' ')} in N (> 0)")
+        return self.factor * (self.constant + self.coefficient * load)
+
+    def _validate(self, ctx: Context) -> None:
+        pass
+
+
+Limit = FixedLimit | SpeedBandLimit | GradedLimit | StaticLoadLimit
+LIMIT_KINDS: dict[str, type] = {c.kind: c for c in (FixedLimit, SpeedBandLimit, GradedLimit, StaticLoadLimit)}
+
+_ID = re.compile(r"[a-z][a-z0-9_]*")
+
+
+# ============================================================================================ criteria
+@dataclass(frozen=True, kw_only=True)
+class Criterion(Validated):
+    """One criterion of a code: what is limited, how it is evaluated, the limit and where it comes from."""
+
+    id: str = param(doc="identifier, unique in its file (lower case, digits, _)")
+    title: str = param(doc="one line: the criterion in words")
+    clause: str = param(doc="the code and clause (or why there is none)")
+    source: str = param(doc="where the value was read or from what it was recalled")
+    quantity: str = param(doc="the quantity it applies to (a name of tb_exudyn.scenario.limits.QUANTITIES)")
+    statistic: Statistic = param(doc="how the time history is reduced (tb_exudyn.scenario.limits.STATISTICS)")
+    limit: Limit = param(doc="the limit: a table with kind = fixed | speed_bands | grades | static_load")
+    window: float = param(0.0, unit="s", doc="window length of rms_window and window_max", check=NONNEGATIVE)
+    averaging_length: float = param(0.0, unit="m", doc="sliding-mean length of sliding_mean_max_abs", check=NONNEGATIVE)
+    band: tuple[float, ...] = param((), unit="Hz", doc="(f_low, f_high) the quantity is band-limited to first; empty: none",
+                                    check=Check(low=0.0, low_inclusive=True, allow_inf=True))
+    condition: str = param("", doc="where the criterion applies (e.g. 'ballasted track')")
+    check: bool = param(False, doc="true when the clause text was not read: the value must be checked")
+    note: str = param("", doc="remarks; required when check is true (what to check)")
+
+    @property
+    def unit(self) -> str:
+        """The unit of the quantity (and of the limit values)."""
+        return QUANTITIES[self.quantity].unit
+
+    @property
+    def lower_bound(self) -> bool:
+        """True when the limit is a lower bound (statistic 'min')."""
+        return self.statistic == "min"
+
+    def limit_value(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
+                    static_wheel_load: float | None = None) -> float:
+        """The limit for a train speed [km/h] and static loads [N] (those that the limit kind needs)."""
+        return self.limit.value_at(speed_kmh=speed_kmh, static_axle_load=static_axle_load,
+                                   static_wheel_load=static_wheel_load)
+
+    def _validate(self, ctx: Context) -> None:
+        if not _ID.fullmatch(self.id):
+            raise ctx.child("id").error(self.id, "lower-case letters, digits and _, starting with a letter", "bad identifier")
+        for key in ("title", "clause", "source"):
+            if not getattr(self, key).strip():
+                raise ctx.child(key).error(getattr(self, key), "a non-empty string", "empty")
+        if self.quantity not in QUANTITIES:
+            raise ctx.child("quantity").error(self.quantity, " | ".join(QUANTITIES), "unknown quantity")
+        if self.statistic in ("rms_window", "window_max") and self.window <= 0:
+            raise ctx.child("window").error(self.window, f"a window length > 0 s for statistic {self.statistic!r}", "missing window")
+        if self.statistic == "sliding_mean_max_abs" and self.averaging_length <= 0:
+            raise ctx.child("averaging_length").error(self.averaging_length, "a length > 0 m for statistic "
+                                                      "'sliding_mean_max_abs'", "missing averaging length")
+        if self.band and (len(self.band) != 2 or not self.band[0] < self.band[1]):
+            raise ctx.child("band").error(list(self.band), "[] or [f_low, f_high] in Hz with f_low < f_high", "bad band")
+        if self.check and not self.note.strip():
+            raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
+
+
+@dataclass(frozen=True, kw_only=True)
+class LimitSet(Validated):
+    """The criteria of one limit file."""
+
+    name: str = param(doc="identifier (the file's stem)")
+    description: str = param(doc="one line for listings")
+    source: str = param(doc="the codes and documents the file draws on")
+    notes: str = param("", doc="remarks; values marked [check]")
+    criteria: tuple[Criterion, ...] = param(doc="the criteria ([[criteria]] tables)")
+
+    def criterion(self, criterion_id: str) -> Criterion:
+        """The criterion with that id (SettingError listing the ids otherwise)."""
+        for c in self.criteria:
+            if c.id == criterion_id:
+                return c
+        raise SettingError(f"limits {self.name!r}", "id", criterion_id, " | ".join(c.id for c in self.criteria))
+
+    def for_quantity(self, name: str) -> list[Criterion]:
+        """The criteria that apply to a quantity."""
+        return [c for c in self.criteria if c.quantity == name]
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.criteria:
+            raise ctx.child("criteria").error([], "at least one [[criteria]] table", "empty")
+        seen: set[str] = set()
+        for i, c in enumerate(self.criteria):
+            if c.id in seen:
+                raise ctx.child("criteria").child(i).child("id").error(c.id, "an id not used before in the file", "duplicate id")
+            seen.add(c.id)
+
+
+def limits_from_dict(data: dict, file: str | None = None) -> LimitSet:
+    """Build and validate a LimitSet from a plain dict (the TOML table); ScenarioError names file and key."""
+    return convert(LimitSet, data, Context(file))
+
+
+def load_limits(name_or_path: str | Path) -> LimitSet:
+    """Load a limit file by name (models/limits/<name>.toml, see ``list_models()``) or by path.
+
+    Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
+    """
+    from .io import _resolve_path
+
+    path = _resolve_path(name_or_path, "limits")
+    return limits_from_dict(read_toml(path), str(path))
+
+
+__all__ = [
+    "Criterion", "FixedLimit", "GradedLimit", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
+    "SpeedBandLimit", "StaticLoadLimit", "channels_for", "limits_from_dict", "load_limits", "quantity",
+]
