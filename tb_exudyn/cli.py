@@ -39,6 +39,37 @@ def _cmd_show(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_modes(args: argparse.Namespace) -> int:
+    from .builder import build_model
+    from .builder.system_modes import damping_guard, system_modes
+    from .errors import SettingError
+    from .system.modes import merged_messages
+
+    if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
+        raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
+    scenario = load_scenario(args.scenario)
+    model = build_model(scenario, warn=False)
+    for position in args.position or [None]:
+        table = system_modes(scenario, position, model=model)
+        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
+        if args.band is not None:
+            shown = shown.in_band(*args.band)
+        print(shown.text())
+        if len(shown) < len(table):
+            print(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
+                  f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
+        print()
+    if not scenario.track.irregularities:
+        print("damping guard: not applicable (no track irregularities, so no random run)")
+        return EXIT_OK
+    warnings = damping_guard(scenario, model=model)
+    print(f"damping guard ({scenario.name}, band and run of its random analysis): "
+          + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
+    for line in merged_messages(warnings):
+        print(f"  warning: {line}")
+    return EXIT_OK
+
+
 DEFAULT_SCENARIO = "quick"
 DEFAULT_OUT = "tb_exudyn_out"
 
@@ -131,6 +162,16 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.set_defaults(func=_cmd_show)
+
+    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
+    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
+                   help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
+                        "the start of the run (vehicles on rigid track, the bridge alone)")
+    p.add_argument("--band", type=float, nargs=2, default=None, metavar=("F_MIN", "F_MAX"),
+                   help="only modes with undamped frequency in this band [Hz]")
+    p.add_argument("--all", action="store_true", help="also the decoupled weak-spring modes")
+    p.set_defaults(func=_cmd_modes)
 
     p = sub.add_parser("run", help="run a scenario: deterministic (det), PEM (pem) or Monte Carlo (mc)")
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,

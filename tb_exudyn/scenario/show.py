@@ -10,6 +10,8 @@ from .model import Scenario
 
 
 def _fmt(value: Any) -> str:
+    if value is None:
+        return "none"
     if isinstance(value, float):
         return "inf" if math.isinf(value) else f"{value:.6g}"
     if isinstance(value, tuple):
@@ -65,6 +67,7 @@ def scenario_table(scenario: Scenario, *, vehicles_once: bool = True) -> str:
         ("(derived) bridge length", _fmt(scenario.bridge.length), "m", "sum of spans"),
         ("(derived) duration", _fmt(scenario.duration), "s", "first axle at -lead_in until last axle run_out past the bridge"),
         ("(derived) time steps", str(int(round(scenario.duration / scenario.analysis.time_step))), "", "duration / time_step"),
+        *bridge_frequency_rows(scenario),
     ]
     w0 = max(len(r[0]) for r in rows)
     w1 = min(max(len(r[1]) for r in rows), 40)
@@ -81,4 +84,24 @@ def scenario_table(scenario: Scenario, *, vehicles_once: bool = True) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["scenario_table"]
+def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
+    """Rows with f1 and f3 of the bridge per direction (vertical, lateral, torsion) [Hz]: the
+    finite-element modes of the bridge alone (no train), up to analysis.mode_max_frequency."""
+    from ..structure import StructureError, modal_bridge
+    from ..system.modes import DIRECTIONS, nth_frequency
+
+    an = scenario.analysis
+    try:
+        mb = modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    except StructureError as exc:
+        return [("(derived) bridge modes", "not available", "", str(exc))]
+    rows = []
+    for d in DIRECTIONS:
+        f = [nth_frequency(mb.frequencies, mb.mode_types, d, n) for n in (1, 3)]
+        text = ", ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
+        rows.append((f"(derived) bridge f1, f3 {d}", text, "Hz",
+                     f"1st and 3rd {d} mode of the whole bridge alone (FE; '-': none up to mode_max_frequency)"))
+    return rows
+
+
+__all__ = ["bridge_frequency_rows", "scenario_table"]
