@@ -7,16 +7,19 @@ scenario file, impossible setting) is printed as one message and exits with stat
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import Sequence
 
 from .engines import ENGINES
-from .errors import UserError
+from .errors import SettingError, UserError
 from .results.compare import compare_folders
 from .results.storage import check_writable
-from .scenario import list_models, load_scenario
-from .track import get_spectrum, spectrum_names
+from .scenario import Scenario, list_models, load_scenario
 from .scenario.show import scenario_table
+from .structure import StructureError, modal_bridge
+from .system.modes import DIRECTIONS, merged_messages, nth_frequency
+from .track import get_spectrum, spectrum_names
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
 
@@ -36,8 +39,53 @@ def _cmd_list(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
+    """Rows with f1 and f3 of the bridge per direction (vertical, lateral, torsion) [Hz]: the
+    finite-element modes of the bridge alone (no train), up to analysis.mode_max_frequency."""
+    an = scenario.analysis
+    try:
+        mb = modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    except StructureError as exc:
+        return [("(derived) bridge modes", "not available", "", str(exc))]
+    rows = []
+    for d in DIRECTIONS:
+        f = [nth_frequency(mb.frequencies, mb.mode_types, d, n) for n in (1, 3)]
+        text = ", ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
+        rows.append((f"(derived) bridge f1, f3 {d}", text, "Hz",
+                     f"1st and 3rd {d} mode of the whole bridge alone (FE; '-': none up to mode_max_frequency)"))
+    return rows
+
+
 def _cmd_show(args: argparse.Namespace) -> int:
-    print(scenario_table(load_scenario(args.scenario)))
+    scenario = load_scenario(args.scenario)
+    print(scenario_table(scenario, bridge_frequency_rows(scenario)))
+    return EXIT_OK
+
+
+def _cmd_modes(args: argparse.Namespace) -> int:
+    methods = _methods()
+    if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
+        raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
+    scenario = load_scenario(args.scenario)
+    model = methods.build_model(scenario, warn=False)
+    for position in args.position or [None]:
+        table = methods.system_modes(scenario, position, model=model)
+        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
+        if args.band is not None:
+            shown = shown.in_band(*args.band)
+        print(shown.text())
+        if len(shown) < len(table):
+            print(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
+                  f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
+        print()
+    if not scenario.track.irregularities:
+        print("damping guard: not applicable (no track irregularities, so no random run)")
+        return EXIT_OK
+    warnings = methods.damping_guard(scenario, model=model)
+    print(f"damping guard ({scenario.name}, band and run of its random analysis): "
+          + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
+    for line in merged_messages(warnings):
+        print(f"  warning: {line}")
     return EXIT_OK
 
 
@@ -135,6 +183,16 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.set_defaults(func=_cmd_show)
+
+    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
+    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
+                   help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
+                        "the start of the run (vehicles on rigid track, the bridge alone)")
+    p.add_argument("--band", type=float, nargs=2, default=None, metavar=("F_MIN", "F_MAX"),
+                   help="only modes with undamped frequency in this band [Hz]")
+    p.add_argument("--all", action="store_true", help="also the decoupled weak-spring modes")
+    p.set_defaults(func=_cmd_modes)
 
     p = sub.add_parser("run", help="run a scenario: deterministic (det), PEM (pem) or Monte Carlo (mc)")
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,

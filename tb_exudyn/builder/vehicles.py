@@ -19,6 +19,16 @@ matrix regular for the static solution and keep the uncoupled coordinates at res
 (``weak_spring_frequency``, 0.1 Hz by default) and damping do not enter any coupled mode.
 A constraint would do the same but adds Lagrange multipliers (an index-3 DAE) for nothing.
 
+The optional secondary yaw dampers (``Car15.yaw_damper``) are the one element acting along x: a
+damper c_x per side between body and bogie at y = +-d. Their end points lie at the heights of the
+body's and the bogie's centres of gravity, so the linearised x motion of an end is x - rz y (no
+pitch term ry z). The pair's forces then split exactly into a relative-yaw damper 2 c_x d^2 on
+rz_body - rz_bogie (the yaw damping of the 15-DOF models) and a longitudinal damper 2 c_x on
+x_body - x_bogie. That second part connects the weak coordinates of body and bogie with each
+other only, so the decoupling above still holds: the x coordinates form their own (overdamped)
+subsystem, reached by no irregularity and by no mode of the 15 DOFs, the wheelsets or the bridge.
+A damper at another height would add a pitch term and couple the car's pitch to the weakly held x.
+
 Wheel-rail contact damping (``analysis.contact_damping_ratio``, default 0.5): the damping ratio of
 every contact against the wheel mass it carries (vertical: half a wheelset per wheel; lateral: the
 wheelset), c = 2 zeta sqrt(k m). The contact is a penalty form of the reference model's constraint
@@ -87,6 +97,8 @@ class TrainParts:
     contact_frequencies: list[float] = field(default_factory=list)
     #: lowest natural frequency estimate of every vehicle's suspension [Hz]
     vehicle_frequencies: list[float] = field(default_factory=list)
+    #: (node, node coordinate) of every coordinate held only by a weak spring (decoupled)
+    decoupled: list[tuple[int, int]] = field(default_factory=list)
 
 
 def _weak_spring(mbs: exu.MainSystem, parts: TrainParts, node: int, coordinate: int, inertia: float) -> None:
@@ -97,6 +109,7 @@ def _weak_spring(mbs: exu.MainSystem, parts: TrainParts, node: int, coordinate: 
     mbs.AddObject(ei.ObjectConnectorCoordinateSpringDamper(
         markerNumbers=[parts.ground_marker, marker], stiffness=k, damping=c,
         visualization=ei.VObjectConnectorCoordinateSpringDamper(show=False)))
+    parts.decoupled.append((node, coordinate))
 
 
 def add_rigid_body(
@@ -135,13 +148,14 @@ def add_point_mass(mbs: exu.MainSystem, parts: TrainParts, *, mass: float) -> in
 
 def _spring_damper(
     mbs: exu.MainSystem, body0: int, local0: np.ndarray, body1: int, local1: np.ndarray,
-    k_y: float, k_z: float, c_y: float, c_z: float,
+    k_y: float, k_z: float, c_y: float, c_z: float, c_x: float = 0.0,
 ) -> None:
-    """A linear spring-damper in global y and z (none in x) between two body points."""
+    """A linear spring-damper in global y and z (and a damper in x if c_x > 0; no stiffness in
+    x) between two body points."""
     m0 = mbs.AddMarker(ei.MarkerBodyRigid(bodyNumber=body0, localPosition=list(local0)))
     m1 = mbs.AddMarker(ei.MarkerBodyRigid(bodyNumber=body1, localPosition=list(local1)))
     mbs.AddObject(ei.ObjectConnectorCartesianSpringDamper(
-        markerNumbers=[m0, m1], stiffness=[0.0, k_y, k_z], damping=[0.0, c_y, c_z],
+        markerNumbers=[m0, m1], stiffness=[0.0, k_y, k_z], damping=[c_x, c_y, c_z],
         visualization=ei.VObjectConnectorCartesianSpringDamper(show=False)))
 
 
@@ -185,6 +199,10 @@ def add_car15(
             _spring_damper(mbs, bogie, np.array([0.0, side * b_s, z_s - z_t]),
                            body, np.array([xt - x_c, side * b_s, z_s - z_c]),
                            sec.k_y, sec.k_z, sec.c_y, sec.c_z)
+            if car.yaw_damper is not None:  # at the CG heights: see the module docstring
+                d = side * car.yaw_damper.half_span
+                _spring_damper(mbs, bogie, np.array([0.0, d, 0.0]), body, np.array([xt - x_c, d, 0.0]),
+                               0.0, 0.0, 0.0, 0.0, c_x=car.yaw_damper.c_x)
         for xw in (xt + a, xt - a):
             ws_node, wheelset = add_rigid_body(mbs, parts, mass=ws.mass, inertia=ws_inertia,
                                                position=(xw, 0.0, z_w), weak_coordinates=(0, 4, 5))

@@ -20,6 +20,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Callable
 
+from ..builder import build_model
+from ..builder.system_modes import damping_guard, system_modes
 from ..engines import engine_class
 from ..engines.exudyn_runs import SolverSettings
 from ..errors import CapabilityError, SettingError
@@ -177,5 +179,5 @@ def run_monte_carlo(
                            options=options)
 
 
-__all__ = ["DEFAULT_ENGINE", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
+__all__ = ["DEFAULT_ENGINE", "build_model", "damping_guard", "system_modes", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
            "run_monte_carlo", "run_pem", "simulate", "summarize"]

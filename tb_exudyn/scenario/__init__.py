@@ -22,6 +22,7 @@ from .model import (
     Train,
     Vehicle,
     WheelsetInertia,
+    YawDamper,
 )
 from .registry import list_models, model_files, models_dir
 from .schema import describe_fields, to_dict
@@ -29,7 +30,7 @@ from .schema import describe_fields, to_dict
 __all__ = [
     "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "Frame",
     "MovingForce", "Pier", "RigidBodyInertia", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
-    "Suspension", "Track", "Train", "Vehicle", "WheelsetInertia", "describe_fields", "list_models",
+    "Suspension", "Track", "Train", "Vehicle", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
     "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",
     "scenario_from_dict", "scenario_to_toml", "to_dict",
 ]

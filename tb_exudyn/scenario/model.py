@@ -104,6 +104,22 @@ class Suspension(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
+class YawDamper(_Replaceable):
+    """Secondary yaw dampers: at each bogie, one longitudinal (x) damper per side between the car
+    body and the bogie frame, at +-``half_span`` from the car's centre line.
+
+    Linear viscous dampers without series stiffness (a Maxwell element needs an internal
+    coordinate without mass, which the second-order model cannot hold); they act in x at the
+    heights of the body's and the bogie's centres of gravity, so the pair damps the relative yaw
+    with 2 c_x half_span^2 [N m s/rad] and nothing of the vertical plane (see
+    :mod:`tb_exudyn.builder.vehicles`).
+    """
+
+    c_x: float = param(unit="N s/m", doc="longitudinal damping of each damper (one per side and bogie)", check=POSITIVE)
+    half_span: float = param(unit="m", doc="lateral offset of each damper from the car's centre line", check=POSITIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
 class Car15Geometry(_Replaceable):
     """Geometry of a car with two two-axle bogies (all distances positive unless noted)."""
 
@@ -130,6 +146,7 @@ class Car15(_Replaceable):
     geometry: Car15Geometry = param(doc="positions of bodies and suspensions")
     primary: Suspension = param(doc="primary suspension (axle box), per side")
     secondary: Suspension = param(doc="secondary suspension (bolster), per side")
+    yaw_damper: YawDamper | None = param(None, doc="secondary yaw dampers between body and bogies (default: none)")
     description: str = param("", doc="one line for listings")
     source: str = param("", doc="citation of the data")
     notes: str = param("", doc="remarks, values marked [check]")

@@ -102,7 +102,9 @@ def type_name(tp: Any) -> str:
     if origin is tuple:
         return f"a list of {type_name(get_args(tp)[0])}"
     if origin in (typing.Union, types.UnionType):
-        return " or ".join(type_name(a) for a in get_args(tp))
+        args = [a for a in get_args(tp) if a is not type(None)]
+        optional = " (optional)" if len(args) < len(get_args(tp)) else ""
+        return " or ".join(type_name(a) for a in args) + optional
     if is_dataclass(tp):
         return f"a table ({tp.__name__})"
     return {float: "a number", int: "an integer", str: "a string", bool: "true or false"}.get(
@@ -113,6 +115,12 @@ def type_name(tp: Any) -> str:
 def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> Any:
     """Convert a TOML value to type ``tp``, raising ScenarioError on mismatch."""
     origin = get_origin(tp)
+    if origin in (typing.Union, types.UnionType) and type(None) in get_args(tp):
+        # an optional table: absent in TOML (the default None), or given
+        rest = tuple(a for a in get_args(tp) if a is not type(None))
+        if value is None:
+            return None
+        return convert(rest[0] if len(rest) == 1 else typing.Union[rest], value, ctx, check)
     if origin in (typing.Union, types.UnionType):
         return _convert_kind_union(get_args(tp), value, ctx)
     if origin is Literal:
@@ -219,7 +227,9 @@ def to_dict(obj: Any) -> Any:
         if isinstance(kind, str) and not any(f.name == "kind" for f in fields(obj)):
             out["kind"] = kind
         for f in fields(obj):
-            out[f.name] = to_dict(getattr(obj, f.name))
+            value = getattr(obj, f.name)
+            if value is not None:  # an absent optional table (TOML has no null)
+                out[f.name] = to_dict(value)
         return out
     if isinstance(obj, tuple):
         return [to_dict(v) for v in obj]

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import fields, is_dataclass
-from typing import Any
+from typing import Any, Sequence
 
 from .model import Scenario
 
 
 def _fmt(value: Any) -> str:
+    if value is None:
+        return "none"
     if isinstance(value, float):
         return "inf" if math.isinf(value) else f"{value:.6g}"
     if isinstance(value, tuple):
@@ -38,8 +40,10 @@ def _rows(obj: Any, prefix: str, out: list[tuple[str, str, str, str]]) -> None:
             out.append((key, _fmt(value), f.metadata.get("unit", ""), f.metadata.get("doc", "")))
 
 
-def scenario_table(scenario: Scenario, *, vehicles_once: bool = True) -> str:
-    """Key, value, unit and meaning of every setting, with derived quantities at the end.
+def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str, str]] = (), *,
+                   vehicles_once: bool = True) -> str:
+    """Key, value, unit and meaning of every setting, with derived quantities (and ``extra_rows``,
+    e.g. the bridge's frequencies) at the end.
 
     With ``vehicles_once`` a vehicle that appears several times in the train is listed once.
     """
@@ -65,6 +69,7 @@ def scenario_table(scenario: Scenario, *, vehicles_once: bool = True) -> str:
         ("(derived) bridge length", _fmt(scenario.bridge.length), "m", "sum of spans"),
         ("(derived) duration", _fmt(scenario.duration), "s", "first axle at -lead_in until last axle run_out past the bridge"),
         ("(derived) time steps", str(int(round(scenario.duration / scenario.analysis.time_step))), "", "duration / time_step"),
+        *extra_rows,
     ]
     w0 = max(len(r[0]) for r in rows)
     w1 = min(max(len(r[1]) for r in rows), 40)

@@ -4,5 +4,7 @@
   user functions and read by the batched and dense engines;
 - :mod:`.excitation`: the irregularity input as data (none, a sampled profile, one harmonic), the
   approach taper and the rail inputs;
-- :mod:`.channels`: output channel names, units, selection and evaluation.
+- :mod:`.channels`: output channel names, units, selection and evaluation;
+- :mod:`.modes`: damped modal analysis of the linearised system (mode table, labels) and the
+  damping guard.
 """

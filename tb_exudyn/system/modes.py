@@ -1,0 +1,560 @@
+"""Damped modal analysis of the linear train-bridge system, mode labels and the damping guard.
+
+Pure numpy/scipy, no Exudyn. The builder supplies M, K, D of the linearised system and a
+:class:`Dof` description of every global coordinate (:mod:`tb_exudyn.builder.system_modes`).
+
+Eigenproblem. M q'' + D q' + K q = 0 in first-order form: with x = [q; q'],
+``[[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x`` (``scipy.linalg.eig``, generalised, so M need
+not be inverted; infinite eigenvalues of a singular M are dropped). For an eigenvalue
+lambda = -zeta omega_n + i omega_n sqrt(1 - zeta^2):
+
+- undamped natural frequency f_n = |lambda| / 2 pi [Hz] (:attr:`ModeTable.frequency`; the
+  frequency the tables report first, the one a half-power band and a frequency grid refer to),
+- damped frequency f_d = Im lambda / 2 pi [Hz] (:attr:`ModeTable.damped_frequency`),
+- damping ratio zeta = -Re lambda / |lambda|,
+- decay time tau = 1 / (zeta omega_n) = -1 / Re lambda [s]: the free vibration's amplitude falls by
+  1/e in tau; its energy and the variance of a randomly excited response settle with 2 / tau.
+
+A complex-conjugate pair is one mode (Im lambda > 0 is kept). A real eigenvalue (an overdamped,
+non-oscillating motion, e.g. a critically damped weak spring) is its own row with f_d = 0,
+f_n = |lambda| / 2 pi and zeta = 1 (-lambda / |lambda|), so its decay time is 1 / |lambda|. A
+rigid-body (near-zero) eigenvalue, |lambda| / 2 pi below :data:`RIGID_FREQUENCY`, has f = 0 and
+zeta = nan; an unstable one (Re lambda > 0) a negative zeta.
+
+Labels. Each mode's kinetic energy is split over the coordinates: the share of coordinate i is
+Re(conj(phi_i) (M phi)_i) / phi^H M phi (phi: the displacement part of the eigenvector; for the
+diagonal M the builder makes, m_ii |phi_i|^2 / sum). Kinetic, not kinetic plus strain energy: K
+couples coordinates, so strain energy has no per-coordinate split, while for a diagonal M every
+kinetic share is >= 0 and they add up to 1. The label names the groups (the bridge, car k) holding
+at least :data:`LABEL_SHARE` of the energy, in each the parts (body, leading bogie, axle 2, a bridge
+mode) and in each part its components (lateral, roll, yaw, ...), e.g. "car 2 (ice_trailer),
+leading bogie, yaw" or "bridge, lateral 1".
+
+Splitting and degenerate modes. Coordinates that no matrix entry connects form independent parts
+(the bridge and each car on rigid track, a car's longitudinal coordinates); each part is solved on
+its own, so equal modes of identical cars stay apart instead of mixing. Inside a part, equal
+eigenvalues (a symmetric car's two bogie yaw modes) span a space in which every vector is a mode;
+that space is rotated to the basis that localises the energy on single parts (the eigenvectors of
+a mass-weighted part-index operator), so the labels are "leading bogie" and "trailing bogie" and
+not an arbitrary mixture.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Literal, Sequence
+
+import numpy as np
+import scipy.linalg as la
+from numpy.typing import NDArray
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import connected_components
+
+#: a mode whose undamped frequency is below this [Hz] is a rigid-body (zero-frequency) motion
+RIGID_FREQUENCY = 1e-3
+#: a group, part or component is named in a label if it holds at least this share of the energy
+#: (of the mode, of its group, of its part); the largest one always is
+LABEL_SHARE = 0.2
+#: eigenvalues closer than this (relative to their modulus) count as equal (a degenerate set)
+DEGENERATE_RTOL = 1e-8
+#: matrix entries below this fraction of the matrix's largest entry do not connect coordinates
+COUPLING_ZERO = 1e-14
+
+Role = Literal["bridge", "vehicle", "wheelset"]
+#: the kinds of mode: what holds most of its energy (see :func:`mode_kind`)
+KINDS: tuple[str, ...] = ("bridge", "vehicle", "contact", "decoupled", "rigid")
+DIRECTIONS: tuple[str, ...] = ("vertical", "lateral", "torsion")
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Dof:
+    """What one global coordinate of the linear system is (supplied by the builder).
+
+    Attributes
+    ----------
+    group : the structure it belongs to, as labels name it: "bridge", "car 2 (ice_trailer)"
+    part : the body within the group: "body", "leading bogie", "axle 3"; for a bridge modal
+        coordinate its type and number, "vertical 1", "lateral 2", "torsion 1", "pier 1"
+    component : what the coordinate moves, in words: "lateral", "bounce", "roll", "pitch", "yaw",
+        "longitudinal", "spin"; for a bridge mode its type ("vertical", "lateral", ...)
+    channel : the channel prefix of the part ("car2.bogie1", "bridge")
+    role : "bridge" (a bridge modal coordinate), "vehicle" (car body, bogie, sprung mass) or
+        "wheelset" (a body in wheel-rail contact)
+    decoupled : a coordinate held only by the builder's weak springs (body x, wheelset spin and
+        yaw): no irregularity and no coupled mode reaches it
+    """
+
+    group: str
+    part: str
+    component: str
+    channel: str
+    role: Role = "vehicle"
+    decoupled: bool = False
+
+
+# ============================================================================================
+# the eigenproblem
+
+
+@dataclass(frozen=True)
+class Eigenmodes:
+    """Raw result of :func:`damped_modes`: one entry per mode (conjugate pairs once), unsorted.
+
+    eigenvalues : (n_modes,) complex [1/s]; shares : (n_modes, n_dof) kinetic-energy shares.
+    """
+
+    eigenvalues: NDArray[np.complex128]
+    shares: FloatArray
+
+
+def independent_parts(*matrices: FloatArray, zero: float = COUPLING_ZERO) -> list[NDArray[np.int64]]:
+    """Index sets of the coordinates no entry of the matrices connects (graph components);
+    an entry counts if |a_ij| > ``zero`` x max |a| of its matrix."""
+    n = matrices[0].shape[0]
+    pattern = np.zeros((n, n), dtype=bool)
+    for a in matrices:
+        a = np.abs(np.asarray(a, dtype=float))
+        top = a.max(initial=0.0)
+        if top > 0.0:
+            pattern |= a > zero * top
+    count, labels = connected_components(csr_matrix(pattern), directed=False)
+    return [np.flatnonzero(labels == c) for c in range(count)]
+
+
+def _kinetic_shares(phi: NDArray[np.complex128], M: FloatArray) -> FloatArray:
+    """(n, m) shares of each column's kinetic energy per coordinate (>= 0, columns sum to 1)."""
+    e = np.real(np.conj(phi) * (M @ phi))
+    e = np.clip(e, 0.0, None)
+    total = e.sum(axis=0)
+    return e / np.where(total > 0.0, total, 1.0)
+
+
+def _localise(phi: NDArray[np.complex128], M: FloatArray, part_index: NDArray[np.int64]) -> NDArray[np.complex128]:
+    """A basis of span(phi) (equal eigenvalues) whose vectors are localised on parts: the
+    eigenvectors of the operator W (part index + 1 on the diagonal) in the M inner product."""
+    B = phi.conj().T @ M @ phi
+    A = phi.conj().T @ ((part_index + 1.0)[:, None] * (M @ phi))
+    B, A = 0.5 * (B + B.conj().T), 0.5 * (A + A.conj().T)
+    w = np.linalg.eigvalsh(B)
+    if w[0] <= 1e-10 * w[-1]:  # (nearly) dependent vectors: a defective eigenvalue; keep as is
+        return phi
+    _, c = la.eigh(A, B)
+    return phi @ c
+
+
+def _part_modes(
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64]
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """Eigenvalues (Im >= 0, finite) and displacement eigenvectors of one independent part."""
+    n = M.shape[0]
+    eye, zero = np.eye(n), np.zeros((n, n))
+    A = np.block([[zero, eye], [-K, -D]])
+    B = np.block([[eye, zero], [zero, M]])
+    lam, vec = la.eig(A, B)
+    keep = np.isfinite(lam) & (lam.imag >= 0.0)
+    lam, phi = lam[keep], vec[:n, keep]
+    # a rigid mode's displacement part carries it; an oscillating mode's phi = x[:n] as well
+    norms = np.linalg.norm(phi, axis=0)
+    phi = phi / np.where(norms > 0.0, norms, 1.0)
+    # degenerate sets: rotate to localised vectors
+    order = np.argsort(np.abs(lam))
+    lam, phi = lam[order], phi[:, order]
+    i = 0
+    while i < lam.size:
+        j = i + 1
+        scale = max(abs(lam[i]), 2 * math.pi * RIGID_FREQUENCY)
+        while j < lam.size and abs(lam[j] - lam[i]) <= DEGENERATE_RTOL * scale:
+            j += 1
+        if j - i > 1:
+            phi[:, i:j] = _localise(phi[:, i:j], M, part_index)
+        i = j
+    return lam, phi
+
+
+def damped_modes(
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None
+) -> Eigenmodes:
+    """Damped modes of M q'' + D q' + K q = 0 (module docstring): each independent part solved
+    on its own, conjugate pairs once, degenerate sets localised on the parts given by
+    ``part_index`` (an integer per coordinate naming its body; default: every coordinate its own).
+    """
+    M, K, D = (np.asarray(a, dtype=float) for a in (M, K, D))
+    n = M.shape[0]
+    if M.shape != (n, n) or K.shape != (n, n) or D.shape != (n, n):
+        raise ValueError(f"M, K, D must be square and of one size, got {M.shape}, {K.shape}, {D.shape}")
+    pidx = np.arange(n) if part_index is None else np.asarray(part_index, dtype=np.int64)
+    lams, shares = [], []
+    for idx in independent_parts(M, K, D):
+        sub = np.ix_(idx, idx)
+        lam, phi = _part_modes(M[sub], K[sub], D[sub], pidx[idx])
+        s = np.zeros((lam.size, n))
+        s[:, idx] = _kinetic_shares(phi, M[sub]).T
+        lams.append(lam)
+        shares.append(s)
+    return Eigenmodes(np.concatenate(lams), np.vstack(shares))
+
+
+# ============================================================================================
+# labels
+
+
+def _named(shares: dict[str, float], threshold: float) -> list[str]:
+    """Keys holding at least ``threshold`` of the total (the largest always), largest first."""
+    total = sum(shares.values())
+    ranked = sorted(shares.items(), key=lambda kv: -kv[1])
+    return [k for i, (k, v) in enumerate(ranked) if i == 0 or (total > 0 and v >= threshold * total)]
+
+
+def _sum_by(keys: Sequence[str], shares: FloatArray, members: Sequence[int]) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for i in members:
+        out[keys[i]] = out.get(keys[i], 0.0) + float(shares[i])
+    return out
+
+
+def mode_label(shares: FloatArray, dofs: Sequence[Dof], threshold: float = LABEL_SHARE) -> str:
+    """What moves in a mode, from its kinetic-energy shares per coordinate (``dofs`` in the same
+    order): "car 2 (ice_trailer), leading bogie, yaw"; "car 1 (ice_motor), body, lateral + roll;
+    leading bogie, lateral"; "bridge, lateral 1"; several groups joined by " & ". A decoupled
+    coordinate's component is marked "(decoupled)"."""
+    shares = np.asarray(shares, dtype=float)
+    groups = [d.group for d in dofs]
+    parts = [d.part for d in dofs]
+    comps = [d.component + (" (decoupled)" if d.decoupled else "") for d in dofs]
+    all_idx = range(len(dofs))
+    out = []
+    for g in _named(_sum_by(groups, shares, all_idx), threshold):
+        members = [i for i in all_idx if groups[i] == g]
+        named = _named(_sum_by(parts, shares, members), threshold)
+        if dofs[members[0]].role == "bridge":
+            out.append(f"{g}, " + " + ".join(named))
+            continue
+        # parts moving in the same components are named together, in coordinate order
+        what: dict[str, list[str]] = {}
+        for p in named:
+            in_part = [i for i in members if parts[i] == p]
+            what.setdefault(" + ".join(_named(_sum_by(comps, shares, in_part), threshold)), []).append(p)
+        first = {p: parts.index(p) for p in named}
+        texts = [" + ".join(sorted(ps, key=first.__getitem__)) + f", {c}" for c, ps in what.items()]
+        out.append(f"{g}, " + "; ".join(texts))
+    return " & ".join(out)
+
+
+def mode_kind(shares: FloatArray, dofs: Sequence[Dof], frequency: float) -> str:
+    """"rigid" (frequency below :data:`RIGID_FREQUENCY`), else what holds the largest share of
+    the energy: "decoupled" (weak-spring coordinates), "bridge", "vehicle" (car bodies, bogies,
+    sprung masses) or "contact" (wheelsets on the stiff wheel-rail contact)."""
+    if frequency < RIGID_FREQUENCY:
+        return "rigid"
+    shares = np.asarray(shares, dtype=float)
+    by = {"decoupled": 0.0, "bridge": 0.0, "vehicle": 0.0, "contact": 0.0}
+    for s, d in zip(shares, dofs):
+        key = "decoupled" if d.decoupled else {"bridge": "bridge", "vehicle": "vehicle", "wheelset": "contact"}[d.role]
+        by[key] += float(s)
+    return max(by, key=lambda k: by[k])
+
+
+# ============================================================================================
+# the table
+
+
+def _fmt_time(tau: float) -> str:
+    return "inf" if not math.isfinite(tau) else f"{tau:.3g}"
+
+
+@dataclass(frozen=True)
+class ModeTable:
+    """Modes of a linear system, sorted by undamped frequency.
+
+    Attributes
+    ----------
+    eigenvalues : (n,) complex eigenvalues lambda [1/s] (Im >= 0)
+    frequency : (n,) undamped natural frequency |lambda| / 2 pi [Hz] (0 for rigid modes)
+    damped_frequency : (n,) Im lambda / 2 pi [Hz] (0 for real, overdamped modes)
+    damping_ratio : (n,) -Re lambda / |lambda| (1 for a real eigenvalue, nan for a rigid mode)
+    kind : (n,) "bridge", "vehicle", "contact", "decoupled" or "rigid" (:func:`mode_kind`)
+    label : (n,) what moves (:func:`mode_label`)
+    shares : (n, n_dof) kinetic-energy shares per coordinate (rows sum to 1)
+    dofs : the coordinates' descriptions
+    description : what system this is (e.g. which train position)
+    """
+
+    eigenvalues: NDArray[np.complex128]
+    frequency: FloatArray
+    damped_frequency: FloatArray
+    damping_ratio: FloatArray
+    kind: tuple[str, ...]
+    label: tuple[str, ...]
+    shares: FloatArray = field(repr=False)
+    dofs: tuple[Dof, ...] = field(repr=False)
+    description: str = ""
+
+    def __len__(self) -> int:
+        return int(self.frequency.size)
+
+    @property
+    def overdamped(self) -> NDArray[np.bool_]:
+        """Real, non-oscillating modes (not rigid)."""
+        return (self.eigenvalues.imag == 0.0) & (self.frequency >= RIGID_FREQUENCY)
+
+    @property
+    def decay_time(self) -> FloatArray:
+        """1 / (zeta omega_n) = -1 / Re lambda [s] (inf for undamped, rigid and unstable modes)."""
+        re = -self.eigenvalues.real
+        with np.errstate(divide="ignore"):
+            return np.where(re > 0.0, 1.0 / np.where(re > 0.0, re, 1.0), np.inf)
+
+    def select(self, mask: NDArray[np.bool_] | Sequence[bool]) -> "ModeTable":
+        """The modes where ``mask`` is true."""
+        m = np.asarray(mask, dtype=bool)
+        return ModeTable(
+            self.eigenvalues[m], self.frequency[m], self.damped_frequency[m], self.damping_ratio[m],
+            tuple(k for k, keep in zip(self.kind, m) if keep), tuple(s for s, keep in zip(self.label, m) if keep),
+            self.shares[m], self.dofs, self.description,
+        )
+
+    def in_band(self, f_min: float, f_max: float) -> "ModeTable":
+        """Modes with f_min <= undamped frequency <= f_max [Hz]."""
+        return self.select((self.frequency >= f_min) & (self.frequency <= f_max))
+
+    def of_kind(self, *kinds: str) -> "ModeTable":
+        """Modes of the given kinds (:data:`KINDS`); e.g. ``of_kind("vehicle", "contact")``."""
+        unknown = set(kinds) - set(KINDS)
+        if unknown:
+            raise ValueError(f"unknown mode kind(s) {sorted(unknown)}; allowed: {', '.join(KINDS)}")
+        return self.select([k in kinds for k in self.kind])
+
+    def bridge_frequency(self, direction: str, n: int = 1) -> float:
+        """Undamped frequency [Hz] of the n-th (1-based) bridge mode whose largest bridge share is
+        in a modal coordinate of type ``direction`` ("vertical", "lateral", "torsion", ...); nan if
+        there are fewer. For f1 and f3 of EN 1990 A2.4.4.2.1 use n = 1 and 3."""
+        hits = []
+        bridge = np.array([d.role == "bridge" for d in self.dofs])
+        if not bridge.any():
+            return math.nan
+        for i, k in enumerate(self.kind):
+            if k != "bridge":
+                continue
+            s = np.where(bridge, self.shares[i], -1.0)
+            if self.dofs[int(np.argmax(s))].component == direction:
+                hits.append(self.frequency[i])
+        hits.sort()
+        return float(hits[n - 1]) if len(hits) >= n else math.nan
+
+    def affected_channels(self, i: int, threshold: float = 0.1) -> tuple[str, ...]:
+        """Channel patterns of the groups holding at least ``threshold`` of mode i's energy:
+        "car2.*" for a mode of car 2 (its bodies, bogies and wheel forces), "bridge.*" for a
+        bridge mode; both for a coupled mode."""
+        by: dict[str, float] = {}
+        for s, d in zip(self.shares[i], self.dofs):
+            key = d.channel.split(".")[0]
+            by[key] = by.get(key, 0.0) + float(s)
+        return tuple(f"{k}.*" for k in _named(by, threshold))
+
+    def text(self, title: bool = True) -> str:
+        """The table: undamped and damped frequency [Hz], damping ratio, decay time [s], kind, label."""
+        lines = [self.description] if title and self.description else []
+        lines.append(f"{'#':>4} {'f_n [Hz]':>10} {'f_d [Hz]':>10} {'zeta':>9} {'decay [s]':>9} {'kind':<9} label")
+        tau = self.decay_time
+        over = self.overdamped
+        for i in range(len(self)):
+            z = self.damping_ratio[i]
+            zs = ">= 1" if over[i] else ("nan" if not math.isfinite(z) else f"{z:.3g}")
+            fd = "-" if over[i] else f"{self.damped_frequency[i]:.4f}"
+            lines.append(
+                f"{i + 1:>4} {self.frequency[i]:>10.4f} {fd:>10} {zs:>9} "
+                f"{_fmt_time(tau[i]):>9} {self.kind[i]:<9} {self.label[i]}"
+            )
+        lines.append("(f_n = |lambda| / 2 pi undamped, f_d = Im lambda / 2 pi damped; decay = 1 / (zeta omega_n); "
+                     "zeta >= 1: a real eigenvalue lambda, a non-oscillating motion decaying as exp(lambda t), "
+                     "listed at f_n = |lambda| / 2 pi)")
+        return "\n".join(lines)
+
+
+def mode_table(
+    M: FloatArray, K: FloatArray, D: FloatArray, dofs: Sequence[Dof], description: str = ""
+) -> ModeTable:
+    """The :class:`ModeTable` of M q'' + D q' + K q = 0 with coordinates described by ``dofs``."""
+    dofs = tuple(dofs)
+    if len(dofs) != np.asarray(M).shape[0]:
+        raise ValueError(f"{len(dofs)} coordinate descriptions for a system of {np.asarray(M).shape[0]} coordinates")
+    keys = {}
+    part_index = [keys.setdefault((d.group, d.part), len(keys)) for d in dofs]
+    raw = damped_modes(M, K, D, part_index)
+    lam = raw.eigenvalues
+    mod = np.abs(lam)
+    freq = mod / (2.0 * math.pi)
+    rigid = freq < RIGID_FREQUENCY
+    freq = np.where(rigid, 0.0, freq)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        zeta = np.where(rigid, np.nan, -lam.real / np.where(mod > 0.0, mod, 1.0))
+    order = np.lexsort((np.nan_to_num(zeta, nan=-1.0), freq))
+    lam, freq, zeta, shares = lam[order], freq[order], zeta[order], raw.shares[order]
+    return ModeTable(
+        eigenvalues=lam, frequency=freq, damped_frequency=np.where(rigid[order], 0.0, lam.imag / (2.0 * math.pi)),
+        damping_ratio=zeta,
+        kind=tuple(mode_kind(s, dofs, f) for s, f in zip(shares, freq)),
+        label=tuple(mode_label(s, dofs) for s in shares),
+        shares=shares, dofs=dofs, description=description,
+    )
+
+
+def nth_frequency(frequencies: Sequence[float], types: Sequence[str], direction: str, n: int = 1) -> float:
+    """The n-th (1-based) frequency [Hz] among those of type ``direction`` (e.g. a ModalBridge's
+    ``frequencies`` and ``mode_types``), nan if there are fewer."""
+    hits = sorted(float(f) for f, t in zip(frequencies, types) if t == direction)
+    return hits[n - 1] if len(hits) >= n else math.nan
+
+
+# ============================================================================================
+# the damping guard
+
+#: a mode warns when its decay time 1 / (zeta omega_n) exceeds this multiple of the run's duration
+DECAY_FRACTION = 1.0
+#: kinds of mode the guard never warns about: weak-spring coordinates no irregularity reaches, and
+#: zero-frequency motions (below every band)
+GUARD_EXEMPT: tuple[str, ...] = ("decoupled", "rigid")
+
+
+@dataclass(frozen=True)
+class RunTimes:
+    """The times of a run that the damping guard compares decay times with [s].
+
+    duration : the whole run (first axle at -lead_in until the last is run_out past the bridge)
+    bridge_entry, bridge_exit : the first axle reaches the bridge, the last axle leaves it
+    """
+
+    duration: float
+    bridge_entry: float
+    bridge_exit: float
+
+    @property
+    def on_bridge(self) -> float:
+        """Time the vehicles spend on the bridge (first axle on until last axle off) [s]."""
+        return self.bridge_exit - self.bridge_entry
+
+
+@dataclass(frozen=True)
+class DampingWarning:
+    """A mode inside the analysed band whose damping is too small for the run.
+
+    mode : its row in the :class:`ModeTable`; label, kind : what moves
+    frequency : undamped natural frequency [Hz]; damping_ratio : zeta
+    decay_time : 1 / (zeta omega_n) [s] (inf if undamped)
+    growth_on_bridge : relative growth of the mode's sigma from the first axle on the bridge to
+        the last axle off it, by the envelope (:func:`envelope_growth`)
+    channels : channel patterns it affects (:meth:`ModeTable.affected_channels`)
+    message : the warning in words, with its consequence
+    """
+
+    mode: int
+    label: str
+    kind: str
+    frequency: float
+    damping_ratio: float
+    decay_time: float
+    growth_on_bridge: float
+    channels: tuple[str, ...]
+    message: str
+
+    def __str__(self) -> str:
+        return self.message
+
+
+def envelope_growth(decay_time: float, t0: float, t1: float) -> float:
+    """sigma(t1) / sigma(t0) - 1 of a mode excited from rest at t = 0 by a stationary broadband
+    input, by the envelope sigma^2(t) = sigma_inf^2 (1 - exp(-2 t / tau)) (Caughey & Stumpf 1961,
+    the oscillating terms of order zeta dropped); tau = inf: sqrt(t1 / t0) - 1 (a random walk)."""
+    if t0 <= 0.0:
+        return math.inf
+    if not math.isfinite(decay_time):
+        return math.sqrt(t1 / t0) - 1.0
+    return math.sqrt(math.expm1(-2.0 * t1 / decay_time) / math.expm1(-2.0 * t0 / decay_time)) - 1.0
+
+
+def damping_warnings(
+    table: ModeTable,
+    band: tuple[float, float],
+    run: RunTimes,
+    *,
+    excited: NDArray[np.bool_] | Sequence[bool] | None = None,
+    fraction: float = DECAY_FRACTION,
+) -> list[DampingWarning]:
+    """Every mode with f_min <= f_n <= f_max whose decay time 1 / (zeta omega_n) is longer than
+    ``fraction`` x the run's duration (kinds in :data:`GUARD_EXEMPT` excepted; with ``excited``, a
+    bool per coordinate, only modes holding most of their energy on excited coordinates).
+
+    Why this criterion. Under a broadband input starting at rest, a mode's response variance rises
+    as sigma^2(t) = sigma_inf^2 (1 - exp(-2 t / tau)) (:func:`envelope_growth`), tau = 1 / (zeta
+    omega_n). With tau longer than the run the response never settles: at the end sigma is below
+    sqrt(1 - e^-2) = 93 % of its settled value and still rising; for tau >> T it is a random walk
+    (variance in proportion to t), so every sigma the mode reaches depends on the run's length (the
+    approach), and the PEM response near the mode is as narrow as 1 / T in frequency, so its peaks
+    depend on the frequency grid. Measured on li_zhu_2011 (batched PEM, 800 frequencies; the ICE
+    bogie yaw modes with test yaw dampers giving tau = 0.25 ... 16 s, and without: 194 s):
+    fitting sigma^2(t) = a + b (1 - exp(-2 t / tau_fit)) to car1.axle1.force_y (t >= 0.6 s) gives
+    tau_fit = 1.02, 1.99, 3.93, 7.69, 14.8, 191 s for tau = 0.995, 1.98, 3.92, 7.68, 14.8, 194 s, and
+    its sigma grows between the first axle on and the last axle off the bridge by 2.0, 10.8, 26.6,
+    42.5, 53.8, 68.1 % (envelope: 1.9, 10.8, 26.9, 43.0, 54.5, 69.0 %); see ``docs/findings.md``
+    section 4. So the decay time says how much a mode's response grows during a run; a run no
+    longer than tau is the point where it has not settled at all. Modes with tau between about a
+    fifth of the run and the run still grow on the bridge (by the envelope), but a well-damped mode
+    of low frequency (ICE car body roll, 0.45 Hz, zeta 0.18, tau 2 s) is slow because of its
+    frequency, not its damping: that is a matter of the approach's length, not of this guard;
+    ``fraction`` < 1 makes the guard stricter (each warning states the envelope's growth).
+
+    Contact modes (wheelsets on the stiff contact, ~150-200 Hz, zeta ~0.5) have tau of a few
+    milliseconds and the weak springs' modes (0.1 Hz, "decoupled") are never excited: neither warns.
+    """
+    f_min, f_max = float(band[0]), float(band[1])
+    tau = table.decay_time
+    limit = fraction * run.duration
+    reached = np.ones(len(table), dtype=bool)
+    if excited is not None:
+        reached = table.shares @ np.asarray(excited, dtype=float) > 0.5
+    out = []
+    for i in range(len(table)):
+        f = float(table.frequency[i])
+        if table.kind[i] in GUARD_EXEMPT or not reached[i] or not (f_min <= f <= f_max) or not tau[i] > limit:
+            continue
+        z = float(table.damping_ratio[i]) + 0.0  # no "-0"
+        channels = table.affected_channels(i)
+        growth = envelope_growth(float(tau[i]), run.bridge_entry, run.bridge_exit)
+        t_text = "infinite (undamped)" if not math.isfinite(tau[i]) else f"{tau[i]:.3g} s"
+        message = (
+            f"lightly damped mode at {f:.4g} Hz ({table.label[i]}): damping ratio {z:.2g}, decay time "
+            f"1 / (zeta omega) = {t_text}, longer than the run ({run.duration:.3g} s): sigma of the channels it "
+            f"moves ({', '.join(channels)}) grows through the whole run instead of settling (by about "
+            f"{100 * growth:.0f} % while the train is on the bridge; it depends on the run's length), and PEM "
+            f"peaks near {f:.4g} Hz depend on the frequency grid (spacing finer than about "
+            f"{1.0 / (4.0 * run.duration):.2g} Hz there)"
+        )
+        out.append(DampingWarning(i, table.label[i], table.kind[i], f, z, float(tau[i]), growth, channels, message))
+    return out
+
+
+def merged_messages(warnings: Sequence[DampingWarning]) -> list[str]:
+    """One line per set of equal modes (same frequency and damping to 4 digits, e.g. the same
+    bogie mode of identical cars), naming every mode's label and the union of their channels."""
+    groups: dict[tuple[str, str], list[DampingWarning]] = {}
+    for w in warnings:
+        groups.setdefault((f"{w.frequency:.4g}", f"{w.damping_ratio:.4g}"), []).append(w)
+    out = []
+    for ws in groups.values():
+        if len(ws) == 1:
+            out.append(ws[0].message)
+            continue
+        w = ws[0]
+        channels = list(dict.fromkeys(c for x in ws for c in x.channels))
+        t_text = "infinite (undamped)" if not math.isfinite(w.decay_time) else f"{w.decay_time:.3g} s"
+        out.append(
+            f"{len(ws)} lightly damped modes at {w.frequency:.4g} Hz ({'; '.join(x.label for x in ws)}): damping "
+            f"ratio {w.damping_ratio:.2g}, decay time 1 / (zeta omega) = {t_text}, longer than the run: sigma of "
+            f"the channels they move ({', '.join(channels)}) grows through the whole run instead of settling (by "
+            f"about {100 * w.growth_on_bridge:.0f} % while the train is on the bridge), and PEM peaks near "
+            f"{w.frequency:.4g} Hz depend on the frequency grid"
+        )
+    return out
