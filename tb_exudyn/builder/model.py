@@ -24,8 +24,9 @@ import scipy.sparse as sp
 from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
+from ..errors import CapabilityError
 from ..scenario.errors import ScenarioError
-from ..scenario.model import Car15, MovingForce, Scenario, SimpleBeam, SprungMass
+from ..scenario.model import Car15, CreepCar, MovingForce, Scenario, SimpleBeam, SprungMass
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
 from .bridge_body import add_modal_bridge_body
@@ -187,6 +188,9 @@ class TrainBridgeModel:
                 add_sprung_mass(mbs, parts, veh, prefix, axle)
             elif isinstance(veh, MovingForce):
                 add_moving_force(parts, veh, prefix, axle)
+            elif isinstance(veh, CreepCar):
+                raise CapabilityError("TrainBridgeModel", f"train.vehicles[{k}]", veh.name,
+                                      "car15, sprung_mass or moving_force", "the creep_car kind is not built yet")
             else:  # pragma: no cover - Vehicle is a closed union
                 raise TypeError(f"unknown vehicle type {type(veh).__name__}")
             axle += len(veh.axle_offsets)
