@@ -23,8 +23,8 @@ deformation the deck's rotation about z). Their *material* rates (the rail at a 
 creepages; an irregularity is fixed in space and has none, only the bridge's motion does.
 
 Creepages (Kalker's definition: rigid slip velocity of the wheel relative to the rail, divided by
-v; linear, for small motions about steady rolling, as in Wickens (1965) and Garg & Dukkipati,
-"Dynamics of Railway Vehicle Systems", 1984, ch. 5):
+v; linear, for small motions about steady rolling, as in Wickens' linear wheelset theory and
+Garg & Dukkipati, "Dynamics of Railway Vehicle Systems", 1984; derived below):
 
     longitudinal, left / right wheel:
         xi_x = -/+ [ lambda (y + r0 rx - y_r) / r0 + b0 (rz' - psi_r') / v ]
@@ -46,6 +46,9 @@ rz = psi_r) has no lateral creepage and the longitudinal creepage -/+ b0 y_r'' o
 Forces on the wheel (Kalker's linear law, f11 etc. per wheel, see :func:`creep_coefficients`):
 
     F_x = -f11 xi_x,    F_y = -f22 xi_y - f23 phi,    M_z = f23 xi_y - f33 phi
+
+(the signs of the f23 terms as the linear-theory literature reproduces Kalker's [check]; they enter
+only with the spin creepage switched on).
 
 The rows of :func:`creep_rows`, all forces the rail exerts on the wheelset:
 

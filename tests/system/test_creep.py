@@ -158,10 +158,16 @@ def test_creep_force_directions():
 
 
 # ================================================================================== Klingel
-def _least_oscillatory_pair(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> complex:
+def _eigenvalues(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """Eigenvalues of M q'' + C q' + K q = 0 (first-order form; K and C need not be symmetric)."""
     n = M.shape[0]
     A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
-    ev = np.linalg.eigvals(A)
+    return np.linalg.eigvals(A)
+
+
+def _least_oscillatory_pair(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> complex:
+    """The oscillatory eigenvalue (Im > 0) of M q'' + C q' + K q = 0 with the smallest modulus."""
+    ev = _eigenvalues(M, K, C)
     ev = ev[ev.imag > 1e-9]
     return complex(ev[np.argmin(np.abs(ev))])
 
@@ -202,7 +208,7 @@ BOGIE = dict(m=1800.0, I=1000.0, mb=2500.0, Ib=2000.0, a=1.25, d=1.0, kx=5e6, ky
 def _wickens_bogie(v: float, f11: float, f22: float, kgy: float, p: dict = BOGIE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Wickens' linear bogie equations written out by hand (coordinates y1, psi1, y2, psi2, yb, psib;
     primary per axle box kx (longitudinal) at +/-d and ky (lateral); secondary per side ksx at +/-bs
-    and ksy; Wickens 1965, Garg & Dukkipati 1984 ch. 7):
+    and ksy; the classical linear bogie model of Wickens' theory):
 
         m y_i'' + 2 f22/v y_i' + (2 ky + K_gy) y_i - 2 f22 psi_i - 2 ky (yb + x_i psib) = 0
         I psi_i'' + 2 f11 b0^2/v psi_i' + 2 f11 b0 lambda / r0 y_i + 2 kx d^2 (psi_i - psib) = 0
@@ -265,12 +271,6 @@ def _assembled_bogie(v: float, contact: WheelsetContact, p: dict = BOGIE) -> tup
     return M, K, C
 
 
-def _eigenvalues(M: np.ndarray, K: np.ndarray, C: np.ndarray) -> np.ndarray:
-    n = M.shape[0]
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-np.linalg.solve(M, K), -np.linalg.solve(M, C)]])
-    return np.linalg.eigvals(A)
-
-
 def _critical_speed(system, lo: float, hi: float) -> float:  # noqa: ANN001
     """Bisection on v for the sign change of the largest real part (to 1e-9 relative)."""
     grow = lambda v: _eigenvalues(*system(v)).real.max()  # noqa: E731
@@ -309,17 +309,16 @@ def test_rigid_bogie_kinematic_wavelength():
     equal creep coefficients (f11 = f22 = 1e10 N, primary 1000 times stiffer), assembled from the
     module. Reference: the
     kinematic wavelength of a rigid two-axle bogie with f11 = f22, 2 pi sqrt((r0 b0 / lambda)
-    (1 + a^2 / b0^2)) (Wickens, Fundamentals of Rail Vehicle Dynamics, 2003, ch. 2: the lateral
-    creep forces of the two wheelsets balance, the yaw moment of their lateral creep forces about
-    the bogie centre adds a^2 to b0^2). Tolerance 1e-5: what the finite creep and primary stiffness,
+    (1 + a^2 / b0^2)) (Wickens, Fundamentals of Rail Vehicle Dynamics, 2003; derivation: without
+    inertia the lateral creep forces of the two wheelsets balance, y' = v psi, and the yaw moment
+    of their lateral creep forces about the bogie centre adds f22 a^2 to f11 b0^2 in the yaw
+    balance, psi' (f11 b0^2 + f22 a^2) / v = -f11 b0 lambda y / r0). Tolerance 1e-5: what the finite creep and primary stiffness,
     the gravitational and the secondary stiffness leave (measured 3.2e-7; with a primary only 10
     times stiffer than the creep it would be 2.4e-3)."""
     rigid = {**BOGIE, "kx": 1e13, "ky": 1e13}
     contact = WheelsetContact(CreepCoefficients(1e10, 1e10), R0, B0, LAM, W_AXLE)
     v = 40.0
-    ev = _eigenvalues(*_assembled_bogie(v, contact, rigid))
-    ev = ev[ev.imag > 1e-9]
-    kin = ev[np.argmin(np.abs(ev))]
+    kin = _least_oscillatory_pair(*_assembled_bogie(v, contact, rigid))
     L = 2 * math.pi * v / kin.imag
     L_ref = 2 * math.pi * math.sqrt(R0 * B0 / LAM * (1 + BOGIE["a"] ** 2 / B0**2))
     assert L == pytest.approx(L_ref, rel=1e-5)
