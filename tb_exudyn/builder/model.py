@@ -24,6 +24,7 @@ import scipy.sparse as sp
 from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
+from ..errors import CapabilityError
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
 from ..structure import modal_bridge
@@ -179,6 +180,9 @@ class TrainBridgeModel:
         axle_offsets = np.asarray(sc.train.axle_positions, dtype=float)
         axle = 0
         for k, veh in enumerate(sc.train.vehicles):
+            if veh.kind not in VEHICLE_BUILDERS:
+                raise CapabilityError("build_model", f"train.vehicles[{k}]", veh.name,
+                                      " or ".join(VEHICLE_BUILDERS), f"the {veh.kind} kind is not built yet")
             VEHICLE_BUILDERS[veh.kind](mbs, parts, veh, f"car{k + 1}", axle, -axle_offsets[axle])
             axle += len(veh.axle_offsets)
         self.parts = parts

@@ -10,17 +10,23 @@ from .model import (
     Bridge,
     Car15,
     Car15Geometry,
+    CreepCar,
+    GivenCreep,
+    HertzCreep,
     Frame,
     MovingForce,
     Pier,
     RigidBodyInertia,
+    RigidWheelset,
     Scenario,
     SimpleBeam,
     SprungMass,
     Suspension,
+    Suspension3,
     Track,
     Train,
     Vehicle,
+    WheelRailContact,
     WheelsetInertia,
     YawDamper,
 )
@@ -28,9 +34,9 @@ from .registry import list_models, model_files, models_dir
 from .schema import describe_fields, to_dict
 
 __all__ = [
-    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "Frame",
-    "MovingForce", "Pier", "RigidBodyInertia", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
-    "Suspension", "Track", "Train", "Vehicle", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
+    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep",
+    "MovingForce", "Pier", "RigidBodyInertia", "RigidWheelset", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
+    "Suspension", "Suspension3", "Track", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
     "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",
     "scenario_from_dict", "scenario_to_toml", "to_dict",
 ]

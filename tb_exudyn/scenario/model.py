@@ -162,19 +162,134 @@ class Car15(_Replaceable):
         return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
 
     def _validate(self, ctx: Context) -> None:
+        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
+
+
+def _check_two_bogie_geometry(g: Car15Geometry, axle_offsets: tuple[float, ...], ctx: Context) -> None:
+    """Bogies must not overlap and the car must be at least as long as its axle spread."""
+    if g.half_wheelbase >= g.half_bogie_spacing:
+        raise ctx.child("geometry").child("half_wheelbase").error(
+            g.half_wheelbase, f"< half_bogie_spacing = {g.half_bogie_spacing:g}", "bogies overlap"
+        )
+    if g.length < axle_offsets[-1]:
+        raise ctx.child("geometry").child("length").error(
+            g.length, f">= {axle_offsets[-1]:g} (the car's axle spread)", "car shorter than its axles"
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class RigidWheelset(_Replaceable):
+    """A wheelset with its own lateral displacement, roll and yaw (guided by creep forces)."""
+
+    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Suspension3(_Replaceable):
+    """One suspension stage in all three directions, values PER SIDE (one of the two elements left
+    and right, at the stage's lateral span)."""
+
+    k_x: float = param(unit="N/m", doc="longitudinal stiffness per side", check=NONNEGATIVE)
+    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=POSITIVE)
+    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=POSITIVE)
+    c_x: float = param(0.0, unit="N s/m", doc="longitudinal damping per side", check=NONNEGATIVE)
+    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=NONNEGATIVE)
+    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class HertzCreep(_Replaceable):
+    """Creep coefficients from the static wheel load: Hertz's contact ellipse and Kalker's table
+    (tb_exudyn.system.creep.hertz_creep_coefficients)."""
+
+    kind: ClassVar[str] = "hertz"
+    rail_transverse_radius: float = param(unit="m", doc="rail head crown radius at the contact", check=POSITIVE)
+    wheel_transverse_radius: float = param(
+        math.inf, unit="m", doc="wheel profile radius at the contact (+ convex, - concave, inf: conical tread)",
+        check=Check(allow_inf=True),
+    )
+    youngs_modulus: float = param(2.1e11, unit="N/m^2", doc="Young's modulus of wheel and rail", check=POSITIVE)
+    poisson_ratio: float = param(0.3, unit="-", doc="Poisson's ratio of wheel and rail", check=Check(low=0.0, high=0.5, low_inclusive=True))
+    factor: float = param(1.0, unit="-", doc="multiplier of Kalker's coefficients (< 1: a contaminated contact)", check=POSITIVE)
+
+    def _validate(self, ctx: Context) -> None:
+        if self.wheel_transverse_radius == 0.0 or 1.0 / self.wheel_transverse_radius + 1.0 / self.rail_transverse_radius <= 0:
+            raise ctx.child("wheel_transverse_radius").error(
+                self.wheel_transverse_radius, "nonzero with 1/R_wheel + 1/R_rail > 0 (a convex relative contact)",
+                "no Hertz contact")
+
+
+@dataclass(frozen=True, kw_only=True)
+class GivenCreep(_Replaceable):
+    """Creep coefficients of one wheel given as data (F_x = -f11 xi_x, F_y = -f22 xi_y - f23 phi,
+    M_z = f23 xi_y - f33 phi)."""
+
+    kind: ClassVar[str] = "given"
+    f11: float = param(unit="N", doc="longitudinal creep coefficient per wheel", check=POSITIVE)
+    f22: float = param(unit="N", doc="lateral creep coefficient per wheel", check=POSITIVE)
+    f23: float = param(0.0, unit="N m", doc="lateral/spin creep coefficient per wheel", check=NONNEGATIVE)
+    f33: float = param(0.0, unit="N m^2", doc="spin creep coefficient per wheel", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class WheelRailContact(_Replaceable):
+    """Linear wheel-rail contact of every wheelset (tb_exudyn.system.creep)."""
+
+    half_contact_distance: float = param(unit="m", doc="b0: half the lateral distance of the two contact points", check=POSITIVE)
+    conicity: float = param(unit="-", doc="equivalent conicity lambda (r_left - r_right = 2 lambda y)", check=POSITIVE)
+    contact_angle_parameter: float = param(
+        unit="-", check=NONNEGATIVE,
+        doc="epsilon: delta_left - delta_right = 2 epsilon y / b0 (gravitational stiffness W epsilon / b0; "
+            "conical wheels on knife-edge rails: epsilon = conicity)",
+    )
+    gravitational_yaw_stiffness: float = param(0.0, unit="N m/rad", doc="K_gpsi per wheelset (0: neglected)", check=ANY)
+    spin: bool = param(False, doc="include the spin creepage (f23, f33)")
+    creep: Union[HertzCreep, GivenCreep] = param(doc="creep coefficients: kind = 'hertz' or 'given'")
+
+
+@dataclass(frozen=True, kw_only=True)
+class CreepCar(_Replaceable):
+    """A car with two two-axle bogies whose wheelsets are guided by linear Kalker creep forces:
+    body and bogies as in car15; every wheelset with its own lateral displacement, roll and yaw;
+    primary and secondary suspension in x, y and z at their lateral spans; yaw dampers."""
+
+    kind: ClassVar[str] = "creep_car"
+    name: str = param(doc="identifier")
+    body: RigidBodyInertia = param(doc="car body")
+    bogie: RigidBodyInertia = param(doc="each of the two bogies")
+    wheelset: RigidWheelset = param(doc="each of the four wheelsets")
+    geometry: Car15Geometry = param(doc="positions of bodies and suspensions (wheel_radius: rolling radius r0)")
+    primary: Suspension3 = param(doc="primary suspension (axle box), per side")
+    secondary: Suspension3 = param(doc="secondary suspension (bolster), per side")
+    yaw_damper: YawDamper | None = param(None, doc="secondary yaw dampers between body and bogies (default: none)")
+    contact: WheelRailContact = param(doc="wheel-rail contact and creep data")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return self.geometry.length
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
         g = self.geometry
-        if g.half_wheelbase >= g.half_bogie_spacing:
-            raise ctx.child("geometry").child("half_wheelbase").error(
-                g.half_wheelbase, f"< half_bogie_spacing = {g.half_bogie_spacing:g}", "bogies overlap"
-            )
-        if g.length < self.axle_offsets[-1]:
-            raise ctx.child("geometry").child("length").error(
-                g.length, f">= {self.axle_offsets[-1]:g} (the car's axle spread)", "car shorter than its axles"
-            )
+        a, s = g.half_wheelbase, g.half_bogie_spacing
+        return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
+
+    def static_axle_load(self, gravity: float) -> float:
+        """Static load of one wheelset on the rails [N]: a quarter of the body, half a bogie and
+        the wheelset itself (symmetric car)."""
+        return gravity * (self.body.mass / 4 + self.bogie.mass / 2 + self.wheelset.mass)
+
+    def _validate(self, ctx: Context) -> None:
+        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
 
 
-Vehicle = Union[MovingForce, SprungMass, Car15]
-VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15)}
+Vehicle = Union[MovingForce, SprungMass, Car15, CreepCar]
+VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15, CreepCar)}
 
 
 @dataclass(frozen=True, kw_only=True)

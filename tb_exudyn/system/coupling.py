@@ -33,6 +33,25 @@ Q_w = G^T f on the wheels and Q_b = -S^T f on the bridge, plus -L^T P for the mo
 With B = [S, -G] the Jacobians of the left-hand side (-Q) of the equations of motion are
 
     K = B^T diag(k) B + B^T diag(c) [v S', 0],        D = B^T diag(c) B.
+
+General linear rows
+-------------------
+Rows whose force is not a spring-damper on one gap (e.g. the creep forces of
+:mod:`.creep`: the lateral creep force -2 f22 (y'/v - psi) depends on the yaw but acts on y) are
+held apart in :class:`LinearRows`. Row g has three maps on u = [q_b; q_w], each a bridge part
+built from the rail shapes at its axle and a constant wheel part,
+
+    A_g = [S^a_g(t), -G^a_g],   K_g = [S^k_g(t), -G^k_g],   D_g = [S^d_g(t), -G^d_g],
+    S^m_g(t) = sum_j P^m[g, j] shape_j(x_a(g)),   shape_j in (y, z, rx, dy, dz, drx) (:class:`RailShapes` rows),
+
+and its force and generalised forces are
+
+    f_g = K_g u + D_g u' + W^v_g . val(x_a) + W^s_g . slope(x_a),      Q = -A^T f
+
+(val, slope: the rail inputs of :func:`.excitation.rail_inputs`, fixed in space: no rate term). So
+K_lin = A^T K, D_lin = A^T D (not symmetric). The bridge parts use the rail's *material* motion
+(no convective term): whatever a row needs of the moving contact is in its maps. The penalty rows
+above are computed exactly as without general rows (same operations: results bitwise unchanged).
 """
 
 from __future__ import annotations
@@ -44,11 +63,57 @@ from typing import Iterator
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ..structure.modal import ModalBridge
+from ..structure.modal import ModalBridge, RailShapes
 from .conventions import axle_positions
 from .excitation import Excitation, as_excitation, is_zero, rail_inputs
 
 VERTICAL, LATERAL = 0, 1
+
+
+#: the rail-shape rows a general row's bridge maps combine, in this order (fields of RailShapes)
+RAIL_SHAPE_ROWS: tuple[str, ...] = ("y", "z", "rx", "dy", "dz", "drx")
+
+
+@dataclass(frozen=True)
+class LinearRows:
+    """General linear contact rows (see the module docstring): f = K u + D u' + f_in, Q = -A^T f.
+
+    Attributes
+    ----------
+    axle : (n_g,) int, the axle each row travels with
+    app_shape, stiff_shape, damp_shape : (n_g, 6) coefficients P^a, P^k, P^d of the rail shapes
+        (RAIL_SHAPE_ROWS) in the bridge parts of A, K, D
+    app_wheel, stiff_wheel, damp_wheel : (n_g, n_w) the wheel parts G^a, G^k, G^d (entering as -G)
+    input_value, input_slope : (n_g, 3) weights of the rail inputs (vertical, alignment, cross-level
+        angle) and of their slopes d/dx in f_in
+    """
+
+    axle: NDArray[np.int64]
+    app_shape: NDArray[np.float64]
+    app_wheel: NDArray[np.float64]
+    stiff_shape: NDArray[np.float64]
+    stiff_wheel: NDArray[np.float64]
+    damp_shape: NDArray[np.float64]
+    damp_wheel: NDArray[np.float64]
+    input_value: NDArray[np.float64]
+    input_slope: NDArray[np.float64]
+
+    def __post_init__(self) -> None:
+        n = self.axle.shape[0]
+        for name in ("app_shape", "stiff_shape", "damp_shape"):
+            if getattr(self, name).shape != (n, len(RAIL_SHAPE_ROWS)):
+                raise ValueError(f"LinearRows.{name} must have shape ({n}, {len(RAIL_SHAPE_ROWS)})")
+        n_w = self.app_wheel.shape[1] if self.app_wheel.ndim == 2 else -1
+        for name in ("app_wheel", "stiff_wheel", "damp_wheel"):
+            if getattr(self, name).shape != (n, n_w):
+                raise ValueError(f"LinearRows.{name} must have shape ({n}, n_w) like app_wheel")
+        for name in ("input_value", "input_slope"):
+            if getattr(self, name).shape != (n, 3):
+                raise ValueError(f"LinearRows.{name} must have shape ({n}, 3)")
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.axle.shape[0])
 
 
 @dataclass(frozen=True)
@@ -65,6 +130,7 @@ class ContactLayout:
     damping : (n_c,) contact damping [N s/m]
     wheel_map : (n_c, n_w) G, the wheel-side contact coordinate as a combination of q_w
     input_map : (n_c, 3) weights of the inputs (vertical, alignment, cross-level angle) in r_c
+    linear : general linear rows (e.g. creep) after the n_c penalty rows, or None
     """
 
     axle: NDArray[np.int64]
@@ -74,6 +140,7 @@ class ContactLayout:
     damping: NDArray[np.float64]
     wheel_map: NDArray[np.float64]
     input_map: NDArray[np.float64]
+    linear: LinearRows | None = None
 
     def __post_init__(self) -> None:
         n = self.axle.shape[0]
@@ -84,6 +151,8 @@ class ContactLayout:
             raise ValueError(f"ContactLayout.wheel_map must have {n} rows")
         if self.input_map.shape != (n, 3):
             raise ValueError(f"ContactLayout.input_map must have shape ({n}, 3)")
+        if self.linear is not None and self.linear.app_wheel.shape[1] != self.wheel_map.shape[1]:
+            raise ValueError("ContactLayout.linear must act on the same wheel coordinates as wheel_map")
 
     @property
     def n_contacts(self) -> int:
@@ -92,6 +161,11 @@ class ContactLayout:
     @property
     def n_wheel(self) -> int:
         return int(self.wheel_map.shape[1])
+
+    @property
+    def n_linear(self) -> int:
+        """Number of general linear rows (0 without)."""
+        return 0 if self.linear is None else self.linear.n_rows
 
 
 @dataclass(frozen=True)
@@ -109,6 +183,9 @@ class ContactState:
     load_shapes : (n_l, n_b) vertical track-centre-line shapes under the point loads
     B : (n_c, n) the gap map [S, -G] on u = [q_b; q_w]
     on_bridge : whether any axle is on the bridge
+    A_lin, K_lin, D_lin : (n_g, n) application, stiffness and damping maps of the general linear
+        rows (None without)
+    f_lin : (n_g,) their input force W^v . val + W^s . slope [N] (None without)
     """
 
     t: float
@@ -121,6 +198,10 @@ class ContactState:
     load_shapes: NDArray[np.float64]
     B: NDArray[np.float64]
     on_bridge: bool
+    A_lin: NDArray[np.float64] | None = None
+    K_lin: NDArray[np.float64] | None = None
+    D_lin: NDArray[np.float64] | None = None
+    f_lin: NDArray[np.float64] | None = None
 
 
 class WheelRailCoupling:
@@ -185,7 +266,27 @@ class WheelRailCoupling:
         self._zero_L = np.zeros((self.load_axle.size, self.n_bridge))
         self._B0 = np.zeros((self.n_contacts, self.n))
         self._B0[:, self.n_bridge:] = -self._G
+        self._init_linear(contacts.linear, n_a)
         self.set_excitation(excitation)
+
+    def _init_linear(self, lin: LinearRows | None, n_a: int) -> None:
+        """Selections of the general rows' bridge parts (shape rows at their axles) and their
+        off-bridge maps [0, -G]."""
+        self._lin = lin
+        self.n_linear = 0 if lin is None else lin.n_rows
+        if lin is None:
+            return
+        rows = np.arange(lin.n_rows)
+        self._lin_select = []
+        self._lin_off = []
+        for P, Gm in ((lin.app_shape, lin.app_wheel), (lin.stiff_shape, lin.stiff_wheel), (lin.damp_shape, lin.damp_wheel)):
+            sel = np.zeros((lin.n_rows, len(RAIL_SHAPE_ROWS) * n_a))
+            for j in range(len(RAIL_SHAPE_ROWS)):
+                sel[rows, j * n_a + lin.axle] = P[:, j]
+            self._lin_select.append(sel)
+            off = np.zeros((lin.n_rows, self.n))
+            off[:, self.n_bridge:] = -Gm
+            self._lin_off.append(off)
 
     # ------------------------------------------------------------------ excitation, time
     def set_excitation(self, excitation: Excitation | None) -> None:
@@ -218,15 +319,28 @@ class WheelRailCoupling:
         return axle_positions(self.axle_start, self.speed, t)
 
     # ------------------------------------------------------------------ contact description
-    def _shapes(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], bool]:
-        """Contact shape rows S, dS (n_c, n_b) and point-load shapes; zero rows for axles off the
-        bridge (rigid approach track), no evaluation at all while every axle is off it."""
+    def _shapes(self, x: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], bool, RailShapes | None]:
+        """Contact shape rows S, dS (n_c, n_b), point-load shapes and the rail shapes at the axles
+        (None while no axle is on the bridge); zero rows for axles off the bridge (rigid approach
+        track), no evaluation at all while every axle is off it."""
         if not np.any((x >= 0.0) & (x <= self.bridge.length)):
-            return self._zero_S, self._zero_S, self._zero_L, False
+            return self._zero_S, self._zero_S, self._zero_L, False, None
         rs = self.bridge.rail_shapes(x)  # zero rows off the bridge
         S = self._select @ np.concatenate((rs.y, rs.z, rs.rx))
         dS = self._select @ np.concatenate((rs.dy, rs.dz, rs.drx))
-        return S, dS, rs.z[self.load_axle], True
+        return S, dS, rs.z[self.load_axle], True, rs
+
+    def _linear_maps(self, rs: RailShapes | None) -> tuple[NDArray[np.float64], ...]:
+        """A, K, D (n_g, n) of the general rows for the rail shapes rs at the axles (None: off the bridge)."""
+        if rs is None:
+            return tuple(self._lin_off)
+        stack = np.concatenate([getattr(rs, name) for name in RAIL_SHAPE_ROWS])
+        out = []
+        for sel, off in zip(self._lin_select, self._lin_off):
+            M = off.copy()
+            M[:, : self.n_bridge] = sel @ stack
+            out.append(M)
+        return tuple(out)
 
     def contact_state(self, t: float) -> ContactState:
         """Shapes at the wheels, their slopes and the inputs at time t (cached per t)."""
@@ -237,7 +351,7 @@ class WheelRailCoupling:
         if self._state_key == key and self._state is not None:
             return self._state
         x = self.positions(t)
-        S, dS, L, on_bridge = self._shapes(x)
+        S, dS, L, on_bridge, rs = self._shapes(x)
         n_c = self.n_contacts
         if self._zero_input:
             r, r_dot = np.zeros(n_c), np.zeros(n_c)
@@ -252,9 +366,18 @@ class WheelRailCoupling:
             B[:, : self.n_bridge] = S
         else:
             B = self._B0
+        lin: dict[str, NDArray[np.float64]] = {}
+        if self._lin is not None:
+            lin["A_lin"], lin["K_lin"], lin["D_lin"] = self._linear_maps(rs)
+            if self._zero_input:
+                lin["f_lin"] = np.zeros(self.n_linear)
+            else:
+                a_g = self._lin.axle
+                lin["f_lin"] = (np.einsum("ck,kc->c", self._lin.input_value, val[:, a_g])
+                                + np.einsum("ck,kc->c", self._lin.input_slope, slo[:, a_g]))
         state = ContactState(
             t=float(t), x=x, speed=0.0 if static else self.speed, S=S, dS=dS, r=r, r_dot=r_dot,
-            load_shapes=L, B=B, on_bridge=on_bridge,
+            load_shapes=L, B=B, on_bridge=on_bridge, **lin,
         )
         self._state_key, self._state = key, state
         return state
@@ -277,13 +400,25 @@ class WheelRailCoupling:
             rate += st.speed * (st.dS @ u[: self.n_bridge])
         return k * gap + c * rate
 
+    def _linear_force(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Forces of the general linear rows, K u + D u' + f_in."""
+        return st.K_lin @ u + st.D_lin @ ud + st.f_lin  # type: ignore[operator]
+
+    def _all_forces(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Penalty rows' forces, then the general rows' (the same array without general rows)."""
+        f = self._force(st, u, ud)
+        if self._lin is None:
+            return f
+        return np.concatenate((f, self._linear_force(st, u, ud)))
+
     def contact_forces(
         self, t: float, q_b: ArrayLike, qd_b: ArrayLike, q_w: ArrayLike, qd_w: ArrayLike
     ) -> NDArray[np.float64]:
-        """Contact forces f_c [N] (rail on wheel: +z compression, +y to the left)."""
+        """Contact forces f_c [N] (rail on wheel: +z compression, +y to the left), the penalty
+        rows' followed by the general rows' (forces or moments, by their definition)."""
         u = np.concatenate((np.asarray(q_b, dtype=float).reshape(-1), np.asarray(q_w, dtype=float).reshape(-1)))
         ud = np.concatenate((np.asarray(qd_b, dtype=float).reshape(-1), np.asarray(qd_w, dtype=float).reshape(-1)))
-        return self._force(self.contact_state(t), u, ud)
+        return self._all_forces(self.contact_state(t), u, ud)
 
     def generalized_forces(
         self, t: float, q_b: ArrayLike, qd_b: ArrayLike, q_w: ArrayLike, qd_w: ArrayLike
@@ -300,6 +435,8 @@ class WheelRailCoupling:
         u = np.asarray(u, dtype=float)
         ud = np.asarray(ud, dtype=float)
         Q = -(st.B.T @ self._force(st, u, ud))
+        if self._lin is not None:
+            Q -= st.A_lin.T @ self._linear_force(st, u, ud)  # type: ignore[union-attr]
         if st.on_bridge and self.load_axle.size and self.load_factor != 0.0:
             Q[: self.n_bridge] -= st.load_shapes.T @ (self.load_factor * self.load_force)
         return Q
@@ -317,6 +454,9 @@ class WheelRailCoupling:
         if st.on_bridge and st.speed != 0.0 and self._damped:
             K[:, : self.n_bridge] += st.speed * (cB.T @ st.dS)
         D = B.T @ cB
+        if self._lin is not None:
+            K += st.A_lin.T @ st.K_lin  # type: ignore[union-attr]
+            D += st.A_lin.T @ st.D_lin  # type: ignore[union-attr]
         self._jac_key, self._jac = key, (K, D)
         return K, D
 
@@ -332,15 +472,46 @@ class WheelRailCoupling:
         times = np.asarray(times, dtype=float)
         u = np.hstack((np.asarray(q_b, dtype=float), np.asarray(q_w, dtype=float)))
         ud = np.hstack((np.asarray(qd_b, dtype=float), np.asarray(qd_w, dtype=float)))
-        out = np.empty((times.size, self.n_contacts))
+        out = np.empty((times.size, self.n_contacts + self.n_linear))
         for i, t in enumerate(times):
-            out[i] = self._force(self.contact_state(t), u[i], ud[i])
+            out[i] = self._all_forces(self.contact_state(t), u[i], ud[i])
         return out
 
     def point_load_history(self, times: ArrayLike) -> NDArray[np.float64]:
         """Point loads (n_t, n_l) [N] (downward; constant while ``load_factor`` is)."""
         times = np.asarray(times, dtype=float)
         return np.broadcast_to(self.load_factor * self.load_force, (times.size, self.load_force.size)).copy()
+
+
+def rail_motion_maps(coefficients: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The rail's motion at a contact in the coordinates (y_r, theta_r, psi_r) of
+    :mod:`.creep` (lateral displacement at rail level, roll of the rail plane, yaw of the rail
+    line), as the rail shapes and rail inputs a general row combines.
+
+        y_r = S_y q_b + alignment,   theta_r = S_rx q_b + cross-level angle,
+        psi_r = S_dy q_b + d(alignment)/dx
+
+    (S_y, S_rx, S_dy: the rail shapes ``y``, ``rx``, ``dy`` at the axle). A row coefficient c on
+    (y_r, theta_r, psi_r) becomes coefficients on RAIL_SHAPE_ROWS, on the input values and on the
+    input slopes (vertical, alignment, cross-level). The material rates of the rail (theirs at a
+    fixed x) are the same shapes times q_b' (the irregularity has none).
+    """
+    c = np.asarray(coefficients, dtype=float).reshape(3)
+    shape = np.zeros(len(RAIL_SHAPE_ROWS))
+    shape[RAIL_SHAPE_ROWS.index("y")] = c[0]
+    shape[RAIL_SHAPE_ROWS.index("rx")] = c[1]
+    shape[RAIL_SHAPE_ROWS.index("dy")] = c[2]
+    value = np.array([0.0, c[0], c[1]])
+    slope = np.array([0.0, c[2], 0.0])
+    return shape, value, slope
+
+
+@dataclass
+class _LinearRowData:
+    name: str
+    axle: int
+    wheel: tuple[dict[tuple[int, int], float], dict[tuple[int, int], float], dict[tuple[int, int], float]]
+    rail: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]
 
 
 @dataclass
@@ -355,6 +526,7 @@ class ContactRows:
     wheel_terms: list[dict[tuple[int, int], float]] = field(default_factory=list)
     inputs: list[tuple[float, float, float]] = field(default_factory=list)
     names: list[str] = field(default_factory=list)
+    linear: list[_LinearRowData] = field(default_factory=list)
 
     def add(
         self, *, name: str, axle: int, direction: int, rail_offset: float, stiffness: float, damping: float,
@@ -369,6 +541,50 @@ class ContactRows:
         self.damping.append(float(damping))
         self.wheel_terms.append(dict(wheel_terms))
         self.inputs.append(tuple(float(v) for v in inputs))  # type: ignore[arg-type]
+
+    def add_linear(
+        self, *, name: str, axle: int,
+        wheel_application: dict[tuple[int, int], float], wheel_stiffness: dict[tuple[int, int], float],
+        wheel_damping: dict[tuple[int, int], float],
+        rail_application: ArrayLike, rail_stiffness: ArrayLike, rail_damping: ArrayLike,
+    ) -> None:
+        """Add one general linear row (e.g. one row of :class:`.creep.CreepRows`):
+
+            f = -(sum wheel_stiffness q + sum wheel_damping q') + rail_stiffness . rho + rail_damping . rho'_mat,
+            Q_w = wheel_application^T f,  Q_rho = -rail_application^T f,
+
+        the wheel terms keyed by (node number, node coordinate), the rail terms on the rail motion
+        rho = (y_r, theta_r, psi_r) at the axle (:func:`rail_motion_maps`)."""
+        self.linear.append(_LinearRowData(
+            name=name, axle=int(axle),
+            wheel=(dict(wheel_application), dict(wheel_stiffness), dict(wheel_damping)),
+            rail=tuple(np.asarray(v, dtype=float).reshape(3) for v in (rail_application, rail_stiffness, rail_damping)),  # type: ignore[arg-type]
+        ))
+
+    @property
+    def all_names(self) -> list[str]:
+        """Names of the penalty rows, then of the general rows (the order of ``contact_forces``)."""
+        return self.names + [row.name for row in self.linear]
+
+    def _linear_layout(self, node_offsets: dict[int, int], n_wheel: int) -> LinearRows | None:
+        if not self.linear:
+            return None
+        n = len(self.linear)
+        wheel = [np.zeros((n, n_wheel)) for _ in range(3)]
+        shape = [np.zeros((n, len(RAIL_SHAPE_ROWS))) for _ in range(3)]
+        value, slope = np.zeros((n, 3)), np.zeros((n, 3))
+        for i, row in enumerate(self.linear):
+            for m in range(3):
+                for (node, coord), coef in row.wheel[m].items():
+                    wheel[m][i, node_offsets[node] + coord] += coef
+                shape[m][i], val_m, slo_m = rail_motion_maps(row.rail[m])
+                if m == 1:  # only the stiffness row carries the inputs (they are fixed in space)
+                    value[i], slope[i] = val_m, slo_m
+        return LinearRows(
+            axle=np.array([row.axle for row in self.linear], dtype=np.int64),
+            app_shape=shape[0], app_wheel=wheel[0], stiff_shape=shape[1], stiff_wheel=wheel[1],
+            damp_shape=shape[2], damp_wheel=wheel[2], input_value=value, input_slope=slope,
+        )
 
     def layout(self, node_offsets: dict[int, int], n_wheel: int) -> ContactLayout:
         """Freeze into a :class:`ContactLayout`; ``node_offsets`` maps node -> first index in q_w."""
@@ -385,4 +601,5 @@ class ContactRows:
             damping=np.array(self.damping, dtype=float).reshape(n),
             wheel_map=G,
             input_map=np.array(self.inputs, dtype=float).reshape(n, 3),
+            linear=self._linear_layout(node_offsets, n_wheel),
         )
