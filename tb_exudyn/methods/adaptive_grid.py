@@ -234,12 +234,12 @@ def scenario_adaptive_grid(scenario: Scenario, modes: Sequence[Mode],
     if a.n_freq < needed:
         T, m = problem.duration, problem.modes
         inside = m[(m[:, 0] >= a.freq_min) & (m[:, 0] <= a.freq_max)]
-        light = inside[inside[:, 1] * inside[:, 0] < 1.0 / T]
+        light = inside[2 * math.pi * inside[:, 1] * inside[:, 0] * T < 1.0]  # decay time 1/(zeta w) > T
         detail = f"{len(inside)} modes in {a.freq_min:g}-{a.freq_max:g} Hz"
         if len(light):
-            detail += (f", {len(light)} of them lightly damped (e.g. {light[0, 0]:.4g} Hz, damping ratio "
-                       f"{light[0, 1]:.2g}: spacing {1e3 / (resolution.run_factor * T):.3g} mHz there for a "
-                       f"run of {T:.3g} s)")
+            f_l, zeta_l = light[np.argmin(light[:, 0] * light[:, 1])]
+            detail += (f", {len(light)} of them decaying slower than the run of {T:.3g} s (e.g. {f_l:.4g} Hz, "
+                       f"damping ratio {zeta_l:.2g}: spacing {1e3 / (resolution.run_factor * T):.3g} mHz there)")
         raise ScenarioError(
             None, "analysis.n_freq", a.n_freq,
             f"at least {needed} for freq_spacing 'adaptive' (or a shorter run, a narrower band)",
