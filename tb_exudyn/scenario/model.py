@@ -491,8 +491,16 @@ class Analysis(_Replaceable):
     output_step: float = param(1e-2, unit="s", doc="time step of stored outputs (a multiple of time_step)", check=POSITIVE)
     freq_min: float = param(0.3, unit="Hz", doc="lowest PEM frequency", check=POSITIVE)
     freq_max: float = param(60.0, unit="Hz", doc="highest PEM frequency", check=POSITIVE)
-    n_freq: int = param(200, doc="number of PEM frequencies", check=Check(low=1.0, low_inclusive=True, high=100000.0))
-    freq_spacing: Literal["linear", "log"] = param("linear", doc="spacing of the PEM frequency grid")
+    n_freq: int = param(
+        200, check=Check(low=1.0, low_inclusive=True, high=100000.0),
+        doc="number of PEM frequencies (adaptive: at least what the modes and the run need, an error names that "
+            "count; points beyond it refine the whole grid)",
+    )
+    freq_spacing: Literal["linear", "log", "adaptive"] = param(
+        "linear",
+        doc="spacing of the PEM frequency grid: linear, log, or adaptive (fine at the linearised system's modes "
+            "and for the run's length, tb_exudyn.methods.adaptive_grid)",
+    )
     pem_amplitude: float = param(1e-4, unit="m", doc="working amplitude of each pseudo-excitation run (results are scaled)", check=POSITIVE)
     n_samples: int = param(100, doc="Monte Carlo samples", check=Check(low=1.0, low_inclusive=True, high=1e7))
     seed: int = param(1, doc="seed of the Monte Carlo samples", check=Check(low=0.0, low_inclusive=True, high=2.0**63))
@@ -521,6 +529,8 @@ class Analysis(_Replaceable):
             )
         if self.freq_min >= self.freq_max:
             raise ctx.child("freq_min").error(self.freq_min, f"< freq_max = {self.freq_max:g} Hz", "empty frequency band")
+        if self.freq_spacing == "adaptive" and self.n_freq < 2:
+            raise ctx.child("n_freq").error(self.n_freq, "at least 2 with freq_spacing 'adaptive'", "too few frequencies")
         resolved = 0.1 / self.time_step
         if self.freq_max > resolved:
             raise ctx.child("freq_max").error(

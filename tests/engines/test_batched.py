@@ -30,7 +30,7 @@ def _quick_car15(track_offset: float | None = None, n_freq: int = 2):
     import tb_exudyn as tbx
 
     sc = tbx.load_scenario("quick")
-    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",), n_freq=n_freq))
+    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",), n_freq=n_freq, freq_spacing="linear"))
     if track_offset is not None:
         sc = sc.replace(bridge=sc.bridge.replace(track_offset=track_offset))
     return sc

@@ -105,7 +105,7 @@ def test_car15_sample_is_exudyns_tangent_model():
     from tb_exudyn.engines.exudyn_runs import run_model
 
     sc = tbx.load_scenario("quick")
-    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",)))
+    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",), freq_spacing="linear", n_freq=16))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         bm = BatchedEngine(sc, wheel_forces=True)
@@ -240,7 +240,7 @@ def test_static_linearization_adds_the_preload_stiffness_of_the_exudyn_model():
     import tb_exudyn as tbx
 
     sc = tbx.load_scenario("quick")
-    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",)))
+    sc = sc.replace(analysis=sc.analysis.replace(channels=("*",), freq_spacing="linear", n_freq=16))
     kw = dict(n_samples=4, seed=1, workers=1, progress=False, keep_samples=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -303,7 +303,8 @@ def test_cross_level_as_a_height_difference_is_converted_as_exudyn_does():
     from tb_exudyn.engines.exudyn_runs import run_model
 
     sc = tbx.load_scenario("quick")
-    sc = sc.replace(analysis=sc.analysis.replace(channels=("*.disp_rx", "*.force_z", "*.force_y")),
+    sc = sc.replace(analysis=sc.analysis.replace(channels=("*.disp_rx", "*.force_z", "*.force_y"),
+                                                 freq_spacing="linear", n_freq=16),
                     track=sc.track.replace(irregularities=("german_low.cross_level_height",)))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")

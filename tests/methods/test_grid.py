@@ -48,7 +48,8 @@ def test_grid_outside_spectrum_validity_is_refused():
     """FRA spectra are defined for 1.524-304.8 m; asking for 1 m wavelengths must fail before a run."""
     sc = tbx.load_scenario("quick")
     sc = sc.replace(track=sc.track.replace(irregularities=("fra_class4.vertical",)),
-                    analysis=sc.analysis.replace(freq_max=60.0))  # 69.4 m/s / 60 Hz = 1.16 m
+                    analysis=sc.analysis.replace(freq_max=60.0, freq_spacing="linear", n_freq=16))
+    # 69.4 m/s / 60 Hz = 1.16 m
     g = scenario_grid(sc)
     spectra = {n: get_spectrum(n) for n in sc.track.irregularities}
     with pytest.raises(ScenarioError, match="validity"):
