@@ -89,6 +89,7 @@ def run_pem(
     linearization: str | None = None,
     options: Any = None,
     slices: Any = None,
+    grid_error: bool | None = None,
 ) -> RandomResponse:
     """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
 
@@ -111,14 +112,19 @@ def run_pem(
         equilibrium under gravity, with the suspensions' preload stiffness)
     options : the engine's options (the Exudyn engine: :class:`SolverSettings`)
     slices : relative task sizes of a linear engine (see :class:`~tb_exudyn.execution.Execution`)
+    grid_error : estimate the frequency grid's error per channel from a sweep on the cell midpoints
+        (None: with the engines that integrate all columns at once, where it is cheap); stored in
+        ``provenance["grid_error"]`` and warned about above 1 % of a channel's max sigma
 
     Returns
     -------
-    RandomResponse with mean (deterministic run), std, psd [unit^2/Hz], band and provenance.
+    RandomResponse with mean (deterministic run), std, psd [unit^2/Hz], band and provenance (the
+    damping guard's and the grid's warnings in ``provenance["warnings"]``).
     """
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           slices=slices, where="run_pem")
-    return pem.run(_with_linearization(scenario, linearization, "run_pem"), engine, execution, options=options, keep_psd=keep_psd)
+    return pem.run(_with_linearization(scenario, linearization, "run_pem"), engine, execution, options=options,
+                   keep_psd=keep_psd, grid_error=grid_error)
 
 
 def run_monte_carlo(

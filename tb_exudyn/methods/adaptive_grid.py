@@ -55,8 +55,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..scenario import Scenario, ScenarioError
-from ..solvers.grid import FrequencyGrid
-from ..track import quadrature_weights
 
 #: a mode as plain data: (frequency [Hz], damping ratio [-])
 Mode = tuple[float, float]
@@ -201,76 +199,9 @@ def adaptive_nodes(problem: GridProblem, n: int, resolution: GridResolution = Gr
     return nodes
 
 
-def adaptive_grid(problem: GridProblem, speed: float, n_max: int,
-                  resolution: GridResolution = GridResolution()) -> FrequencyGrid:
-    """The adaptive grid with n_max nodes and its trapezoid weights (band exactly [f_min, f_max]) at
-    train speed ``speed`` [m/s]. ValueError (giving the count needed) when n_max is below
-    :func:`points_needed`."""
-    needed = points_needed(problem, resolution)
-    if n_max < needed:
-        raise ValueError(f"the adaptive grid needs at least {needed} frequencies, {n_max} allowed")
-    f = adaptive_nodes(problem, n_max, resolution)
-    return FrequencyGrid(f=f, df=quadrature_weights(f, "trapezoid"), speed=float(speed), rule="trapezoid")
-
-
 def scenario_grid_problem(scenario: Scenario, modes: Sequence[Mode]) -> GridProblem:
     """The scenario's grid problem: its band (analysis.freq_min, freq_max), the modes (frequency [Hz],
     damping ratio; e.g. those of the linearised system with the train on the approach and on the
     bridge), the run's duration and the train's spread (train length / speed)."""
     a = scenario.analysis
     return grid_problem(a.freq_min, a.freq_max, modes, scenario.duration, scenario.train.length / scenario.speed)
-
-
-def scenario_adaptive_grid(scenario: Scenario, modes: Sequence[Mode],
-                           resolution: GridResolution = GridResolution()) -> FrequencyGrid:
-    """The scenario's PEM grid for ``analysis.freq_spacing = "adaptive"``: analysis.n_freq nodes placed
-    for :func:`scenario_grid_problem`.
-
-    ScenarioError naming ``analysis.n_freq`` when n_freq is below what the modes and the run need.
-    """
-    a = scenario.analysis
-    problem = scenario_grid_problem(scenario, modes)
-    needed = points_needed(problem, resolution)
-    if a.n_freq < needed:
-        T, m = problem.duration, problem.modes
-        inside = m[(m[:, 0] >= a.freq_min) & (m[:, 0] <= a.freq_max)]
-        light = inside[2 * math.pi * inside[:, 1] * inside[:, 0] * T < 1.0]  # decay time 1/(zeta w) > T
-        detail = f"{len(inside)} modes in {a.freq_min:g}-{a.freq_max:g} Hz"
-        if len(light):
-            f_l, zeta_l = light[np.argmin(light[:, 0] * light[:, 1])]
-            detail += (f", {len(light)} of them decaying slower than the run of {T:.3g} s (e.g. {f_l:.4g} Hz, "
-                       f"damping ratio {zeta_l:.2g}: spacing {1e3 / (resolution.run_factor * T):.3g} mHz there)")
-        raise ScenarioError(
-            None, "analysis.n_freq", a.n_freq,
-            f"at least {needed} for freq_spacing 'adaptive' (or a shorter run, a narrower band)",
-            f"too few frequencies to resolve the system's modes and the run's length: {detail}",
-        )
-    return adaptive_grid(problem, scenario.speed, a.n_freq, resolution)
-
-
-def midpoint_grid(grid: FrequencyGrid) -> FrequencyGrid:
-    """The midpoints of a trapezoid grid's cells, each with its cell's width (the mid-point rule).
-
-    A sweep on it refines the grid's trapezoid sum without recomputing a column: the trapezoid rule on
-    the nodes and midpoints together is (trapezoid + midpoint) / 2 cell by cell, so its variance is
-    (var(grid) + var(midpoint_grid(grid))) / 2 (:func:`refined_variance`).
-    """
-    if grid.rule != "trapezoid" or grid.f.size < 2:
-        raise ValueError("midpoint_grid needs a trapezoid grid of at least 2 nodes")
-    f = np.asarray(grid.f, dtype=float)
-    return FrequencyGrid(f=(f[1:] + f[:-1]) / 2, df=np.diff(f), speed=grid.speed, rule="midpoint")
-
-
-def refined_variance(var_trapezoid: NDArray[np.float64], var_midpoint: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Variance on the grid with its midpoints added (trapezoid rule on the union of nodes) from the
-    grid's variance and the variance of the sweep on :func:`midpoint_grid` (any matching shapes)."""
-    a, b = np.asarray(var_trapezoid, dtype=float), np.asarray(var_midpoint, dtype=float)
-    if a.shape != b.shape:
-        raise ValueError(f"variance shapes differ: {a.shape} and {b.shape}")
-    return (a + b) / 2
-
-
-def refined_grid(grid: FrequencyGrid) -> FrequencyGrid:
-    """The grid's nodes and midpoints together, with their trapezoid weights."""
-    f = np.sort(np.concatenate((grid.f, midpoint_grid(grid).f)))
-    return FrequencyGrid(f=f, df=quadrature_weights(f, "trapezoid"), speed=grid.speed, rule="trapezoid")

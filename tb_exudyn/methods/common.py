@@ -1,8 +1,11 @@
-"""What the methods share: the mean task, the checkpoint identity, the provenance of a result."""
+"""What the methods share: the analysis set-up (modes, grid, damping guard), the mean task, the
+checkpoint identity, the provenance of a result."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import warnings
 from dataclasses import dataclass
 from importlib import metadata
 from typing import Any, Mapping
@@ -10,6 +13,59 @@ from typing import Any, Mapping
 import numpy as np
 
 from .._version import __version__
+from ..builder import build_model
+from ..builder.system_modes import damping_guard, system_modes
+from ..scenario import Scenario
+from ..system.modes import DampingWarning, ModeTable, merged_messages
+from .grid import FrequencyGrid, scenario_grid
+
+
+class LightlyDampedModeWarning(UserWarning):
+    """A mode in the analysed band decays slower than the run lasts (the damping guard)."""
+
+
+@dataclass(frozen=True)
+class AnalysisSetup:
+    """What a random analysis knows before any run: the system's modes, the frequency grid, the
+    damping guard's warnings (with the channel patterns each affects).
+
+    Attributes
+    ----------
+    modes : the modes of the vehicles on rigid track and of the bridge alone (t = 0)
+    grid : the PEM grid (adaptive grids are placed for the modes at t = 0 and with the train
+        standing centred on the bridge)
+    damping : the damping guard's warnings (:func:`tb_exudyn.builder.system_modes.damping_guard`)
+    """
+
+    modes: ModeTable
+    grid: FrequencyGrid
+    damping: tuple[DampingWarning, ...]
+
+    def messages(self) -> list[str]:
+        """The damping guard's warnings, one line per set of equal modes."""
+        return merged_messages(self.damping)
+
+    def provenance(self) -> dict[str, Any]:
+        return {"damping_warnings": [dataclasses.asdict(w) for w in self.damping]}
+
+
+def analysis_setup(scenario: Scenario, *, warn: bool = True) -> AnalysisSetup:
+    """The modes, the grid and the damping guard of ``scenario`` (one model build and two modal
+    analyses, about a second for the reference study); with ``warn`` the guard's warnings are issued
+    as :class:`LightlyDampedModeWarning`."""
+    model = build_model(scenario, warn=False)
+    table = system_modes(scenario, model=model)
+    modes = None
+    if scenario.analysis.freq_spacing == "adaptive":
+        centred = system_modes(scenario, (scenario.bridge.length + scenario.train.length) / 2, model=model)
+        modes = [(float(f), float(z)) for tab in (table, centred)
+                 for f, z, kind in zip(tab.frequency, tab.damping_ratio, tab.kind) if kind in ("vehicle", "bridge")]
+    grid = scenario_grid(scenario, modes)
+    setup = AnalysisSetup(modes=table, grid=grid, damping=tuple(damping_guard(scenario, table=table, model=model)))
+    if warn:
+        for message in setup.messages():
+            warnings.warn(message, LightlyDampedModeWarning, stacklevel=3)
+    return setup
 
 
 @dataclass(frozen=True)
@@ -54,4 +110,4 @@ def merge_provenance(mean: Mapping[str, np.ndarray], engine: Mapping[str, Any], 
     }
 
 
-__all__ = ["MeanTask", "fingerprint_identity", "mean_of", "merge_provenance", "package_versions"]
+__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_setup", "fingerprint_identity", "mean_of", "merge_provenance", "package_versions"]

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from ..results.random_response import RandomResponse
 from ..track import quadrature_weights
-from .adaptive_grid import refined_variance
+from .grid import refined_variance
 
 
 @dataclass(frozen=True)

@@ -46,7 +46,7 @@ from ..execution import Execution, Task
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
-from .common import MeanTask, fingerprint_identity, merge_provenance
+from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from .pem import default_slices
 from .sampling import POINTS_PER_WAVELENGTH, Discretisation, ProfileSampler
 
@@ -107,9 +107,10 @@ class SampleReducer:
         return out
 
 
-def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation) -> tuple[Any, ProfileSampler]:
+def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation, grid: Any
+           ) -> tuple[Any, ProfileSampler]:
     """The engine (its model, every wheel force as an output) and the sampler, once per worker."""
-    return make_engine(engine, scenario, options, wheel_forces=True), ProfileSampler(scenario, discretisation)
+    return make_engine(engine, scenario, options, wheel_forces=True), ProfileSampler(scenario, discretisation, grid)
 
 
 def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: Sequence[int],
@@ -196,14 +197,15 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     cls = check_engine(engine, scenario, options, linearized=False)
     n = whole_number(scenario.analysis.n_samples if n_samples is None else n_samples, where, "n_samples", 2)
     seed = whole_number(scenario.analysis.seed if seed is None else seed, where, "seed", 0)
-    sampler = ProfileSampler(scenario, discretisation)  # every check on spectra and band, before any run
+    setup = analysis_setup(scenario)
+    sampler = ProfileSampler(scenario, discretisation, setup.grid)  # every check on spectra and band, before any run
     linear = not cls.full_model
     method = "monte_carlo_linear" if linear else "monte_carlo"
     # the checkpoint does not depend on N: a larger N with resume reuses the samples run
     key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
     checkpoint = execution.checkpoint("checkpoint-mc-linear" if linear else "checkpoint-mc", fingerprint_identity(
         scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
-        method_options={"seed": seed, "discretisation": discretisation,
+        method_options={"seed": seed, "discretisation": discretisation, "grid": setup.grid.f.tolist(),
                         "points_per_wavelength": POINTS_PER_WAVELENGTH}))
     if cls.single_columns:
         blocks = [(k, k + 1) for k in range(n)]
@@ -259,7 +261,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         if "run_times" in result:
             state["run_times"] += result["run_times"].tolist()
 
-    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation), work=_work,
+    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation, setup.grid), work=_work,
                           reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
     det = state.get("det")
     mean = state["mean"] if det is None else det["mean"] + state["mean"]
@@ -274,6 +276,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         "initial_state": "static",
         "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
         **contact_provenance(min_force, lost),
+        **setup.provenance(),
         **STATISTICS_PROVENANCE,
         **sampler.describe(),
         **stats,
@@ -288,6 +291,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     else:
         provenance = {**state["describe"], **extra, "warnings": state["warnings"],
                       "sample_run_time_median_s": float(np.median(state["run_times"]))}
+    provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages()
     result = RandomResponse(
         method=method, time=state["time"] if det is None else det["time"],
         channels=tuple(str(c) for c in state["names"]), units=tuple(str(u) for u in state["units"]),

@@ -42,8 +42,28 @@ from ..system.columns import HarmonicColumns
 from ..system.conventions import cross_level_scale, spatial_frequency
 from ..system.excitation import KINDS
 from ..track import get_spectrum
-from .common import MeanTask, fingerprint_identity, mean_of, merge_provenance
-from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, scenario_grid
+from .common import MeanTask, analysis_setup, fingerprint_identity, mean_of, merge_provenance
+from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, midpoint_grid, refined_variance
+from .grid_error import GridError, grid_error_from_sigma
+
+#: grid errors of max sigma above this are warned about (and reported)
+GRID_ERROR_TOLERANCE = 0.01
+
+
+class GridErrorWarning(UserWarning):
+    """The frequency grid changes a channel's max sigma by more than GRID_ERROR_TOLERANCE."""
+
+
+def grid_error_messages(error: GridError, tolerance: float = GRID_ERROR_TOLERANCE) -> list[str]:
+    """One line on the channels whose estimated grid error exceeds ``tolerance`` (empty if none)."""
+    bad = error.exceeding(tolerance)
+    if not bad:
+        return []
+    i = int(np.argmax(np.abs(error.rel_error_max_sigma)))
+    return [f"the frequency grid is too coarse for {len(bad)} of {len(error.channels)} channels: their max sigma "
+            f"changes by more than {100 * tolerance:g} % when the grid is refined (largest "
+            f"{100 * error.rel_error_max_sigma[i]:+.2g} % on {error.channels[i]}; e.g. {', '.join(bad[:3])}); "
+            "use analysis.freq_spacing = 'adaptive' or more frequencies (analysis.n_freq)"]
 
 #: precision in which a task's PSD map travels to the parent (sigma^2 is float64 throughout):
 #: float32's relative rounding of 6e-8 is far below the engines' agreement of 1e-6 and halves the
@@ -70,10 +90,12 @@ class PemTask:
 
 @dataclass(frozen=True)
 class ColumnTask:
-    """A set of columns (every type of a set of frequencies, or one column) integrated together."""
+    """A set of columns (every type of a set of frequencies, or one column) integrated together;
+    ``midpoints``: columns of the grid error's midpoint sweep (sigma^2 only)."""
 
     columns: tuple[PemTask, ...]
     keep_psd: bool
+    midpoints: bool = False
 
 
 def kind_and_unit(spectrum_name: str) -> tuple[str, str]:
@@ -174,7 +196,8 @@ def default_slices(cores: int) -> list[float]:
     return [1.0] * max(1, cores) + [0.5]
 
 
-def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool) -> list[Task]:
+def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
+                  midpoints: bool = False) -> list[Task]:
     """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
     frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
     freqs = np.array(sorted({p.freq_index for p in ptasks}))
@@ -184,7 +207,7 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     for a, b in zip(edges[:-1], edges[1:]):
         chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"pemb-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd)))
+        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints)))
     return out
 
 
@@ -206,35 +229,43 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
 
 
 # ---------------------------------------------------------------------------------- the sweep
-def prepare_sweep(scenario: Scenario) -> tuple[FrequencyGrid, dict[str, Any]]:
-    """Checks before any run: irregularities present and modelled, the grid inside every spectrum's
-    validity and the wavelength band. Returns the grid and the spectra."""
+def prepare_sweep(scenario: Scenario) -> dict[str, Any]:
+    """Checks before any run: irregularities present and modelled. Returns the spectra."""
     if not scenario.track.irregularities:
         raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
-    grid = scenario_grid(scenario)
     spectra = {n: get_spectrum(n) for n in scenario.track.irregularities}
     for n in spectra:
         kind_and_unit(n)
-    check_grid_against_spectra(grid, scenario, spectra)
-    return grid, spectra
+    return spectra
 
 
-def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True
-        ) -> RandomResponse:
+def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True,
+        grid_error: bool | None = None) -> RandomResponse:
     """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`."""
     t0 = _time.perf_counter()
     cls = check_engine(engine, scenario, options)
-    grid, spectra = prepare_sweep(scenario)
+    spectra = prepare_sweep(scenario)
+    setup = analysis_setup(scenario)
+    grid = setup.grid
+    check_grid_against_spectra(grid, scenario, spectra)
+    if grid_error is None:  # cheap where the columns are integrated together
+        grid_error = not cls.single_columns
+    grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
     checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd}))
+        method_options={"keep_psd": keep_psd, "grid_error": grid_error, "grid": grid.f.tolist()}))
     ptasks = pem_tasks(scenario, grid)
+    mid = midpoint_grid(grid) if grid_error else None
+    mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
     tasks = [Task("pem-mean", MeanTask())]
     if cls.single_columns:
         tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd)) for p in ptasks]
+        tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
     else:
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
         tasks += column_slices(ptasks, weights, keep_psd)
+        if mid_tasks:
+            tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     n_types = len(spectra)
     state: dict[str, Any] = {}
 
@@ -250,6 +281,10 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
                 warnings.warn(str(message), stacklevel=4)
             return
         var_t = result["var_t"]
+        if task.data.midpoints:
+            state.setdefault("var_mid", np.zeros_like(state["var"]))
+            state["var_mid"] += var_t.transpose(1, 2, 0)
+            return
         var = state["var"]
         if var_t.shape != (var.shape[2], n_types, var.shape[1]):
             raise RuntimeError(f"task {task.key}: result shape {var_t.shape} does not fit the mean's {var.shape[1:]}")
@@ -265,6 +300,15 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options), work=_work, reduce=reduce,
                           checkpoint=checkpoint, desc=f"PEM ({engine})")
     mean = state["mean"]
+    channels = tuple(str(c) for c in mean["names"])
+    var_by_type = state["var"]
+    std = np.sqrt(var_by_type.sum(axis=0))
+    error = None
+    if grid_error:
+        refined = np.sqrt(refined_variance(var_by_type.sum(axis=0), state["var_mid"].sum(axis=0)))
+        error = grid_error_from_sigma(mean["time"], channels, std, refined)
+        for message in grid_error_messages(error):
+            warnings.warn(message, GridErrorWarning, stacklevel=3)
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {
         "method": "pem",
         "linearization": scenario.analysis.linearization,
@@ -273,12 +317,17 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         "n_frequencies_in_band": int(band_mask(grid, scenario).sum()),
         "quadrature": grid.rule,
         "columns": len(ptasks),
+        "grid_spacing": scenario.analysis.freq_spacing,
+        "grid_error": error.as_dict() if error is not None else
+        "not estimated (an engine that runs columns separately: the midpoint sweep would double the runs)",
+        **setup.provenance(),
         **stats,
     })
-    var_by_type = state["var"]
+    provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages() + (
+        grid_error_messages(error) if error is not None else [])
     result = RandomResponse(
-        method="pem", time=mean["time"], channels=tuple(str(c) for c in mean["names"]),
-        units=tuple(str(u) for u in mean["units"]), mean=mean_of(mean), std=np.sqrt(var_by_type.sum(axis=0)),
+        method="pem", time=mean["time"], channels=channels,
+        units=tuple(str(u) for u in mean["units"]), mean=mean_of(mean), std=std,
         band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=state["psd"], var_by_type=var_by_type,
         types=tuple(spectra), provenance=provenance,
     )

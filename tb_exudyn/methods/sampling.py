@@ -41,7 +41,7 @@ from ..scenario import Scenario, ScenarioError
 from ..system.columns import ProfileColumns
 from ..system.excitation import ProfileExcitation
 from ..track import HarmonicProfile, band_from_wavelengths, fft_profile, get_spectrum, sample_rng
-from .grid import band_mask, check_grid_against_spectra, scenario_grid
+from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, scenario_grid
 from .pem import kind_and_unit
 
 Discretisation = Literal["pem_grid", "fft"]
@@ -82,7 +82,7 @@ class ProfileSampler:
     spectrum's validity.
     """
 
-    def __init__(self, scenario: Scenario, discretisation: Discretisation = "pem_grid",
+    def __init__(self, scenario: Scenario, discretisation: Discretisation = "pem_grid", grid: FrequencyGrid | None = None,
                  points_per_wavelength: int = POINTS_PER_WAVELENGTH) -> None:
         if discretisation not in DISCRETISATIONS:
             raise SettingError("run_monte_carlo", "discretisation", discretisation, " or ".join(DISCRETISATIONS),
@@ -103,7 +103,7 @@ class ProfileSampler:
         )
         v, tr = scenario.speed, scenario.track
         if discretisation == "pem_grid":
-            grid = scenario_grid(scenario)
+            grid = scenario_grid(scenario) if grid is None else grid
             check_grid_against_spectra(grid, scenario, dict(zip(names, self.spectra)))
             mask = band_mask(grid, scenario)
             omega, d_omega = grid.omega_spatial[mask], grid.d_omega_spatial[mask]

@@ -18,9 +18,9 @@ import pytest
 from scipy.integrate import quad
 
 from tb_exudyn.methods.adaptive_grid import (
-    GridResolution, adaptive_grid, adaptive_nodes, grid_problem, midpoint_grid, points_needed, refined_grid,
-    refined_variance, required_spacing, scenario_adaptive_grid, scenario_grid_problem,
+    GridResolution, adaptive_nodes, grid_problem, points_needed, required_spacing, scenario_grid_problem,
 )
+from tb_exudyn.methods.grid import adaptive_grid, midpoint_grid, refined_grid, refined_variance, scenario_adaptive_grid
 from tb_exudyn.methods.grid_error import grid_error_from_sigma
 from tb_exudyn.scenario import ScenarioError, load_scenario
 from tb_exudyn.track import quadrature_weights
