@@ -7,6 +7,7 @@ scenario file, impossible setting) is printed as one message and exits with stat
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import sys
 from typing import Sequence
@@ -15,7 +16,7 @@ from .engines import ENGINES
 from .errors import SettingError, UserError
 from .results.compare import compare_folders
 from .results.storage import check_writable
-from .scenario import Scenario, list_models, load_scenario
+from .scenario import Analysis, Scenario, list_models, load_scenario
 from .scenario.show import scenario_table
 from .structure import StructureError, modal_bridge
 from .system.modes import DIRECTIONS, merged_messages, nth_frequency
@@ -26,7 +27,7 @@ EXIT_OK, EXIT_USER_ERROR = 0, 2
 
 def _cmd_list(args: argparse.Namespace) -> int:
     entries = list_models()
-    width = max(len(e.name) for e in entries)
+    width = max((len(e.name) for e in entries), default=0)
     for category in ("vehicles", "bridges", "scenarios"):
         print(f"{category}:")
         for e in (e for e in entries if e.category == category):
@@ -198,7 +199,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
-    p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
     p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
     p.add_argument("--engine", choices=tuple(ENGINES), default="exudyn",
@@ -209,8 +210,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="batched engine: linearise about rest (default; PEM's model, as the Exudyn PEM engine) or "
                         "about the static equilibrium under gravity (adds the suspension preload's stiffness, which "
                         "the Exudyn model with gravity has)")
-    p.add_argument("--samples", type=_positive_int, default=None, help="Monte Carlo samples (default: the scenario's)")
-    p.add_argument("--seed", type=int, default=None, help="Monte Carlo seed (default: the scenario's)")
+    p.add_argument("--samples", default=None, help="Monte Carlo samples, >= 2 (default: the scenario's)")
+    p.add_argument("--seed", default=None, help="Monte Carlo seed, >= 0 (default: the scenario's)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
     p.set_defaults(func=_cmd_run)
@@ -234,21 +235,53 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _positive_int(text: str) -> int:
+#: options naming a file or folder (an empty one would silently mean the current folder)
+PATH_OPTIONS = {"scenario": "SCENARIO", "out": "--out", "folder": "FOLDER", "pem_dir": "PEM_DIR", "mc_dir": "MC_DIR",
+                "html": "--html"}
+MIN_SAMPLES = 2  # a sample standard deviation needs two samples (as run_monte_carlo checks)
+
+
+def _int_option(text: str | None, option: str, low: int, high: int | None = None, why: str = "") -> int | None:
+    """The whole number given to ``option`` (None if not given); SettingError naming the option."""
+    if text is None:
+        return None
+    allowed = f"a whole number >= {low}" + (f" and <= {high}" if high is not None else "") + (f" ({why})" if why else "")
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"{value} is not >= 1")
+        raise SettingError("command line", option, text, allowed, "not a whole number") from None
+    if value < low or (high is not None and value > high):
+        raise SettingError("command line", option, value, allowed, "out of range")
     return value
+
+
+def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
+    """Check the options argparse cannot (empty paths, numbers and their ranges, option pairs) and
+    convert the numbers; SettingError ``command line: key '--OPTION'`` naming the option, before any work."""
+    for attr, option in PATH_OPTIONS.items():
+        if getattr(args, attr, None) is not None and not str(getattr(args, attr)).strip():
+            raise SettingError("command line", option, getattr(args, attr), "a file or folder path", "empty")
+    if args.command != "run":
+        return args
+    # the ranges of the scenario keys these options override (the schema's checks)
+    checks = {f.name: f.metadata["check"] for f in dataclasses.fields(Analysis) if f.name in ("n_samples", "seed")}
+    args.workers = _int_option(args.workers, "--workers", 1)
+    args.samples = _int_option(args.samples, "--samples", MIN_SAMPLES, int(checks["n_samples"].high),
+                               "Monte Carlo samples, as analysis.n_samples")
+    args.seed = _int_option(args.seed, "--seed", 0, int(checks["seed"].high), "as analysis.seed")
+    if args.linearization is not None and args.engine == "exudyn" and args.method != "det":
+        if args.method == "mc" or args.linearization != "rest":
+            raise SettingError("command line", "--linearization", args.linearization,
+                               "--linearization with --engine batched (the Exudyn engine: PEM about rest, Monte Carlo "
+                               "on the full model)", "not with --engine exudyn")
+    return args
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return int(args.func(args))
+        return int(args.func(check_arguments(args)))
     except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR

@@ -3,6 +3,7 @@
     TbExudynError                 anything tb_exudyn raises on purpose
     ├── UserError                 the user can fix it: the CLI prints the one-line message, exit 2
     │   ├── ScenarioError         a scenario, vehicle, bridge or limit file (or its dataclass) is not valid
+    │   ├── SpectrumError         a spectrum name, band or user spectrum table is not valid (tb_exudyn.track)
     │   ├── SettingError          an argument of a Python call or a command-line option is not allowed
     │   ├── CapabilityError       the chosen engine or method cannot do what was asked
     │   ├── CheckpointError       a checkpoint folder belongs to another computation or is damaged

@@ -95,7 +95,7 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
     t_in = scenario.track.lead_in / v
     if t_in < MIN_LEAD_IN_STEPS * dt:
         raise ScenarioError(
-            None, "track.lead_in", scenario.track.lead_in,
+            scenario.where, "track.lead_in", scenario.track.lead_in,
             f">= {v / min(vehicle_frequencies or [1.0]):.3g} m (one period of the slowest vehicle mode at this "
             f"speed); at the very least {MIN_LEAD_IN_STEPS * dt * v:.3g} m ({MIN_LEAD_IN_STEPS} time steps)",
             f"the train reaches the bridge {t_in:.3g} s after the start: no approach track to start on and settle",
@@ -194,7 +194,7 @@ class TrainBridgeModel:
             [(b.name, b.node, b.components) for b in parts.bodies],
             self.contact_names, parts.load_names,
         )
-        self.selected = chan.select(self.channels, an.channels)
+        self.selected = chan.select(self.channels, an.channels, sc.where)
         mbs.Assemble()
         self.n_ode2 = mbs.systemData.ODE2Size()
         self._static_cache: dict[tuple[float, bool], NDArray[np.float64]] = {}

@@ -1,8 +1,8 @@
 """Result types and their files: TimeHistory (one run), RandomResponse (PEM, Monte Carlo).
 
-Every result is a folder with ``arrays.npz`` (read with allow_pickle=False) and ``meta.json``
-(whose ``format`` names the type); :func:`load_results` reads any of them. :mod:`.compare` compares
-a PEM result with a Monte Carlo one.
+Every result is a folder with ``arrays.npz`` (never unpickled) and ``meta.json`` (whose ``format``
+names the type), written whole or not at all and read defensively (:mod:`.storage`);
+:func:`load_results` reads any of them. :mod:`.compare` compares a PEM result with a Monte Carlo one.
 """
 
 from __future__ import annotations

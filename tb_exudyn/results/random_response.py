@@ -3,23 +3,38 @@
 Mean (the deterministic response to gravity), standard deviation sigma(t), and for PEM the
 time-dependent one-sided PSD S(f, t) per Hz on the analysed band, with
 sigma^2(t) = sum_k S(f_k, t) df_k. For Monte Carlo: sample mean and standard deviation with their
-confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder.
+confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder, written whole or not at
+all and read defensively (:mod:`.storage`).
 """
 
 from __future__ import annotations
 
 import fnmatch
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..scenario import Scenario, scenario_from_dict, scenario_to_toml
-from .storage import load_json, load_npz, save_json_atomic, save_npz_atomic
+from ..scenario import Scenario, scenario_to_toml
+from ..system.channels import is_channel_name
+from .storage import (Member, NpzFile, check_increasing, check_members, check_values, load_json, meta_band,
+                      meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list, open_result_folder,
+                      save_result_folder)
 
 FORMAT = "tb_exudyn.random_response/1"
+METHODS = ("pem", "monte_carlo", "monte_carlo_linear")
+#: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples
+ARRAYS = {
+    "time": Member(("nt",)), "mean": Member(("nc", "nt")), "std": Member(("nc", "nt")),
+    "freq": Member(("nf",)), "df": Member(("nf",)),
+    "psd": Member(("nc", "nf", "nt"), required=False), "var_by_type": Member(("ntypes", "nc", "nt"), required=False),
+    "std_ci": Member((2, "nc", "nt"), required=False), "mean_ci": Member((2, "nc", "nt"), required=False),
+    "min_wheel_force": Member(("ns",), required=False, finite=False),  # NaN: a sample without wheel forces
+    "samples": Member(("ns", "nc", "nt"), required=False, finite=False),
+}
+_MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
+            "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,14 +112,13 @@ class RandomResponse:
 
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
-        """Write ``arrays.npz`` and ``meta.json`` into ``folder`` (atomically, arrays first)."""
-        folder = Path(folder)
+        """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
+        (an older result there is replaced; see :func:`.storage.save_result_folder`)."""
         arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
         for name in ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples"):
             value = getattr(self, name)
             if value is not None:
                 arrays[name] = value
-        save_npz_atomic(folder / "arrays.npz", arrays)
         meta = {
             "format": FORMAT,
             "method": self.method,
@@ -116,36 +130,52 @@ class RandomResponse:
             "provenance": self.provenance,
             "scenario_toml": scenario_to_toml(self.scenario),
         }
-        save_json_atomic(folder / "meta.json", meta)
-        return folder
+        return save_result_folder(folder, arrays, meta)
 
 
 def load_random_response(folder: str | Path) -> RandomResponse:
-    """Read a RandomResponse written by :meth:`RandomResponse.save`."""
-    folder = Path(folder)
-    meta = load_json(folder / "meta.json")
-    if meta.get("format") != FORMAT:
-        raise ValueError(f"{folder}: not a tb_exudyn random response (format {meta.get('format')!r})")
-    arrays = load_npz(folder / "arrays.npz")
-    scenario = scenario_from_dict(tomllib.loads(meta["scenario_toml"]), f"{folder}/meta.json")
+    """Read a RandomResponse written by :meth:`RandomResponse.save`, checking everything before use.
+
+    Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
+    folder: see :mod:`.storage`; channel names must follow the naming rule, the arrays' shapes match
+    the channels, types and n_samples of meta.json and each other (:data:`ARRAYS`), checked before
+    any array is read; time increasing and values finite.
+    """
+    folder = open_result_folder(folder)
+    path = folder / "meta.json"
+    meta = load_json(path)
+    meta_str(meta, "format", path, choices=(FORMAT,))
+    method = meta_str(meta, "method", path, choices=METHODS)
+    channels, units = meta_channels(meta, path)
+    band = meta_band(meta, "band_hz", path)
+    types = meta_str_list(meta, "types", path, check=is_channel_name, rule="spectrum names (e.g. german_low.vertical)",
+                          unique=True)
+    n_samples = meta_int(meta, "n_samples", path, 0)
+    provenance = meta_dict(meta, "provenance", path)
+    scenario = meta_scenario(meta, path)
+    with NpzFile(folder / "arrays.npz") as npz:
+        check_members(npz, ARRAYS, {"nc": len(channels), "ntypes": len(types), "ns": n_samples}, _MEANING)
+        arrays = npz.read_all()
+    check_values(npz.path, arrays, ARRAYS)
+    check_increasing(npz.path, arrays, ("time", "freq"))
     return RandomResponse(
-        method=meta["method"],
+        method=str(method),
         time=arrays["time"],
-        channels=tuple(meta["channels"]),
-        units=tuple(meta["units"]),
+        channels=tuple(channels),
+        units=tuple(units),
         mean=arrays["mean"],
         std=arrays["std"],
-        band=tuple(meta["band_hz"]),
+        band=band,
         scenario=scenario,
         freq=arrays["freq"],
         df=arrays["df"],
         psd=arrays.get("psd"),
         var_by_type=arrays.get("var_by_type"),
-        types=tuple(meta["types"]),
+        types=tuple(types),
         std_ci=arrays.get("std_ci"),
         mean_ci=arrays.get("mean_ci"),
-        n_samples=int(meta["n_samples"]),
+        n_samples=n_samples,
         min_wheel_force=arrays.get("min_wheel_force"),
         samples=arrays.get("samples"),
-        provenance=meta["provenance"],
+        provenance=provenance,
     )

@@ -1,46 +1,82 @@
-"""Result files: arrays as npz (read with allow_pickle=False) plus JSON metadata, written atomically.
+"""Result files: arrays as npz plus JSON metadata; folders written whole, files read defensively.
 
-A result folder holds ``arrays.npz`` and ``meta.json``; a checkpoint folder holds one small npz per
-finished task. Every write goes to a temporary file in the same folder and is renamed into place,
-so an interrupted run never leaves a half-written file that looks whole. Nothing is pickled:
-opening someone's results cannot run code.
+A result folder holds ``arrays.npz`` (plain ``np.savez``, uncompressed) and ``meta.json``; a
+checkpoint folder holds one small npz per finished task. Nothing is pickled: opening someone's
+results cannot run code.
+
+Writing (:func:`save_result_folder`): both files are written into a hidden temporary sibling
+folder ``.<name>.tb-<host>-<pid>-<token>.writing``, flushed to disk, renamed ``....new`` (complete),
+and then swapped into place (the old folder is renamed ``....old``, the new one takes its name,
+the old one is deleted). A process killed at any point leaves either the old folder or the new
+one under the folder's name, never the old metadata over new arrays. Leftovers of a killed
+write are resolved the next time the folder is written or loaded (:func:`recover_folder`): a
+``.writing`` folder is deleted, a complete ``.new`` one is put in place if the folder is missing
+(else deleted), an ``.old`` one restored if the folder is missing (else deleted); hidden
+``.arrays.npz.*.tmp`` / ``.meta.json.*.tmp`` files of killed file-by-file writes are deleted.
+Leftovers of a process that is still running on this machine are left alone.
+
+Reading (:func:`load_json`, :class:`NpzFile`, :func:`open_result_folder`): files inside a result
+folder must be regular files (no symbolic links, FIFOs or devices; :mod:`tb_exudyn.files`); JSON is
+limited in size and depth; every npz member's header (dtype, shape) is read and checked against
+the member's size, and the caller checks the shapes against the metadata and each other, before
+any data is read (:func:`check_members`). Every failure is a one-line :class:`ResultsError`
+naming the file and what is wrong.
 """
 
 from __future__ import annotations
 
+import hashlib
 import json
+import math
 import os
+import re
+import secrets
+import shutil
+import socket
 import tempfile
+import time
+import zipfile
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, BinaryIO, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
 from ..atomic import write_atomic, write_text_atomic
-from ..errors import OutputFolderError
+from ..errors import OutputFolderError, ResultsError, format_message
+from ..files import MIB, FileRefused, decode_utf8, open_regular, read_regular
+
+#: the files of a result folder, and what a save may replace with them (derived from the old result)
+RESULT_FILES = ("arrays.npz", "meta.json")
+DERIVED_ENTRIES = ("figures", "report.html")
+MAX_JSON_BYTES = 16 * MIB
+MAX_JSON_DEPTH = 64
+MAX_NPZ_MEMBERS = 64
+#: leftovers of a write by another machine (same host name hash unknown to be dead) are kept this long [s]
+FOREIGN_LEFTOVER_AGE = 24 * 3600.0
+_MEMBER = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}\.npy\Z")
+_LEGACY_TMP = re.compile(r"\.(arrays\.npz|meta\.json)\..+\.tmp\Z")
 
 
+# ============================================================================================ writing
 def save_npz_atomic(path: str | Path, arrays: Mapping[str, np.ndarray]) -> None:
     """Write arrays to ``path`` (.npz, uncompressed) atomically; object arrays are refused."""
-    for name, a in arrays.items():
-        if np.asarray(a).dtype == object:
-            raise TypeError(f"array {name!r} has dtype object: not storable without pickle")
+    _refuse_objects(arrays)
     write_atomic(Path(path), lambda fh: np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()}))
 
 
-def load_npz(path: str | Path) -> dict[str, np.ndarray]:
-    """Read every array of an npz file (never unpickles)."""
-    with np.load(Path(path), allow_pickle=False) as data:
-        return {k: data[k] for k in data.files}
-
-
 def save_json_atomic(path: str | Path, meta: Mapping[str, Any]) -> None:
-    text = json.dumps(meta, indent=2, sort_keys=True, default=json_default)
-    write_text_atomic(path, text)
+    write_text_atomic(path, _json_text(meta))
 
 
-def load_json(path: str | Path) -> dict[str, Any]:
-    return json.loads(Path(path).read_text(encoding="utf-8"))
+def _json_text(meta: Mapping[str, Any]) -> str:
+    return json.dumps(meta, indent=2, sort_keys=True, default=json_default)
+
+
+def _refuse_objects(arrays: Mapping[str, Any]) -> None:
+    for name, a in arrays.items():
+        if np.asarray(a).dtype == object:
+            raise TypeError(f"array {name!r} has dtype object: not storable without pickle")
 
 
 def json_default(obj: Any) -> Any:
@@ -53,6 +89,523 @@ def json_default(obj: Any) -> Any:
     if isinstance(obj, Path):
         return str(obj)
     raise TypeError(f"{type(obj).__name__} is not JSON serialisable")
+
+
+def _host_tag() -> str:
+    return hashlib.sha256(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:8]
+
+
+def _leftover_pattern(name: str) -> re.Pattern[str]:
+    return re.compile(rf"\.{re.escape(name)}\.tb-([0-9a-f]{{8}})-(\d+)-([0-9a-f]+)\.(writing|new|old)\Z")
+
+
+def _fsync_file(path: Path) -> None:
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _fsync_dir(path: Path) -> None:
+    try:
+        _fsync_file(path)
+    except OSError:  # some file systems cannot sync a directory; the data files are synced
+        pass
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            pass
+
+
+def _writer_alive(host: str, pid: int, path: Path) -> bool:
+    """Whether the process that made a leftover may still be writing it."""
+    if host != _host_tag():
+        try:
+            return time.time() - path.lstat().st_mtime < FOREIGN_LEFTOVER_AGE
+        except OSError:
+            return False
+    if pid == os.getpid():
+        return False  # this process is not writing this folder now (saves are not re-entrant)
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    except OSError:
+        return False
+    return True
+
+
+def recover_folder(folder: str | Path) -> None:
+    """Resolve the leftovers of killed writes of ``folder`` (see the module docstring).
+
+    Best effort: an entry that cannot be removed (read-only place) is left; never raises OSError.
+    """
+    folder = Path(folder)
+    parent, name = folder.parent, folder.name
+    pattern = _leftover_pattern(name)
+    found: dict[str, list[Path]] = {"writing": [], "new": [], "old": []}
+    try:
+        with os.scandir(parent) as it:
+            for entry in it:
+                m = pattern.match(entry.name)
+                if m and not _writer_alive(m.group(1), int(m.group(2)), Path(entry.path)):
+                    found[m.group(4)].append(Path(entry.path))
+    except OSError:
+        return
+    try:
+        for path in found["writing"]:
+            _remove(path)
+        for state in ("new", "old"):  # a complete new result first, else the old one
+            for path in sorted(found[state], key=lambda p: p.lstat().st_mtime, reverse=True):
+                if not os.path.lexists(folder) and path.is_dir() and not path.is_symlink():
+                    os.rename(path, folder)
+                else:
+                    _remove(path)
+        if folder.is_dir() and not folder.is_symlink():
+            with os.scandir(folder) as it:
+                for entry in it:
+                    if _LEGACY_TMP.match(entry.name) and entry.is_file(follow_symlinks=False):
+                        os.unlink(entry.path)
+    except OSError:
+        pass
+
+
+def _check_replaceable(folder: Path) -> None:
+    """Refuse to replace a folder holding anything but a result and what was derived from it."""
+    if not os.path.lexists(folder):
+        return
+    if folder.is_symlink() or not folder.is_dir():
+        raise OutputFolderError(f"result folder {str(folder)!r} exists and is not a folder: not replacing it")
+    keep = set(RESULT_FILES) | set(DERIVED_ENTRIES)
+    extras = sorted(n for n in os.listdir(folder) if n not in keep)
+    if extras:
+        raise OutputFolderError(
+            f"result folder {str(folder)!r} holds {extras[0]!r}{f' and {len(extras) - 1} more' if len(extras) > 1 else ''}, "
+            f"which is not part of a tb_exudyn result: not replacing the folder (move it away or save elsewhere)")
+
+
+def _write_file(path: Path, write: Callable[[BinaryIO], object]) -> None:
+    """Create ``path`` (it must not exist), fill it with ``write(file)`` and flush it to disk."""
+    with open(path, "xb") as fh:
+        write(fh)
+        fh.flush()
+        os.fsync(fh.fileno())
+
+
+def save_result_folder(folder: str | Path, arrays: Mapping[str, np.ndarray], meta: Mapping[str, Any]) -> Path:
+    """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all.
+
+    An existing result folder is replaced (with its figures and report, which belong to the old
+    result); a folder holding anything else is refused (OutputFolderError). A symbolic link to a
+    folder is followed (the folder it points to is replaced). Returns ``folder``.
+    """
+    _refuse_objects(arrays)
+    text = _json_text(meta).encode("utf-8")  # fails on unstorable metadata before anything is written
+    given = Path(folder)
+    folder = Path(os.path.realpath(given))
+    parent, name = folder.parent, folder.name
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFolderError(f"output folder {str(parent)!r} cannot be created: {exc.strerror or exc}") from None
+    recover_folder(folder)
+    _check_replaceable(folder)
+    stem = f".{name}.tb-{_host_tag()}-{os.getpid()}-{secrets.token_hex(4)}"
+    writing, ready, old = parent / f"{stem}.writing", parent / f"{stem}.new", parent / f"{stem}.old"
+    moved_old = False
+    try:
+        os.mkdir(writing)
+        _write_file(writing / "arrays.npz", lambda fh: np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()}))
+        _write_file(writing / "meta.json", lambda fh: fh.write(text))
+        _fsync_dir(writing)
+        os.rename(writing, ready)  # complete from here on: recover_folder may put it in place
+        if os.path.lexists(folder):
+            os.rename(folder, old)
+            moved_old = True
+        os.rename(ready, folder)
+        _fsync_dir(parent)
+    except BaseException:
+        for path in (writing, ready):
+            _remove(path)
+        if moved_old and not os.path.lexists(folder):
+            os.rename(old, folder)
+        raise
+    if moved_old:
+        _remove(old)
+    return given
+
+
+# ============================================================================================ reading
+def _error(path: Path | str, what: str) -> ResultsError:
+    return ResultsError(f"{path}: {what}")
+
+
+def load_json(path: str | Path, *, max_bytes: int = MAX_JSON_BYTES, max_depth: int = MAX_JSON_DEPTH) -> dict[str, Any]:
+    """A JSON object from a regular file (no symbolic link) of at most ``max_bytes``, nested at most
+    ``max_depth`` deep. ResultsError naming the file otherwise."""
+    path = Path(path)
+    try:
+        text = decode_utf8(read_regular(path, max_bytes=max_bytes, follow_symlinks=False))
+    except FileNotFoundError:
+        raise _error(path, "file not found") from None
+    except FileRefused as exc:
+        raise _error(path, str(exc)) from None
+    try:
+        data = json.loads(text)
+    except RecursionError:
+        raise _error(path, f"JSON nested more than {max_depth} deep") from None
+    except ValueError as exc:
+        raise _error(path, f"not valid JSON ({exc})") from None
+    depth = json_depth(data)
+    if depth > max_depth:
+        raise _error(path, f"JSON nested {depth} deep, more than the {max_depth} allowed")
+    if not isinstance(data, dict):
+        raise _error(path, f"holds a JSON {type(data).__name__}, expected an object")
+    return data
+
+
+def json_depth(value: Any) -> int:
+    """Nesting depth of parsed JSON (a scalar is 0, ``[]`` is 1), without recursion."""
+    depth, stack = 0, [(value, 1)]
+    while stack:
+        item, level = stack.pop()
+        if isinstance(item, dict):
+            depth = max(depth, level)
+            stack.extend((v, level + 1) for v in item.values())
+        elif isinstance(item, list):
+            depth = max(depth, level)
+            stack.extend((v, level + 1) for v in item)
+    return depth
+
+
+@dataclass(frozen=True)
+class ArrayHeader:
+    """What an npz member declares: dtype, shape, memory order, and where its data starts."""
+
+    name: str
+    dtype: np.dtype
+    shape: tuple[int, ...]
+    fortran_order: bool
+    data_offset: int
+
+    @property
+    def nbytes(self) -> int:
+        return math.prod(self.shape) * self.dtype.itemsize
+
+
+class NpzFile:
+    """An npz file opened for defensive reading (a context manager).
+
+    On opening, the file must be a regular file (no symbolic link), a zip whose members are
+    uncompressed ``<name>.npy`` arrays of a plain numeric or fixed-width string dtype (no objects,
+    no records) whose declared shape and dtype account exactly for the member's size. ``headers`` then holds every
+    member's :class:`ArrayHeader`; :meth:`read` allocates and reads one array (its CRC checked).
+    """
+
+    def __init__(self, path: str | Path) -> None:
+        self.path = Path(path)
+        try:
+            self._fh: BinaryIO = open_regular(self.path, max_bytes=None, follow_symlinks=False)
+        except FileNotFoundError:
+            raise _error(self.path, "file not found") from None
+        except FileRefused as exc:
+            raise _error(self.path, str(exc)) from None
+        try:
+            size = os.fstat(self._fh.fileno()).st_size
+            try:
+                self._zip = zipfile.ZipFile(self._fh)
+            except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError) as exc:
+                raise _error(self.path, f"not an npz (zip) file ({exc})") from None
+            infos = self._zip.infolist()
+            if len(infos) > MAX_NPZ_MEMBERS:
+                raise _error(self.path, f"holds {len(infos)} members, more than the {MAX_NPZ_MEMBERS} allowed")
+            self.headers: dict[str, ArrayHeader] = {}
+            for info in infos:
+                header = self._header(info, size)
+                if header.name in self.headers:
+                    raise _error(self.path, f"holds the array {header.name!r} twice")
+                self.headers[header.name] = header
+        except BaseException:
+            self._fh.close()
+            raise
+
+    def _header(self, info: zipfile.ZipInfo, size: int) -> ArrayHeader:
+        if not _MEMBER.match(info.filename):
+            raise _error(self.path, f"member {info.filename[:80]!r} is not an array of a plain name (NAME.npy)")
+        name = info.filename[:-4]
+        if info.compress_type != zipfile.ZIP_STORED:
+            raise _error(self.path, f"array {name!r} is compressed; result files hold uncompressed arrays "
+                                    "(numpy.savez, not savez_compressed)")
+        if info.file_size > size or info.compress_size != info.file_size:
+            raise _error(self.path, f"array {name!r} declares {info.file_size} bytes, more than the file holds")
+        try:
+            with self._zip.open(info) as m:
+                version = np.lib.format.read_magic(m)
+                if version == (1, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_1_0(m)
+                elif version == (2, 0):
+                    shape, fortran, dtype = np.lib.format.read_array_header_2_0(m)
+                else:
+                    raise ValueError(f"npy format version {version} (1.0 or 2.0 expected)")
+                offset = m.tell()
+        except (ValueError, OSError, EOFError, zipfile.BadZipFile, SyntaxError, TypeError) as exc:
+            raise _error(self.path, f"array {name!r} is damaged or not an npy array ({exc})") from None
+        dtype = np.dtype(dtype)
+        if dtype.hasobject:
+            raise _error(self.path, f"array {name!r} holds Python objects (dtype {dtype}): refused, never unpickled")
+        if dtype.fields is not None or dtype.subdtype is not None or dtype.kind not in "biufcSU":
+            raise _error(self.path, f"array {name!r} has dtype {dtype}: only plain numbers and strings are read")
+        if not all(isinstance(d, int) and d >= 0 for d in shape):
+            raise _error(self.path, f"array {name!r} declares the shape {shape!r}")
+        header = ArrayHeader(name, dtype, tuple(shape), bool(fortran), offset)
+        if offset + header.nbytes != info.file_size:
+            raise _error(self.path, f"array {name!r} declares shape {header.shape} of {dtype} ({header.nbytes} bytes) "
+                                    f"but the file holds {info.file_size - offset} bytes of data for it")
+        return header
+
+    def read(self, name: str) -> np.ndarray:
+        """Read one array (its header already checked); ResultsError if its data are damaged."""
+        h = self.headers[name]
+        shape = h.shape[::-1] if h.fortran_order else h.shape
+        out = np.empty(shape, dtype=h.dtype)
+        view = memoryview(out.reshape(-1)).cast("B") if out.size else memoryview(bytearray(0))
+        try:
+            with self._zip.open(f"{name}.npy") as m:
+                m.read(h.data_offset)
+                pos, chunk = 0, 16 * MIB
+                while pos < h.nbytes:
+                    piece = m.read(min(chunk, h.nbytes - pos))
+                    if not piece:
+                        break
+                    view[pos:pos + len(piece)] = piece
+                    pos += len(piece)
+                rest = m.read(1)  # reaching the end checks the CRC
+        except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
+            raise _error(self.path, f"array {name!r} is damaged ({exc})") from None
+        if pos != h.nbytes or rest:
+            raise _error(self.path, f"array {name!r} holds {pos} bytes of data, its header declares {h.nbytes}")
+        return out.T if h.fortran_order else out
+
+    def read_all(self) -> dict[str, np.ndarray]:
+        return {name: self.read(name) for name in self.headers}
+
+    def close(self) -> None:
+        self._zip.close()
+        self._fh.close()
+
+    def __enter__(self) -> "NpzFile":
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def load_npz(path: str | Path) -> dict[str, np.ndarray]:
+    """Every array of an npz file, read defensively (see :class:`NpzFile`; never unpickles)."""
+    with NpzFile(path) as npz:
+        return npz.read_all()
+
+
+@dataclass(frozen=True)
+class Member:
+    """What a result format expects of one npz member: dims (ints, or names bound on first use),
+    whether it must be present, and whether its values must all be finite."""
+
+    dims: tuple[int | str, ...]
+    required: bool = True
+    finite: bool = True
+
+
+def check_members(npz: NpzFile, spec: Mapping[str, Member], sizes: dict[str, int], meaning: Mapping[str, str]) -> None:
+    """Check the npz headers against a format's members before any data is read.
+
+    ``sizes`` binds dimension names already known from the metadata (e.g. ``nc``: the number of
+    channels); a name not yet bound is bound by the first member that uses it, in ``spec`` order.
+    ``meaning`` says where each name comes from, for the message. ResultsError naming the file,
+    the array, its shape and the expected one.
+    """
+    unknown = sorted(set(npz.headers) - set(spec))
+    if unknown:
+        raise _error(npz.path, f"holds an unexpected array {unknown[0]!r} (expected {', '.join(spec)})")
+    for name, member in spec.items():
+        h = npz.headers.get(name)
+        if h is None:
+            if member.required:
+                raise _error(npz.path, f"has no array {name!r}")
+            continue
+        if h.dtype.kind != "f":
+            raise _error(npz.path, f"array {name!r} has dtype {h.dtype}, expected floating point numbers")
+        if len(h.shape) != len(member.dims):
+            raise _error(npz.path, f"array {name!r} has shape {h.shape}, expected {len(member.dims)} dimensions "
+                                   f"({', '.join(_dim_text(d, meaning) for d in member.dims)})")
+        for axis, (dim, n) in enumerate(zip(member.dims, h.shape)):
+            want = dim if isinstance(dim, int) else sizes.setdefault(dim, n)
+            if n != want:
+                raise _error(npz.path, f"array {name!r} has shape {h.shape}: axis {axis} should be {want} "
+                                       f"({_dim_text(dim, meaning)})")
+
+
+def _dim_text(dim: int | str, meaning: Mapping[str, str]) -> str:
+    return str(dim) if isinstance(dim, int) else meaning.get(dim, dim)
+
+
+def check_values(path: Path, arrays: Mapping[str, np.ndarray], spec: Mapping[str, Member]) -> None:
+    """Values that must be finite are finite (after reading)."""
+    for name, member in spec.items():
+        a = arrays.get(name)
+        if a is not None and member.finite and not np.all(np.isfinite(a)):
+            bad = int(np.size(a) - np.count_nonzero(np.isfinite(a)))
+            raise _error(path, f"array {name!r} holds {bad} non-finite value(s) (NaN or inf)")
+
+
+def check_increasing(path: Path, arrays: Mapping[str, np.ndarray], names: Sequence[str]) -> None:
+    """The 1-D arrays ``names`` (those present) are strictly increasing (times, frequencies)."""
+    for name in names:
+        a = arrays.get(name)
+        if a is not None and a.size > 1 and not np.all(np.diff(a) > 0):
+            i = int(np.argmax(~(np.diff(a) > 0)))
+            raise _error(path, f"array {name!r} is not increasing (element {i + 1} = {float(a[i + 1])!r} after "
+                               f"{float(a[i])!r})")
+
+
+# ============================================================================================ folders
+def open_result_folder(folder: str | Path) -> Path:
+    """Check a result folder before reading it: it exists, is a folder, and holds no symbolic links
+    (its figures folder included); leftovers of killed writes are resolved first. Returns it."""
+    folder = Path(folder)
+    if str(folder) == "":
+        raise ResultsError("results folder '': empty path (give a folder)")
+    recover_folder(Path(os.path.realpath(folder)))
+    if not folder.exists():
+        raise _error(folder, "no such results folder")
+    if not folder.is_dir():
+        raise _error(folder, "not a folder (a results folder holds meta.json and arrays.npz)")
+    try:
+        with os.scandir(folder) as it:
+            for entry in it:
+                if entry.is_symlink():
+                    raise _error(Path(entry.path), f"is a symbolic link (to {os.readlink(entry.path)!r}): a results "
+                                                   "folder holds only its own files and folders")
+    except OSError as exc:
+        raise _error(folder, f"cannot be read ({exc.strerror or exc})") from None
+    return folder
+
+
+def _where(path: Path, key: str, value: Any, allowed: str, reason: str) -> ResultsError:
+    return ResultsError(format_message(str(path), key, value, allowed, reason))
+
+
+def _get(meta: Mapping[str, Any], key: str, path: Path, allowed: str) -> Any:
+    if key not in meta:
+        raise _where(path, key, "<missing>", allowed, "missing key")
+    return meta[key]
+
+
+def meta_str(meta: Mapping[str, Any], key: str, path: Path, choices: Sequence[str] | None = None,
+             optional: bool = False) -> str | None:
+    """A string value of ``meta`` (one of ``choices`` if given; None allowed if ``optional``)."""
+    allowed = ("one of " + ", ".join(map(repr, choices))) if choices else "a string"
+    if optional and meta.get(key) is None:
+        return None
+    value = _get(meta, key, path, allowed)
+    if not isinstance(value, str) or (choices is not None and value not in choices):
+        raise _where(path, key, value, allowed, "wrong type" if not isinstance(value, str) else "unknown value")
+    return value
+
+
+def meta_str_list(meta: Mapping[str, Any], key: str, path: Path, length: int | None = None,
+                  check: Callable[[str], bool] | None = None, rule: str = "strings",
+                  unique: bool = False) -> list[str]:
+    """A list of strings (of ``length`` items, each passing ``check``, all different if ``unique``)."""
+    allowed = f"a list of {length if length is not None else ''} {rule}".replace("  ", " ")
+    value = _get(meta, key, path, allowed)
+    if not isinstance(value, list):
+        raise _where(path, key, value, allowed, "wrong type")
+    if length is not None and len(value) != length:
+        raise _where(path, key, value, allowed, f"{len(value)} items, not {length}")
+    for i, item in enumerate(value):
+        if not isinstance(item, str) or (check is not None and not check(item)):
+            raise _where(path, f"{key}[{i}]", item, rule, "wrong type" if not isinstance(item, str) else "bad name")
+    if unique and len(set(value)) != len(value):
+        dup = next(v for i, v in enumerate(value) if v in value[:i])
+        raise _where(path, key, dup, f"different {rule}", "repeated")
+    return value
+
+
+def meta_int(meta: Mapping[str, Any], key: str, path: Path, low: int = 0) -> int:
+    allowed = f"an integer >= {low}"
+    value = _get(meta, key, path, allowed)
+    if isinstance(value, bool) or not isinstance(value, int) or value < low:
+        raise _where(path, key, value, allowed, "bad value")
+    return value
+
+
+def meta_band(meta: Mapping[str, Any], key: str, path: Path) -> tuple[float, float]:
+    """A frequency band [f_low, f_high] [Hz] with 0 <= f_low < f_high < inf."""
+    allowed = "[f_low, f_high] in Hz with 0 <= f_low < f_high, finite"
+    value = _get(meta, key, path, allowed)
+    ok = (isinstance(value, list) and len(value) == 2
+          and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
+          and 0 <= value[0] < value[1])
+    if not ok:
+        raise _where(path, key, value, allowed, "bad value")
+    return float(value[0]), float(value[1])
+
+
+def meta_dict(meta: Mapping[str, Any], key: str, path: Path, optional: bool = False) -> dict[str, Any]:
+    if optional and key not in meta:
+        return {}
+    value = _get(meta, key, path, "a JSON object")
+    if not isinstance(value, dict):
+        raise _where(path, key, value, "a JSON object", "wrong type")
+    return value
+
+
+_UNIT = re.compile(r"[A-Za-z0-9_/^*.()+\- ]{0,32}\Z")
+UNIT_RULE = "units such as m, m/s^2, rad/s, N (at most 32 of A-Z a-z 0-9 _ / ^ * . ( ) + - and space)"
+
+
+def meta_channels(meta: Mapping[str, Any], path: Path) -> tuple[list[str], list[str]]:
+    """Channel names (the naming rule of :mod:`tb_exudyn.system.channels`, all different) and their units."""
+    from ..system.channels import CHANNEL_NAME_RULE, is_channel_name
+
+    names = meta_str_list(meta, "channels", path, check=is_channel_name, rule=f"channel names: {CHANNEL_NAME_RULE}",
+                          unique=True)
+    units = meta_str_list(meta, "units", path, length=len(names), check=lambda u: _UNIT.match(u) is not None,
+                          rule=UNIT_RULE)
+    return names, units
+
+
+def meta_scenario(meta: Mapping[str, Any], path: Path, optional: bool = False) -> Any:
+    """The scenario stored as TOML text under ``scenario_toml`` (None if absent and ``optional``)."""
+    import tomllib
+
+    from ..scenario import ScenarioError, scenario_from_dict
+
+    text = meta_str(meta, "scenario_toml", path, optional=optional)
+    if text is None:
+        return None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise _where(path, "scenario_toml", text, "the scenario as TOML text", f"not valid TOML ({exc})") from None
+    except RecursionError:
+        raise _where(path, "scenario_toml", text, "the scenario as TOML text", "nested too deeply") from None
+    try:
+        return scenario_from_dict(data, str(path), resolve_names=False)
+    except ScenarioError as exc:
+        raise ResultsError(f"{exc} [in scenario_toml]") from None
+    except RecursionError:
+        raise _where(path, "scenario_toml", text, "the scenario as TOML text", "nested too deeply") from None
 
 
 def check_writable(folder: str | Path) -> Path:
@@ -69,3 +622,13 @@ def check_writable(folder: str | Path) -> Path:
     except OSError as exc:
         raise OutputFolderError(f"output folder {str(folder)!r} is not writable: {exc.strerror or exc}") from None
     return folder
+
+
+def iter_leftovers(folder: str | Path) -> Iterator[Path]:
+    """Leftovers of writes of ``folder`` that are still there (for tests and diagnostics)."""
+    folder = Path(folder)
+    pattern = _leftover_pattern(folder.name)
+    if folder.parent.is_dir():
+        yield from (p for p in folder.parent.iterdir() if pattern.match(p.name))
+    if folder.is_dir() and not folder.is_symlink():
+        yield from (p for p in folder.iterdir() if _LEGACY_TMP.match(p.name))

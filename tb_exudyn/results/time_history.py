@@ -1,14 +1,13 @@
 """TimeHistory: the channels of one run over time (a deterministic run, or one sample).
 
-Saved as a folder holding ``arrays.npz`` (time and a (n_channels, n_t) value matrix, read with
-allow_pickle=False) and ``meta.json`` (channel names and units, provenance, the scenario as TOML),
-both written atomically (temporary file, then rename).
+Saved as a folder holding ``arrays.npz`` (time and a (n_channels, n_t) value matrix, never
+unpickled) and ``meta.json`` (channel names and units, provenance, the scenario as TOML), the folder
+written whole or not at all and read defensively (:mod:`.storage`).
 """
 
 from __future__ import annotations
 
 import fnmatch
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -16,10 +15,14 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from ..scenario import Scenario, scenario_from_dict, scenario_to_toml
-from .storage import load_json, load_npz, save_json_atomic, save_npz_atomic
+from ..scenario import Scenario, scenario_to_toml
+from .storage import (Member, NpzFile, check_increasing, check_members, check_values, load_json, meta_channels, meta_dict,
+                      meta_scenario, meta_str, open_result_folder, save_result_folder)
 
 FORMAT = "tb_exudyn.time_history/1"
+#: the arrays of arrays.npz: nt output times, nc channels (the channels of meta.json)
+ARRAYS = {"time": Member(("nt",)), "values": Member(("nc", "nt"))}
+_MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -78,11 +81,10 @@ class TimeHistory:
 
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
-        """Write ``arrays.npz`` and ``meta.json`` into ``folder`` (atomically, arrays first)."""
-        folder = Path(folder)
+        """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
+        (an older result there is replaced; see :func:`.storage.save_result_folder`)."""
         names = list(self.channels)
         values = np.array([self.channels[n] for n in names], dtype=float).reshape(len(names), np.size(self.time))
-        save_npz_atomic(folder / "arrays.npz", {"time": np.asarray(self.time, dtype=float), "values": values})
         meta = {
             "format": FORMAT,
             "channels": names,
@@ -90,27 +92,33 @@ class TimeHistory:
             "provenance": self.provenance,
             "scenario_toml": None if self.scenario is None else scenario_to_toml(self.scenario),
         }
-        save_json_atomic(folder / "meta.json", meta)
-        return folder
+        return save_result_folder(folder, {"time": np.asarray(self.time, dtype=float), "values": values}, meta)
 
 
 def load_time_history(folder: str | Path) -> TimeHistory:
-    """Read a TimeHistory written by :meth:`TimeHistory.save`."""
-    folder = Path(folder)
-    meta = load_json(folder / "meta.json")
-    if meta.get("format") != FORMAT:
-        raise ValueError(f"{folder}: not a tb_exudyn time history (format {meta.get('format')!r})")
-    arrays = load_npz(folder / "arrays.npz")
-    names = list(meta["channels"])
+    """Read a TimeHistory written by :meth:`TimeHistory.save`, checking everything before use.
+
+    Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
+    folder: see :mod:`.storage`; channel names must follow the naming rule and be all different,
+    one unit per channel, the arrays' shapes must match the channels and each other, values finite.
+    """
+    folder = open_result_folder(folder)
+    path = folder / "meta.json"
+    meta = load_json(path)
+    meta_str(meta, "format", path, choices=(FORMAT,))
+    names, units = meta_channels(meta, path)
+    provenance = meta_dict(meta, "provenance", path, optional=True)
+    scenario = meta_scenario(meta, path, optional=True)
+    with NpzFile(folder / "arrays.npz") as npz:
+        check_members(npz, ARRAYS, {"nc": len(names)}, _MEANING)
+        arrays = npz.read_all()
+    check_values(npz.path, arrays, ARRAYS)
+    check_increasing(npz.path, arrays, ("time",))
     values = arrays["values"]
-    if values.shape != (len(names), arrays["time"].size):
-        raise ValueError(f"{folder}: arrays.npz holds {values.shape} values for {len(names)} channels")
-    toml_text = meta.get("scenario_toml")
-    scenario = None if toml_text is None else scenario_from_dict(tomllib.loads(toml_text), f"{folder}/meta.json")
     return TimeHistory(
         time=arrays["time"],
         channels={n: values[i] for i, n in enumerate(names)},
-        units=dict(zip(names, meta["units"])),
+        units=dict(zip(names, units)),
         scenario=scenario,
-        provenance=dict(meta.get("provenance", {})),
+        provenance=dict(provenance),
     )

@@ -14,7 +14,7 @@ from typing import Any
 from . import model as m
 from .errors import ScenarioError
 from .registry import model_path
-from .schema import Context, convert, to_dict
+from .schema import Context, convert, set_source_file, to_dict
 from .toml_io import dumps_toml, read_toml, write_text_atomic
 
 
@@ -47,9 +47,13 @@ def _resolve_path(path_or_name: str | Path, category: str) -> Path:
     return model_path(category, str(path_or_name), None, category)
 
 
-def scenario_from_dict(data: dict, file: str | None = None) -> m.Scenario:
-    """Build and validate a Scenario from a plain dict (the TOML table)."""
-    return convert(m.Scenario, data, Context(file, "", _resolver))
+def scenario_from_dict(data: dict, file: str | None = None, resolve_names: bool = True) -> m.Scenario:
+    """Build and validate a Scenario from a plain dict (the TOML table); ``file`` names where it was
+    read from, in error messages now and later (``Scenario.source_file``, ``Scenario.where``).
+    With ``resolve_names=False`` vehicles and bridges must be given inline (no model names or
+    paths are looked up: for scenarios stored in result files)."""
+    ctx = Context(file, "", _resolver if resolve_names else None)
+    return set_source_file(convert(m.Scenario, data, ctx), file)
 
 
 def load_scenario(path_or_name: str | Path) -> m.Scenario:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace, source_file
 
 KMH = 1.0 / 3.6  # m/s per km/h
 
@@ -555,6 +555,18 @@ class Scenario(_Replaceable):
     description: str = param("", doc="one line for listings")
     source: str = param("", doc="citation of the study")
     notes: str = param("", doc="remarks")
+
+    @property
+    def source_file(self) -> str | None:
+        """The file this scenario was read from (None when it was built in Python). Not part of the
+        scenario's value: not compared, not saved, kept by ``replace``."""
+        return source_file(self)
+
+    @property
+    def where(self) -> str:
+        """Where the scenario came from, the first part of an error message about it: its file, or
+        ``scenario 'NAME'`` for one built in Python."""
+        return self.source_file or f"scenario {self.name!r}"
 
     @property
     def speed(self) -> float:

@@ -11,6 +11,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..errors import SettingError
 from .errors import ScenarioError
 from .toml_io import read_toml
 
@@ -18,18 +19,27 @@ CATEGORIES = ("vehicles", "bridges", "scenarios", "limits")
 
 
 def models_dir() -> Path:
-    """The folder holding vehicles/, bridges/, scenarios/ and limits/."""
+    """The folder holding vehicles/, bridges/, scenarios/ and limits/.
+
+    Raises SettingError (key ``TB_EXUDYN_MODELS``) when the environment variable names no such
+    folder, or when it is unset and the package's own folder is missing.
+    """
+    allowed = "a folder holding vehicles/, bridges/ and scenarios/ (tb_exudyn's models/ folder)"
     env = os.environ.get("TB_EXUDYN_MODELS")
     if env:
-        return Path(env)
+        path = Path(env)
+        if not path.is_dir():
+            reason = "not a folder" if path.exists() else "no such folder"
+            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, reason)
+        if not (path / "scenarios").is_dir():
+            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, "the folder holds no scenarios/")
+        return path
     package = Path(__file__).resolve().parent.parent
     for candidate in (package / "models", package.parent / "models"):
         if (candidate / "scenarios").is_dir():
             return candidate
-    raise FileNotFoundError(
-        "tb_exudyn's models/ folder was not found (looked in the package and next to it); "
-        "set TB_EXUDYN_MODELS to its path"
-    )
+    raise SettingError("environment", "TB_EXUDYN_MODELS", None, allowed,
+                       "unset, and tb_exudyn's models/ folder was not found in the package or next to it")
 
 
 def model_files(category: str) -> dict[str, Path]:

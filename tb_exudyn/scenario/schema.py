@@ -246,8 +246,28 @@ def describe_fields(cls: type) -> list[tuple[str, str, str, str]]:
 
 
 def replace(obj: Any, **changes: Any) -> Any:
-    """A modified copy, validated again on construction (``dataclasses.replace``)."""
-    return dataclasses.replace(obj, **changes)
+    """A modified copy, validated again on construction (``dataclasses.replace``); the file the
+    object was read from (:func:`set_source_file`) is kept."""
+    new = dataclasses.replace(obj, **changes)
+    if SOURCE_FILE in obj.__dict__:
+        object.__setattr__(new, SOURCE_FILE, obj.__dict__[SOURCE_FILE])
+    return new
+
+
+#: attribute (not a dataclass field: not compared, not saved) holding the file an object was read from
+SOURCE_FILE = "_source_file"
+
+
+def set_source_file(obj: Any, file: str | None) -> Any:
+    """Remember on a (frozen) schema object the file it was read from; returns ``obj``."""
+    if file is not None:
+        object.__setattr__(obj, SOURCE_FILE, str(file))
+    return obj
+
+
+def source_file(obj: Any) -> str | None:
+    """The file a schema object was read from (:func:`set_source_file`), or None."""
+    return obj.__dict__.get(SOURCE_FILE)
 
 
 class Validated:

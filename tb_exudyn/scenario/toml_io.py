@@ -8,18 +8,31 @@ from pathlib import Path
 from typing import Any
 
 from ..atomic import write_text_atomic  # noqa: F401  (re-exported for scenario.io)
+from ..files import MIB, FileRefused, read_text
 from .errors import ScenarioError
 
 
+#: largest scenario, vehicle or bridge file read [bytes] (a resolved scenario is a few kB)
+MAX_TOML_BYTES = 4 * MIB
+
+
 def read_toml(path: Path) -> dict:
-    """Parse a TOML file; a missing file or a syntax error becomes a ScenarioError naming the file."""
+    """Parse a TOML file; a missing, unreadable, non-regular (FIFO, device, directory), oversized,
+    non-UTF-8 or malformed file becomes a ScenarioError naming the file."""
+    allowed = f"a regular UTF-8 TOML file of at most {MAX_TOML_BYTES // MIB} MiB"
     try:
-        with open(path, "rb") as fh:
-            return tomllib.load(fh)
+        text = read_text(path, max_bytes=MAX_TOML_BYTES, follow_symlinks=True)
     except FileNotFoundError:
         raise ScenarioError(str(path), "<file>", str(path), "an existing TOML file", "file not found") from None
+    except FileRefused as exc:
+        raise ScenarioError(str(path), "<file>", str(path), allowed, str(exc)) from None
+    try:
+        return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(str(path), "<file>", str(exc), "valid TOML (https://toml.io)", "syntax error") from None
+    except RecursionError:
+        raise ScenarioError(str(path), "<file>", str(path), "valid TOML nested a few levels deep",
+                            "nested too deeply") from None
 
 
 def _scalar(value: Any) -> str:

@@ -24,6 +24,7 @@ wheelset toward +y (left); the rail receives the opposite force.
 from __future__ import annotations
 
 import fnmatch
+import re
 from dataclasses import dataclass
 from typing import Callable, Iterable, Sequence
 
@@ -33,6 +34,9 @@ from numpy.typing import NDArray
 from ..scenario.errors import ScenarioError
 
 QUANTITIES: tuple[str, ...] = ("disp", "vel", "acc")
+#: the rule every channel name follows (what :func:`is_channel_name` checks)
+CHANNEL_NAME_RULE = "dot-separated segments of A-Z, a-z, 0-9 and '_', at most 200 characters (e.g. bridge.span1.mid.acc_z)"
+_CHANNEL_NAME = re.compile(r"[A-Za-z0-9_]+(?:\.[A-Za-z0-9_]+)*\Z")
 _UNITS = {
     True: ("m", "m/s", "m/s^2"),  # translation
     False: ("rad", "rad/s", "rad/s^2"),  # rotation
@@ -56,6 +60,12 @@ class Channel:
     index: int
     coordinate: int = 0
     order: int = 0
+
+
+def is_channel_name(name: object) -> bool:
+    """Whether ``name`` follows :data:`CHANNEL_NAME_RULE` (so it is also a safe file-name part: no
+    '/', no '..', no leading dot, nothing outside ASCII letters, digits, '_' and '.')."""
+    return isinstance(name, str) and len(name) <= 200 and _CHANNEL_NAME.match(name) is not None
 
 
 def _motion_channels(prefix: str, source: str, index: int, components: Iterable[tuple[str, int]]) -> list[Channel]:
@@ -101,10 +111,11 @@ def _vehicle_order(channels: list[Channel]) -> list[Channel]:
     return sorted(channels, key=key)
 
 
-def select(channels: Sequence[Channel], patterns: Sequence[str]) -> list[Channel]:
+def select(channels: Sequence[Channel], patterns: Sequence[str], file: str | None = None) -> list[Channel]:
     """The channels whose names match any of the glob ``patterns`` (in catalogue order).
 
-    Raises ScenarioError (key ``analysis.channels``) naming the pattern when it matches no channel.
+    Raises ScenarioError (key ``analysis.channels``, in ``file``: the scenario's file or label) naming
+    the pattern when it matches no channel.
     """
     names = [c.name for c in channels]
     keep = set()
@@ -112,7 +123,7 @@ def select(channels: Sequence[Channel], patterns: Sequence[str]) -> list[Channel
         hits = fnmatch.filter(names, pattern)
         if not hits:
             sample = ", ".join(names[:6]) + (", ..." if len(names) > 6 else "")
-            raise ScenarioError(None, f"analysis.channels[{i}]", pattern,
+            raise ScenarioError(file, f"analysis.channels[{i}]", pattern,
                                 f"glob patterns of this model's channels, e.g. {sample}", "matches no channel")
         keep.update(hits)
     return [c for c in channels if c.name in keep]

@@ -21,6 +21,8 @@ from typing import Callable, Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..errors import UserError
+
 HALF_RAIL_DISTANCE = 0.75
 """b [m]: half the distance between the rail centres (cross-level angle <-> height difference)."""
 
@@ -29,8 +31,9 @@ UNITS = ("m", "rad")
 TWO_PI = 2.0 * math.pi
 
 
-class SpectrumError(ValueError):
-    """Bad spectrum name, bad band, band outside validity, or malformed spectrum table."""
+class SpectrumError(UserError, ValueError):
+    """Bad spectrum name, bad band, band outside validity, or malformed spectrum table (a user
+    error: one line naming the file or the spectrum; the CLI exits 2 on it)."""
 
 
 def band_from_wavelengths(lmin: float, lmax: float) -> tuple[float, float]:

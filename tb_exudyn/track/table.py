@@ -13,9 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
+from ..files import MIB, FileRefused, read_text
 from .spectra import KINDS, UNITS, SpectrumError, TableSpectrum
 
 X_COLUMNS = ("wavelength", "spatial_frequency")
+#: largest spectrum table read [bytes]
+MAX_TABLE_BYTES = 16 * MIB
 
 
 def _parse_rows(path: Path, lines: list[str]) -> tuple[list[str], list[tuple[int, list[str]]]]:
@@ -65,8 +68,9 @@ def user_table_spectrum(path: str | Path, kind: str, unit: str, x_column: str = 
 
     Raises
     ------
-    SpectrumError naming the file (and line) for a missing file, missing column, wrong field count,
-    non-numeric or non-positive value, duplicate abscissa, or fewer than two rows.
+    SpectrumError naming the file (and line) for a missing, non-regular (FIFO, device), oversized or
+    non-UTF-8 file, missing column, wrong field count, non-numeric, non-finite or non-positive value,
+    duplicate abscissa, or fewer than two rows.
     """
     path = Path(path)
     if x_column not in X_COLUMNS:
@@ -74,9 +78,11 @@ def user_table_spectrum(path: str | Path, kind: str, unit: str, x_column: str = 
     if kind not in KINDS or unit not in UNITS:
         raise SpectrumError(f"{path}: kind must be one of {KINDS} and unit one of {UNITS}, got {kind!r}, {unit!r}")
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
-    except OSError as exc:
-        raise SpectrumError(f"{path}: cannot read spectrum table ({exc.strerror})") from None
+        lines = read_text(path, max_bytes=MAX_TABLE_BYTES, follow_symlinks=True).splitlines()
+    except FileNotFoundError:
+        raise SpectrumError(f"{path}: cannot read spectrum table (file not found)") from None
+    except FileRefused as exc:
+        raise SpectrumError(f"{path}: cannot read spectrum table: it {exc}") from None
     header, rows = _parse_rows(path, lines)
     for col in (x_column, psd_column):
         if col not in header:

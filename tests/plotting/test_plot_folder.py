@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 
+from tb_exudyn.errors import ResultsError
 from tb_exudyn.plotting import plot_folder, save_figure, plot_bounds
 
 
@@ -42,7 +43,7 @@ def test_plot_folder_of_several_results_compares_pem_and_mc(tmp_path, pem, mc, t
 
 
 def test_plot_folder_errors(tmp_path, pem):
-    with pytest.raises(FileNotFoundError, match="no tb_exudyn result"):
+    with pytest.raises(ResultsError, match="no tb_exudyn result"):
         plot_folder(tmp_path)
     with pytest.raises(ValueError, match="cannot write figures as 'docx'"):
         save_figure(plot_bounds(pem, "car1.body.acc_y"), tmp_path / "x.docx")

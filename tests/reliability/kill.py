@@ -1,0 +1,80 @@
+"""A process SIGKILLed while it saves a large result over an older one (shared by the tests and by
+measure.py): afterwards the folder must load as the old result or as the new one, never a mix.
+
+The child saves a TimeHistory of 40 channels x 250 000 steps (80 MB) whose values are all equal to
+``value`` and whose provenance says ``tag`` (and carries 300 000 numbers, so that writing meta.json
+takes a while too). ``outcome`` reads a folder back: "old" (tag old, every value 1), "new" (tag
+new, every value 2), "mix" (anything else that loads), or the error line when it does not load.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+CHILD = """
+import sys
+import numpy as np
+from tb_exudyn.results import TimeHistory
+folder, tag, value = sys.argv[1], sys.argv[2], float(sys.argv[3])
+nc, nt = 40, 250_000
+names = [f"bridge.c{i}.disp_z" for i in range(nc)]
+th = TimeHistory(time=np.arange(nt) * 1e-3, channels={n: np.full(nt, value) for n in names},
+                 units={n: "m" for n in names}, provenance={"tag": tag, "pad": list(range(300_000))})
+print("ready", flush=True)
+th.save(folder)
+print("saved", flush=True)
+"""
+
+READ = """
+import sys
+import numpy as np
+from tb_exudyn.results import load_results
+try:
+    th = load_results(sys.argv[1])
+except Exception as exc:
+    print("error:", str(exc).splitlines()[0][:200])
+    sys.exit(0)
+values = set(np.unique(np.array([th[n] for n in th.names])).tolist())
+tag = th.provenance.get("tag")
+print("old" if (tag, values) == ("old", {1.0}) else "new" if (tag, values) == ("new", {2.0}) else f"mix: {tag} {values}")
+"""
+
+
+def child_env(root: Path) -> dict[str, str]:
+    """Environment of a child that imports tb_exudyn from ``root`` (run it in a folder holding no
+    tb_exudyn: ``python -c`` puts the current folder first on the path)."""
+    return {**os.environ, "PYTHONPATH": str(root), "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
+
+
+def save_in_child(root: Path, folder: Path, tag: str, value: float, kill_after: float | None) -> bool:
+    """Run the child saving ``folder``; SIGKILL it ``kill_after`` seconds after it starts saving
+    (None: let it finish). Returns whether the save finished."""
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, str(folder), tag, str(value)], stdout=subprocess.PIPE,
+                            text=True, env=child_env(root), cwd=Path(folder).parent)
+    assert proc.stdout is not None
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        if kill_after is not None:
+            time.sleep(kill_after)
+            proc.send_signal(signal.SIGKILL)
+        out = proc.communicate(timeout=120)[0]
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    return "saved" in out
+
+
+def outcome(root: Path, folder: Path) -> str:
+    """How ``folder`` reads back with the checkout at ``root`` (in a fresh process)."""
+    proc = subprocess.run([sys.executable, "-c", READ, str(folder)], capture_output=True, text=True,
+                          env=child_env(root), timeout=120, cwd=Path(folder).parent)
+    return (proc.stdout.strip() or proc.stderr.strip().splitlines()[-1])[:300]
+
+
+__all__ = ["CHILD", "READ", "outcome", "save_in_child"]
