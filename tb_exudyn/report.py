@@ -352,5 +352,5 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     return out
 
 
-__all__ = ["CodeLimit", "SummaryRow", "code_limit", "find_results", "render_report", "scenario_sections",
+__all__ = ["CodeLimit", "plot_folder", "SummaryRow", "code_limit", "find_results", "render_report", "scenario_sections",
            "static_axle_load", "summary", "write_report"]

@@ -49,7 +49,8 @@ import numpy as np
 from exudyn import itemInterface as ei
 
 from ..scenario.model import Car15, MovingForce, SprungMass
-from ..system.coupling import LATERAL, VERTICAL, ContactRows
+from ..system.contact_rows import ContactRows
+from ..system.coupling import LATERAL, VERTICAL
 
 # rigid-body node coordinates (NodeRigidBodyRxyz): x, y, z, rx, ry, rz
 RIGID_COMPONENTS: tuple[tuple[str, int], ...] = (("y", 1), ("z", 2), ("rx", 3), ("ry", 4), ("rz", 5))

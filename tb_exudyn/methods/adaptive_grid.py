@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ..scenario import Scenario, ScenarioError
+from ..scenario import Scenario
 
 #: a mode as plain data: (frequency [Hz], damping ratio [-])
 Mode = tuple[float, float]

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..errors import SettingError
 from ..scenario import Scenario, ScenarioError
@@ -117,7 +118,7 @@ def scenario_adaptive_grid(scenario: Scenario, modes: Sequence[Mode],
             detail += (f", {len(light)} of them decaying slower than the run of {T:.3g} s (e.g. {f_l:.4g} Hz, "
                        f"damping ratio {zeta_l:.2g}: spacing {1e3 / (resolution.run_factor * T):.3g} mHz there)")
         raise ScenarioError(
-            None, "analysis.n_freq", a.n_freq,
+            scenario.where, "analysis.n_freq", a.n_freq,
             f"at least {needed} for freq_spacing 'adaptive' (or a shorter run, a narrower band)",
             f"too few frequencies to resolve the system's modes and the run's length: {detail}",
         )
@@ -167,7 +168,7 @@ def check_grid_against_spectra(grid: FrequencyGrid, scenario: Scenario, spectra:
     mask = band_mask(grid, scenario)
     if not mask.any():
         raise ScenarioError(
-            None, "analysis.freq_min", scenario.analysis.freq_min,
+            scenario.where, "analysis.freq_min", scenario.analysis.freq_min,
             f"a band that overlaps the track's wavelengths {scenario.track.wavelength_min:g}-"
             f"{scenario.track.wavelength_max:g} m at {scenario.speed:.4g} m/s, i.e. "
             f"{scenario.speed / scenario.track.wavelength_max:.4g}-{scenario.speed / scenario.track.wavelength_min:.4g} Hz",
@@ -178,7 +179,7 @@ def check_grid_against_spectra(grid: FrequencyGrid, scenario: Scenario, spectra:
         lo, hi = spectrum.validity
         if omega.min() < lo * (1 - 1e-9) or omega.max() > hi * (1 + 1e-9):
             raise ScenarioError(
-                None, "track.wavelength_min", scenario.track.wavelength_min,
+                scenario.where, "track.wavelength_min", scenario.track.wavelength_min,
                 f"wavelengths within the validity of {name}: {2 * math.pi / hi:.4g}-{2 * math.pi / lo:.4g} m",
                 "frequency band outside the spectrum's validity",
             )

@@ -98,12 +98,13 @@ class ColumnTask:
     midpoints: bool = False
 
 
-def kind_and_unit(spectrum_name: str) -> tuple[str, str]:
-    """The coupling's input kind for a spectrum and, for cross-level, whether it is an angle or a height."""
+def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, str]:
+    """The coupling's input kind for a spectrum and, for cross-level, whether it is an angle or a height
+    (``where``: the scenario's file, for the error of a kind the model does not take)."""
     s = get_spectrum(spectrum_name)
     if s.kind not in KINDS:
         raise ScenarioError(
-            None, "track.irregularities", spectrum_name,
+            where, "track.irregularities", spectrum_name,
             "vertical, alignment or cross-level spectra (gauge irregularity does not excite this model)",
             "irregularity kind not modelled",
         )
@@ -232,10 +233,10 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
 def prepare_sweep(scenario: Scenario) -> dict[str, Any]:
     """Checks before any run: irregularities present and modelled. Returns the spectra."""
     if not scenario.track.irregularities:
-        raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
+        raise ScenarioError(scenario.where, "track.irregularities", [], "at least one spectrum name", "no irregularity to analyse")
     spectra = {n: get_spectrum(n) for n in scenario.track.irregularities}
     for n in spectra:
-        kind_and_unit(n)
+        kind_and_unit(n, scenario.where)
     return spectra
 
 

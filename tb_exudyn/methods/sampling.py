@@ -89,11 +89,11 @@ class ProfileSampler:
                                "unknown Monte Carlo discretisation")
         names = scenario.track.irregularities
         if not names:
-            raise ScenarioError(None, "track.irregularities", [], "at least one spectrum name",
+            raise ScenarioError(scenario.where, "track.irregularities", [], "at least one spectrum name",
                                 "no irregularity to sample")
         self.scenario, self.discretisation = scenario, discretisation
         self.spectra = tuple(get_spectrum(n) for n in names)
-        self.kinds = tuple(kind_and_unit(n) for n in names)  # (kind, "angle" | "height")
+        self.kinds = tuple(kind_and_unit(n, scenario.where) for n in names)  # (kind, "angle" | "height")
         xl_units = {u for k, u in self.kinds if k == "cross_level"}
         #: cross-level as given if all spectra agree, else heights are converted to angles
         self.cross_level_unit = xl_units.pop() if len(xl_units) == 1 else "angle"

@@ -10,7 +10,8 @@ from typing import Union
 from ..errors import ResultsError
 from .random_response import FORMAT as RANDOM_RESPONSE_FORMAT
 from .random_response import RandomResponse, load_random_response
-from .storage import load_json, meta_str, open_result_folder
+from .metadata import meta_str, open_result_folder
+from .storage import load_json
 from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 

@@ -18,9 +18,9 @@ import numpy as np
 
 from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
-from .storage import (Member, NpzFile, check_increasing, check_members, check_values, load_json, meta_band,
-                      meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list, open_result_folder,
-                      save_result_folder)
+from .metadata import (meta_band, meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list,
+                       open_result_folder)
+from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
 
 FORMAT = "tb_exudyn.random_response/1"
 METHODS = ("pem", "monte_carlo", "monte_carlo_linear")

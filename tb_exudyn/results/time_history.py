@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..scenario import Scenario, scenario_to_toml
-from .storage import (Member, NpzFile, check_increasing, check_members, check_values, load_json, meta_channels, meta_dict,
-                      meta_scenario, meta_str, open_result_folder, save_result_folder)
+from .metadata import meta_channels, meta_dict, meta_scenario, meta_str, open_result_folder
+from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
 
 FORMAT = "tb_exudyn.time_history/1"
 #: the arrays of arrays.npz: nt output times, nc channels (the channels of meta.json)

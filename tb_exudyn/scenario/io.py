@@ -12,7 +12,6 @@ from pathlib import Path
 from typing import Any
 
 from . import model as m
-from .errors import ScenarioError
 from .registry import model_path
 from .schema import Context, convert, set_source_file, to_dict
 from .toml_io import dumps_toml, read_toml, write_text_atomic
@@ -40,7 +39,7 @@ def _load_union(choices: tuple, path: Path) -> Any:
     return convert(union, data, ctx)
 
 
-def _resolve_path(path_or_name: str | Path, category: str) -> Path:
+def resolve_model_path(path_or_name: str | Path, category: str) -> Path:
     path = Path(path_or_name)
     if path.suffix == ".toml" or path.exists():
         return path
@@ -61,18 +60,18 @@ def load_scenario(path_or_name: str | Path) -> m.Scenario:
 
     Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
     """
-    path = _resolve_path(path_or_name, "scenarios")
+    path = resolve_model_path(path_or_name, "scenarios")
     return scenario_from_dict(read_toml(path), str(path))
 
 
 def load_vehicle(path_or_name: str | Path) -> m.Vehicle:
     """Load one vehicle (moving_force, sprung_mass or car15) by path or library name."""
-    return _load_union(tuple(m.VEHICLE_KINDS.values()), _resolve_path(path_or_name, "vehicles"))
+    return _load_union(tuple(m.VEHICLE_KINDS.values()), resolve_model_path(path_or_name, "vehicles"))
 
 
 def load_bridge(path_or_name: str | Path) -> m.Bridge:
     """Load one bridge (simple_beam or frame) by path or library name."""
-    return _load_union(tuple(m.BRIDGE_KINDS.values()), _resolve_path(path_or_name, "bridges"))
+    return _load_union(tuple(m.BRIDGE_KINDS.values()), resolve_model_path(path_or_name, "bridges"))
 
 
 def scenario_to_toml(scenario: m.Scenario) -> str:

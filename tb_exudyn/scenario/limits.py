@@ -71,6 +71,7 @@ from typing import ClassVar, Literal, Sequence
 
 from ..errors import SettingError
 from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param
+from .io import resolve_model_path
 from .toml_io import read_toml
 
 
@@ -362,9 +363,7 @@ def load_limits(name_or_path: str | Path) -> LimitSet:
 
     Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
     """
-    from .io import _resolve_path
-
-    path = _resolve_path(name_or_path, "limits")
+    path = resolve_model_path(name_or_path, "limits")
     return limits_from_dict(read_toml(path), str(path))
 
 

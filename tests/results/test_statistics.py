@@ -24,20 +24,22 @@ import pytest
 from scipy import integrate, linalg, stats
 
 from tb_exudyn.errors import SettingError
-from tb_exudyn.results.statistics import (
-    GaussianResponse,
-    bandwidth_from_moments,
+from tb_exudyn.results.empirical import (
     binomial_interval,
-    downcrossing_rate,
     empirical_exceedance,
     empirical_exceedance_from_extremes,
     empirical_level,
     empirical_level_from_extremes,
+    sample_extremes,
+)
+from tb_exudyn.results.statistics import (
+    GaussianResponse,
+    bandwidth_from_moments,
+    downcrossing_rate,
     exceedance_level,
     first_passage_probability,
     gaussian_response_from_pseudo,
     pseudo_derivative,
-    sample_extremes,
     spectral_moments,
     stationary_upcrossing_rate,
     upcrossing_rate,

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from tb_exudyn.structure.modal import simply_supported_modes
-from tb_exudyn.system.coupling import VERTICAL, ContactRows, WheelRailCoupling
+from tb_exudyn.system.contact_rows import ContactRows
+from tb_exudyn.system.coupling import VERTICAL, WheelRailCoupling
 from tb_exudyn.system.creep import CreepCoefficients, WheelsetContact, creep_rows
 from tb_exudyn.system.excitation import ProfileExcitation, rail_inputs
 
