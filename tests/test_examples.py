@@ -92,7 +92,62 @@ def test_example_quick(script: Path, tmp_path: Path, request):
     assert not missing, f"{script.name} --quick did not write {missing}; it wrote {wrote}"
     assert out.is_dir() and any(out.iterdir()), f"{script.name} wrote nothing into {out}"
     assert str(out) in proc.stdout or str(out.resolve()) in proc.stdout, f"{script.name} does not say where it wrote"
+    for check in NUMBERS.get(script.name, ()):
+        check(out)
     print(f"{script.name} --quick: {seconds:.1f} s")
+
+
+# ------------------------------------------------------------------ numbers the examples must give
+def _static_axle_load(out: Path) -> None:
+    """build_scenario_in_python: the deterministic run starts in static equilibrium on the rigid
+    approach, so at t = 0 the first axle's two vertical wheel forces carry the static axle load of
+    the symmetric car, g (m_body / 4 + m_bogie / 2 + m_wheelset) (each bogie carries half the body
+    on its two axles). Tolerance 1e-6 relative: the static solve is exact up to the contact's
+    penalty (wheel loads sum to the weight to 1e-9, tests/builder/test_builder_static.py)."""
+    import tb_exudyn as tbx
+
+    det = tbx.load_results(out / "det")
+    car = det.scenario.train.vehicles[0]
+    g = det.scenario.analysis.gravity
+    expected = g * (car.body.mass / 4 + car.bogie.mass / 2 + car.wheelset.mass)
+    got = det["car1.axle1.left.force_z"][0] + det["car1.axle1.right.force_z"][0]
+    assert abs(got - expected) < 1e-6 * expected, (got, expected)
+
+
+def _psd_integrates_to_sigma(out: Path) -> None:
+    """li_zhu_2011_psd_maps: the saved PSD map is one-sided per Hz on the grid's quadrature, so
+    sum_k S(f_k, t) df_k = sigma^2(t) for every channel and time (the PEM identity). Tolerance 1e-5
+    of each channel's max sigma^2: the map is stored in float32 (relative rounding 6e-8 per cell)."""
+    import numpy as np
+
+    import tb_exudyn as tbx
+
+    pem = tbx.load_results(out / "pem")
+    assert pem.psd is not None
+    var = np.einsum("cft,f->ct", pem.psd.astype(float), pem.df)
+    scale = (pem.std ** 2).max(axis=1, keepdims=True)
+    assert np.max(np.abs(var - pem.std ** 2) / np.maximum(scale, 1e-300)) < 1e-5
+
+
+def _monte_carlo_within_its_band(out: Path) -> None:
+    """li_zhu_2011_verification: Monte Carlo's sigma over PEM's lies within the band 1 +- 3/sqrt(2N)
+    the sample size explains, at 90 % of the compared times or more, on each of the three channels
+    (a factor sqrt(2) in the sampled amplitudes, or a one-/two-sided PSD mix-up, puts it outside
+    everywhere)."""
+    import tb_exudyn as tbx
+
+    pem, mc = tbx.load_results(out / "pem"), tbx.load_results(out / "mc")
+    comparison = tbx.compare(pem, mc)
+    for row in comparison.rows:
+        assert row.inside >= 0.9, (row.channel, row.inside, row.ratio_median)
+
+
+#: per script: checks of the numbers its --quick run writes (closed forms and identities)
+NUMBERS = {
+    "build_scenario_in_python.py": (_static_axle_load,),
+    "li_zhu_2011_psd_maps.py": (_psd_integrates_to_sigma,),
+    "li_zhu_2011_verification.py": (_monte_carlo_within_its_band,),
+}
 
 
 def test_envelopes_from_saved_psd_result(tmp_path: Path, psd_maps_run):
