@@ -329,7 +329,8 @@ def compare_findings(study: Study, resp: RandomResponse) -> list[FindingRow]:
             agreement = ""
             if isinstance(ours, float):
                 if not math.isnan(q.tolerance):
-                    agreement = "matched" if abs(ours - q.study) <= q.tolerance else "not matched"
+                    # to within rounding: a peak exactly `tolerance` away (a whole number of grid cells) matches
+                    agreement = "matched" if abs(ours - q.study) <= q.tolerance * (1 + 1e-9) else "not matched"
                 elif not math.isnan(q.agree_below):
                     agreement = "matched" if ours < q.agree_below else "not matched"
                 elif not math.isnan(q.agree_above):
@@ -614,13 +615,17 @@ def findings_section(studies: Sequence[Study], resp: RandomResponse | None, figu
             out.append('<p class="placeholder">Not computed: no PEM result with PSD maps in this folder.</p>')
             continue
         rows = []
+        previous = None
         for r in compare_findings(study, resp):
             ch = r.quantity.channel
             where = _link(_anchor("fig", ch), channel_label(ch)) if _anchor("fig", ch) in figure_ids else esc(channel_label(ch))
             agreement = r.agreement
             cls = _verdict_class(agreement) if agreement in ("matched", "not matched") else ""
             rule = _rule_text(r.quantity)
-            rows.append((_Raw(f"<b>{esc(r.finding.id)}</b>: {esc(r.finding.claim)}<br><small>{esc(r.finding.where)}</small>"),
+            claim = (_Raw("") if r.finding is previous else  # the claim once, on its first quantity
+                     _Raw(f"<b>{esc(r.finding.id)}</b>: {esc(r.finding.claim)}<br><small>{esc(r.finding.where)}</small>"))
+            previous = r.finding
+            rows.append((claim,
                          _Raw(f"{where}<br><small><code>{esc(ch)}</code></small>"),
                          MEASURES[r.quantity.measure][1], _study_text(r.quantity), _ours_text(r),
                          _Raw((f'<span class="{cls}">{esc(agreement)}</span>' if cls else esc(agreement))
@@ -755,7 +760,7 @@ def modes_section(modes: Sequence[ModeEntry] | None) -> str:
     elif not modes:
         out.append("<p>No modes in the analysed band.</p>")
     else:
-        rows = [(format_number(m.frequency, 4), format_number(m.damping_ratio, 3), m.label, m.context,
+        rows = [(format_number(m.frequency, 4), f"{m.damping_ratio:.3g}", m.label, m.context,
                  _Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
                 for m in sorted(modes, key=lambda m: m.frequency)]
         out.append(_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
@@ -794,6 +799,14 @@ def provenance_section(found: Sequence[tuple[Path, Result]]) -> str:
 
 
 # ============================================================================================ page
+def ordered(found: Sequence[tuple[Path, Result]]) -> list[tuple[Path, Result]]:
+    """The results in reading order: PEM first, then Monte Carlo, then single runs (stable)."""
+    def rank(item):
+        r = item[1]
+        return 0 if isinstance(r, RandomResponse) and r.method == "pem" else 1 if isinstance(r, RandomResponse) else 2
+    return sorted(found, key=rank)
+
+
 def _first_random(found: Sequence[tuple[Path, Result]]) -> Result | None:
     for _, r in found:
         if isinstance(r, RandomResponse) and r.method == "pem":
@@ -813,6 +826,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     ``names``: the channels with figures per result folder name (default: ``channels`` selected);
     ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own.
     """
+    found = ordered(found)
     check_rows = as_check_entries(checks)
     mode_rows = as_mode_entries(modes)
     pictures = pictures or {}
