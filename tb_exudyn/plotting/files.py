@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import warnings
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Sequence
@@ -200,9 +202,21 @@ def draw_jobs(jobs: Sequence[FigureJob], workers: int | None = None, progress: b
                         break
                     done[i] = draw_job(jobs[i], dpi)
                     bar.update()
+                broken = False
                 for i, fut in enumerate(futures):
-                    if i not in done:
-                        done[i] = fut.result()
+                    if i in done:
+                        continue
+                    if not broken:
+                        try:
+                            done[i] = fut.result()
+                            continue
+                        except BrokenProcessPool:  # e.g. a script without `if __name__ == "__main__":`
+                            broken = True
+                            warnings.warn("the figure workers could not start; drawing the figures in this "
+                                          "process (guard a script's main code with `if __name__ == "
+                                          "\"__main__\":`)", RuntimeWarning, stacklevel=2)
+                    done[i] = draw_job(jobs[i], dpi)
+                    bar.update()
     return [p for i in range(len(jobs)) for p in done[i]]
 
 

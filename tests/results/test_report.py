@@ -329,6 +329,15 @@ PROBE = """<script>window.addEventListener('load', function () {
   h.setAttribute('data-verdict-top', Math.round(v.top + window.scrollY));
   h.setAttribute('data-verdict-bottom', Math.round(v.bottom + window.scrollY));
   h.setAttribute('data-width', window.innerWidth);
+  var box = document.querySelector('#channel-filter input');
+  h.setAttribute('data-filter', box ? 'yes' : 'no');
+  if (box) {
+    box.value = 'axle1 LATERAL'; box.dispatchEvent(new Event('input'));
+    var rows = Array.prototype.slice.call(document.querySelectorAll('#channels tbody tr'));
+    h.setAttribute('data-shown', rows.filter(function (r) { return !r.hidden; }).length);
+    var open = document.querySelectorAll('#channels details.group[open]').length;
+    h.setAttribute('data-open', open);
+  }
 });</script>"""
 
 
@@ -354,6 +363,12 @@ def test_first_screen_shows_the_verdicts_and_every_image_loads(report, tmp_path)
     assert 0 < int(attrs["verdict-top"]) < 600 and int(attrs["verdict-bottom"]) > int(attrs["verdict-top"])
     page = Page(dom)
     assert {"verdicts-table", "channels-pem-car1.axles", "scenario-train", "provenance-det"} <= set(page.tables)
+    # the filter box (made by the page's script): rows holding every word, case-insensitive, stay shown
+    # and their groups open
+    channel_rows = [r for tid, t in Page(report.read_text(encoding="utf-8")).tables.items()
+                    if tid.startswith("channels-") for r in t[1:]]
+    expected = [r for r in channel_rows if all(w in " ".join(r).lower() for w in ("axle1", "lateral"))]
+    assert attrs["filter"] == "yes" and int(attrs["shown"]) == len(expected) == 3 and attrs["open"] == "3"
     shot = tmp_path / "first_screen.png"
     _chromium([f"--screenshot={shot}", report.resolve().as_uri()])
     assert shot.read_bytes()[:4] == b"\x89PNG"
