@@ -1,86 +1,235 @@
 """What the figures show, computed without matplotlib (the compute half of compute-then-plot).
 
 Everything here takes a result (:class:`~tb_exudyn.results.RandomResponse` or
-:class:`~tb_exudyn.results.TimeHistory`) or a scenario and returns plain numbers and arrays, so the
-report, the exports and other plotting libraries can use it too.
+:class:`~tb_exudyn.results.TimeHistory`) or a scenario and returns plain numbers, strings and
+arrays, so the report, the exports and other plotting libraries can use it too:
+
+- engineering display units (:func:`display_unit`: one place that maps an SI unit to the unit an
+  engineer reads, kN, mm, m/s^2, and its factor);
+- readable channel labels (:func:`channel_label`: "car 1, leading bogie, lateral acceleration");
+- the crossing events of the train or of one car (:func:`crossing_times`);
+- the channels drawn by default (:func:`default_channels`);
+- the statistics a PSD map is read by (:func:`psd_peak`, :func:`psd_band`, :func:`low_frequency_content`).
 """
 
 from __future__ import annotations
 
 import fnmatch
-from dataclasses import dataclass
+import re
+from dataclasses import dataclass, replace
 from typing import Sequence, Union
 
 import numpy as np
 
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
+from ..system.labels import channel_label
 
 Result = Union[RandomResponse, TimeHistory]
 
-#: Channels plotted when none are asked for (glob patterns; those of the reference study's
-#: figures 3-8: bridge mid-span, car bodies, the first motor car's leading bogie and first wheelset).
-KEY_CHANNELS: tuple[str, ...] = (
-    "bridge.*.mid.disp_[yz]", "bridge.*.mid.acc_[yz]", "car*.body.acc_[yz]",
-    "car1.bogie1.acc_[yz]", "car1.axle1.*force_[yz]",
-)
+
+# ============================================================================================ display units
+@dataclass(frozen=True)
+class DisplayUnit:
+    """How a channel's values are shown: ``shown = factor * si_value`` in ``unit``."""
+
+    unit: str
+    factor: float
 
 
+#: SI unit -> (display unit, factor). Forces in kN and displacements in mm (the magnitudes of a
+#: train-bridge run: wheel loads of 10-100 kN, deflections of 0.01-10 mm); rotations in mrad;
+#: accelerations stay in m/s^2 and rad/s^2, the unit the codes' limits use (EN 1990 A2: 3.5 m/s^2).
+DISPLAY_UNITS: dict[str, DisplayUnit] = {
+    "N": DisplayUnit("kN", 1e-3),
+    "m": DisplayUnit("mm", 1e3),
+    "m/s": DisplayUnit("mm/s", 1e3),
+    "m/s^2": DisplayUnit("m/s^2", 1.0),
+    "rad": DisplayUnit("mrad", 1e3),
+    "rad/s": DisplayUnit("mrad/s", 1e3),
+    "rad/s^2": DisplayUnit("rad/s^2", 1.0),
+}
+
+
+def display_unit(si_unit: str) -> DisplayUnit:
+    """The engineering unit and factor for a channel stored in ``si_unit`` (the one place this
+    convention lives); a unit not in :data:`DISPLAY_UNITS` (e.g. a ratio) is shown as it is."""
+    return DISPLAY_UNITS.get(si_unit, DisplayUnit(si_unit, 1.0))
+
+
+def psd_unit(unit: str) -> str:
+    """Unit of a one-sided PSD per Hz of a channel in ``unit``."""
+    if not unit:
+        return "1/Hz"
+    return f"({unit})^2/Hz" if "/" in unit or " " in unit else f"{unit}^2/Hz"
+
+
+def format_number(x: float, digits: int = 4) -> str:
+    """``digits`` significant digits, without an exponent for 1e-3 <= |x| < 1e6 (the range of
+    values in display units); an exponent outside it; '' for None or NaN."""
+    if x is None or (isinstance(x, float) and np.isnan(x)):
+        return ""
+    x = float(x)
+    if x == 0.0:
+        return "0"
+    if not np.isfinite(x):
+        return "inf" if x > 0 else "-inf"
+    if 1e-3 <= abs(x) < 1e6:
+        return np.format_float_positional(x, precision=digits, unique=False, fractional=False, trim="-")
+    return f"{x:.{digits - 1}e}"
+
+
+# ============================================================================================ labels
+def quantity_label(name: str) -> str:
+    """The part of :func:`channel_label` after the last comma (what is measured, for an axis
+    label: "lateral acceleration"), or the name itself."""
+    label = channel_label(name)
+    return label.rsplit(", ", 1)[-1] if label != name else name
+
+
+def axis_label(name: str, si_unit: str) -> str:
+    """Axis label of a channel in its display unit: "lateral acceleration [m/s^2]"."""
+    return f"{quantity_label(name)} [{display_unit(si_unit).unit}]"
+
+
+def channel_car(name: str) -> int | None:
+    """The car number of a vehicle channel (``car3.axle1.force_y`` -> 3), None for the bridge."""
+    m = re.match(r"car(\d+)\.", name)
+    return int(m.group(1)) if m else None
+
+
+def channel_group(name: str) -> tuple[str, str]:
+    """(key, heading) of the table group a channel belongs to: the bridge, a car's body and
+    bogies, or a car's wheelsets and wheel-rail forces."""
+    car = channel_car(name)
+    if car is None:
+        return ("bridge", "Bridge") if name.startswith("bridge.") else ("other", "Other channels")
+    if re.match(rf"car{car}\.axle\d+\.", name):
+        return (f"car{car}.axles", f"Car {car}: wheelsets and wheel-rail forces")
+    return (f"car{car}", f"Car {car}: body and bogies")
+
+
+# ============================================================================================ crossing
 @dataclass(frozen=True)
 class Crossing:
-    """When the train is on the bridge. t = 0 when the first axle is at x = -lead_in; axle j, a_j
-    behind the first, is on the bridge from (lead_in + a_j) / v to (lead_in + a_j + L) / v."""
+    """When the train, or one car of it, is on the bridge. t = 0 when the train's first axle is
+    at x = -lead_in; an axle a behind the train's first is on the bridge from (lead_in + a) / v
+    to (lead_in + a + L) / v. ``who`` is "" for the whole train or "car k"; ``offset`` is the
+    distance of its first axle behind the train's first axle [m]."""
 
-    first_on: float   # first axle enters the bridge [s]
-    first_off: float  # first axle leaves [s]
-    last_on: float    # last axle enters [s]
-    last_off: float   # last axle leaves [s]
+    first_on: float   # the first axle (of the train or of the car) enters the bridge [s]
+    first_off: float  # it leaves [s]
+    last_on: float    # the last axle enters [s]
+    last_off: float   # it leaves [s]
     speed: float      # [m/s]
     lead_in: float    # [m]
     bridge_length: float  # [m]
+    who: str = ""
+    offset: float = 0.0  # [m]
 
     def position(self, t):
-        """Position x [m] of the first axle at time t (x = 0 at the bridge start)."""
-        return self.speed * np.asarray(t, dtype=float) - self.lead_in
+        """Position x [m] of the (train's or car's) first axle at time t (x = 0 at the bridge start)."""
+        return self.speed * np.asarray(t, dtype=float) - self.lead_in - self.offset
 
     def time_at(self, x):
-        """Time [s] at which the first axle is at x [m]."""
-        return (np.asarray(x, dtype=float) + self.lead_in) / self.speed
+        """Time [s] at which the (train's or car's) first axle is at x [m]."""
+        return (np.asarray(x, dtype=float) + self.lead_in + self.offset) / self.speed
 
     def marks(self) -> tuple[tuple[str, str, float], ...]:
         """(key, label, time) of the four events, in the order of time of first and last axle."""
+        who = f"{self.who}: " if self.who else ""
         return (
-            ("first_on", "first axle enters", self.first_on),
-            ("first_off", "first axle leaves", self.first_off),
-            ("last_on", "last axle enters", self.last_on),
-            ("last_off", "last axle leaves", self.last_off),
+            ("first_on", f"{who}first axle enters", self.first_on),
+            ("first_off", f"{who}first axle leaves", self.first_off),
+            ("last_on", f"{who}last axle enters", self.last_on),
+            ("last_off", f"{who}last axle leaves", self.last_off),
         )
 
 
-def crossing_times(scenario: Scenario) -> Crossing:
-    """The four crossing events of a scenario (see :class:`Crossing`)."""
+def crossing_times(scenario: Scenario, car: int | None = None) -> Crossing:
+    """The four crossing events of the whole train (``car=None``) or of car number ``car``
+    (1-based, running order): when THAT car's first and last axle enter and leave the bridge."""
     v, lead, L = scenario.speed, scenario.track.lead_in, scenario.bridge.length
-    a_last = scenario.train.axle_positions[-1]
+    positions = scenario.train.axle_positions
+    who = ""
+    if car is None:
+        a_first, a_last = positions[0], positions[-1]
+    else:
+        vehicles = scenario.train.vehicles
+        if not 1 <= car <= len(vehicles):
+            raise ValueError(f"car {car}: the train has cars 1-{len(vehicles)}")
+        first = sum(len(x.axle_offsets) for x in vehicles[: car - 1])
+        a_first, a_last = positions[first], positions[first + len(vehicles[car - 1].axle_offsets) - 1]
+        who = f"car {car}"
     return Crossing(
-        first_on=lead / v, first_off=(lead + L) / v, last_on=(lead + a_last) / v,
-        last_off=(lead + a_last + L) / v, speed=v, lead_in=lead, bridge_length=L,
+        first_on=(lead + a_first) / v, first_off=(lead + a_first + L) / v, last_on=(lead + a_last) / v,
+        last_off=(lead + a_last + L) / v, speed=v, lead_in=lead, bridge_length=L, who=who, offset=a_first,
     )
 
 
+def channel_crossing(scenario: Scenario, channel: str) -> Crossing:
+    """The events that matter for a channel: its car's for a vehicle channel, the train's for the bridge."""
+    car = channel_car(channel)
+    if car is not None and car <= len(scenario.train.vehicles):
+        return crossing_times(scenario, car)
+    return crossing_times(scenario)
+
+
+# ============================================================================================ channels
 def channel_names(result: Result) -> tuple[str, ...]:
     return tuple(result.channels) if isinstance(result, RandomResponse) else result.names
+
+
+def _middle_span(names: Sequence[str]) -> int | None:
+    spans = sorted({int(m.group(1)) for n in names if (m := re.match(r"bridge\.span(\d+)\.mid\.", n))})
+    return spans[(len(spans) - 1) // 2] if spans else None
+
+
+def default_patterns(names: Sequence[str]) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """(component, glob patterns) of the channels drawn by default, a short list per component:
+
+    - those the verdicts check (EN 1990 deck vertical acceleration at every mid-span; car-body
+      vertical and lateral accelerations; the lateral axle force of each car's leading axle);
+    - those of the reference study's figures 3-8 (Li & Zhu, section 4.3-4.4): the middle span's
+      mid-point lateral and vertical displacement and acceleration, the first car's body and
+      leading bogie lateral displacement and acceleration, the wheel-rail forces of its first axle.
+    """
+    mid = _middle_span(names)
+    bridge = ("bridge.span*.mid.acc_z",)
+    if mid is not None:
+        bridge += (f"bridge.span{mid}.mid.disp_[yz]", f"bridge.span{mid}.mid.acc_y")
+    return (
+        ("bridge", bridge),
+        ("car bodies", ("car*.body.acc_[yz]", "car1.body.disp_y")),
+        ("bogies", ("car1.bogie1.disp_y", "car1.bogie1.acc_y")),
+        ("wheelsets", ("car*.axle1.force_y", "car1.axle1.left.force_z", "car1.axle1.right.force_z",
+                       "car1.axle1.force_z")),
+    )
+
+
+def default_channels(result: Result) -> list[str]:
+    """The channels drawn when none are asked for (:func:`default_patterns`), in stored order;
+    every channel when none of them exists."""
+    names = channel_names(result)
+    pats = [p for _, group in default_patterns(names) for p in group]
+    keep = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
+    return keep or list(names)
+
+
+#: The default figure channels of the reference study's layout (kept for callers of the old name;
+#: :func:`default_patterns` adapts the bridge's middle span to the bridge at hand).
+KEY_CHANNELS: tuple[str, ...] = tuple(p for _, g in default_patterns(["bridge.span2.mid.acc_z", "bridge.span1.mid.acc_z",
+                                                                      "bridge.span3.mid.acc_z"]) for p in g)
 
 
 def select_channels(result: Result, channels: str | Sequence[str] | None = None) -> list[str]:
     """Channel names matching ``channels`` (names or glob patterns), in stored order.
 
-    None: the key channels (:data:`KEY_CHANNELS`) that exist, or every channel when none does.
-    Raises KeyError naming a pattern that matches nothing.
+    None: :func:`default_channels`. Raises KeyError naming a pattern that matches nothing.
     """
     names = channel_names(result)
     if channels is None:
-        keep = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in KEY_CHANNELS)]
-        return keep or list(names)
+        return default_channels(result)
     pats = [channels] if isinstance(channels, str) else list(channels)
     for p in pats:
         if not any(fnmatch.fnmatchcase(n, p) for n in names):
@@ -88,15 +237,32 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None)
     return [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
 
 
-def channel_label(name: str, unit: str) -> str:
-    return f"{name} [{unit}]"
+def channel_subset(result: Result, channels: Sequence[str]) -> Result:
+    """The same result restricted to ``channels`` (arrays sliced, scenario and provenance kept):
+    what a figure worker needs, small enough to send to another process."""
+    if isinstance(result, TimeHistory):
+        return TimeHistory(time=result.time, channels={c: result[c] for c in channels},
+                           units={c: result.unit(c) for c in channels}, scenario=result.scenario,
+                           provenance=result.provenance)
+    rows = [result.index(c) for c in channels]
+
+    def cut(a, axis):
+        return None if a is None else np.take(a, rows, axis=axis)
+
+    psd = None
+    if result.psd is not None and all(has_psd(result, c) for c in channels):
+        psd = np.take(result.psd, [psd_row(result, c) for c in channels], axis=0)
+    out = replace(
+        result, channels=tuple(channels), units=tuple(result.units[i] for i in rows), mean=cut(result.mean, 0),
+        std=cut(result.std, 0), psd=psd, var_by_type=cut(result.var_by_type, 1),
+        std_ci=cut(result.std_ci, 1), mean_ci=cut(result.mean_ci, 1), samples=cut(result.samples, 1),
+    )
+    if getattr(out, "psd_channels", None) is not None:
+        out = replace(out, psd_channels=None if psd is None else tuple(channels))
+    return out
 
 
-def psd_unit(unit: str) -> str:
-    """Unit of a one-sided PSD per Hz of a channel in ``unit``."""
-    return f"({unit})^2/Hz" if "/" in unit or " " in unit else f"{unit}^2/Hz"
-
-
+# ============================================================================================ PSD statistics
 def band_text(resp: RandomResponse) -> str:
     return f"{resp.band[0]:.3g}-{resp.band[1]:.3g} Hz"
 
@@ -106,22 +272,105 @@ def max_sigma_time(resp: RandomResponse, channel: str) -> float:
     return float(resp.time[int(np.argmax(resp.std[resp.index(channel)]))])
 
 
+def psd_row(resp: RandomResponse, channel: str) -> int | None:
+    """Row of ``channel`` in ``resp.psd``, or None when the result holds no PSD map for it. A
+    result may keep PSD maps for some channels only (``resp.psd_channels``, when it has that
+    attribute); otherwise ``psd`` rows follow ``channels``."""
+    if resp.psd is None:
+        return None
+    kept = getattr(resp, "psd_channels", None)
+    if kept is None:
+        return resp.index(channel)
+    kept = tuple(kept)
+    return kept.index(channel) if channel in kept else None
+
+
+def has_psd(resp: Result, channel: str) -> bool:
+    """True when ``resp`` holds a PSD map of ``channel``."""
+    return isinstance(resp, RandomResponse) and psd_row(resp, channel) is not None
+
+
+def _psd_of(resp: RandomResponse, channel: str) -> np.ndarray:
+    row = psd_row(resp, channel)
+    if row is None:
+        raise ValueError(f"this result holds no PSD map of {channel} (Monte Carlo, a PEM run with keep_psd=False, "
+                         "or a channel whose map was not kept)")
+    return np.asarray(resp.psd[row], dtype=float)
+
+
 def psd_slices(
     resp: RandomResponse, channel: str, times: Sequence[float] | None = None
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """PSD of ``channel`` against frequency at the output times nearest to ``times``.
 
     Default: the time of maximum sigma. Returns (times used (n,), freq (nf,), S (n, nf)) with S in
-    unit^2/Hz. Raises ValueError when the result holds no PSD map.
+    unit^2/Hz (SI). Raises ValueError when the result holds no PSD map.
     """
-    if resp.psd is None:
-        raise ValueError("this result holds no PSD map (Monte Carlo, or PEM run with keep_psd=False)")
-    row = resp.index(channel)
+    S = _psd_of(resp, channel)
     wanted = [max_sigma_time(resp, channel)] if times is None else [float(t) for t in np.atleast_1d(times)]
     idx = np.array([int(np.argmin(np.abs(resp.time - t))) for t in wanted], dtype=int)
-    return resp.time[idx], resp.freq, resp.psd[row][:, idx].T
+    return resp.time[idx], resp.freq, S[:, idx].T
 
 
+def psd_peak(resp: RandomResponse, channel: str) -> tuple[float, float]:
+    """(frequency [Hz], time [s]) of the largest cell of the PSD map S(f, t) of ``channel``: the
+    "frequency of the peak value" the reference study reads off its figures 3-5."""
+    S = _psd_of(resp, channel)
+    i, j = np.unravel_index(int(np.argmax(S)), S.shape)
+    return float(resp.freq[i]), float(resp.time[j])
+
+
+def psd_band(resp: RandomResponse, channel: str, share: float = 0.99) -> tuple[float, float]:
+    """(lowest, highest) frequency [Hz] of the smallest set of grid cells that holds ``share`` of
+    sigma^2 at the time of maximum sigma (cells taken largest S df first): a reproducible stand-in
+    for the "frequency distribution range" the study reads off its maps (docs/findings.md)."""
+    S = _psd_of(resp, channel)
+    j = int(np.argmax(resp.std[resp.index(channel)]))
+    var = S[:, j] * resp.df
+    order = np.argsort(var)[::-1]
+    total = var.sum()
+    if total <= 0:
+        return (float("nan"), float("nan"))
+    n = int(np.searchsorted(np.cumsum(var[order]) / total, share) + 1)
+    kept = resp.freq[order[: min(n, order.size)]]
+    return float(kept.min()), float(kept.max())
+
+
+def low_frequency_content(resp: RandomResponse, channel: str) -> bool:
+    """True when the channel's content sits at low frequencies, so that its PSD map reads better
+    on a logarithmic frequency axis: half of its variance (integrated over the run) lies below a
+    tenth of the band's upper edge (e.g. car bodies: 0.3-2 Hz in a 0.3-60 Hz band)."""
+    S = _psd_of(resp, channel)
+    var = S.sum(axis=1) * resp.df
+    if var.sum() <= 0 or resp.freq.size < 2 or resp.freq[0] <= 0:
+        return False
+    median = float(resp.freq[int(np.searchsorted(np.cumsum(var) / var.sum(), 0.5))])
+    return median < 0.1 * float(resp.band[1])
+
+
+def band_across_zero_share(resp: RandomResponse, channel: str, k: float = 3.0) -> float:
+    """Share of the crossing (the train's first axle on until its last axle off) during which the
+    band mean +- k sigma contains zero (the study's "upper and lower boundary curves above and
+    below the x axis")."""
+    row = resp.index(channel)
+    c = crossing_times(resp.scenario)
+    on = (resp.time >= c.first_on) & (resp.time <= c.last_off)
+    if not on.any():
+        return float("nan")
+    m, s = resp.mean[row, on], resp.std[row, on]
+    return float(np.mean((m - k * s <= 0) & (m + k * s >= 0)))
+
+
+def sigma_to_mean_ratio(resp: RandomResponse, channel: str, k: float = 3.0) -> float:
+    """k max sigma / max |mean| of a channel (inf when the mean is zero): how wide the k-sigma
+    band is against the deterministic response (docs/findings.md, finding 2)."""
+    row = resp.index(channel)
+    m = float(np.max(np.abs(resp.mean[row])))
+    s = float(np.max(resp.std[row]))
+    return float("inf") if m == 0 else k * s / m
+
+
+# ============================================================================================ misc
 def mc_label(resp: RandomResponse) -> str:
     """'PEM', or 'MC500' as the reference study names a Monte Carlo run of 500 samples ('MC500 (linear)'
     for the batched engine's Monte Carlo of the linear model)."""
@@ -155,6 +404,9 @@ def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | N
 
 
 __all__ = [
-    "Crossing", "KEY_CHANNELS", "band_text", "channel_label", "channel_names", "crossing_times",
-    "max_sigma_time", "mc_label", "psd_slices", "psd_unit", "sample_matrix", "select_channels",
+    "Crossing", "DISPLAY_UNITS", "DisplayUnit", "KEY_CHANNELS", "axis_label", "band_across_zero_share", "band_text",
+    "channel_car", "channel_crossing", "channel_group", "channel_label", "channel_names", "channel_subset",
+    "crossing_times", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
+    "low_frequency_content", "max_sigma_time", "mc_label", "psd_band", "psd_peak", "psd_slices", "psd_unit",
+    "quantity_label", "sample_matrix", "select_channels", "sigma_to_mean_ratio",
 ]

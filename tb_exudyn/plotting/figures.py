@@ -2,8 +2,11 @@
 
 The figures are created with the object-oriented API (``Figure()``, not pyplot): no backend is set
 and nothing is registered with pyplot, so they work on any machine and are freed with the object.
-To draw into a pyplot window instead, pass ``fig=plt.figure()``. Time axes mark when the first and
-the last axle enter and leave the bridge.
+To draw into a pyplot window instead, pass ``fig=plt.figure()``. Values are drawn in engineering
+units (:func:`tb_exudyn.plotting.data.display_unit`: kN, mm, m/s^2) and labelled in words
+(:func:`~tb_exudyn.plotting.data.channel_label`). Time axes mark when the first and the last axle
+enter and leave the bridge: those of the channel's own car for a vehicle channel, the train's for
+the bridge.
 """
 
 from __future__ import annotations
@@ -14,6 +17,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
+from matplotlib.ticker import LogFormatter, NullLocator
 
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
@@ -25,32 +29,56 @@ _EVENT_STYLE = {  # key: (colour, line style)
 }
 
 
-def _figure(fig: Figure | None, nrows: int = 1, height: float = 3.6, sharex: bool = True) -> tuple[Figure, list[Axes]]:
+#: Figure margins [inch]: room for the two-line title and the position axis above, the time axis
+#: and the legend below, the axis label at the left. Fixed margins instead of a layout engine: the
+#: constrained layout took more than half of the time to draw a figure.
+_WIDTH, _TOP, _BOTTOM, _LEFT, _RIGHT, _GAP = 7.5, 1.05, 1.0, 0.85, 0.25, 0.45
+
+
+def _figure(fig: Figure | None, nrows: int = 1, height: float = 3.0, sharex: bool = True,
+            legend_below: bool = True, position_axis: bool = True) -> tuple[Figure, list[Axes]]:
+    """A new figure (or ``fig``) with ``nrows`` axes of ``height`` inches each, one above the other."""
     if fig is None:
-        fig = Figure(figsize=(7.5, 0.6 + height * nrows), layout="constrained")
+        bottom = _BOTTOM if legend_below else 0.55
+        top = _TOP if position_axis else 0.6
+        total = top + bottom + nrows * height + (nrows - 1) * _GAP
+        fig = Figure(figsize=(_WIDTH, total))
+        fig.subplots_adjust(left=_LEFT / _WIDTH, right=1 - _RIGHT / _WIDTH, top=1 - top / total,
+                            bottom=bottom / total, hspace=_GAP / height)
     axes = fig.subplots(nrows, 1, sharex=sharex, squeeze=False)[:, 0]
     return fig, list(axes)
+
+
+def _plain_log(axis) -> None:
+    """Label a logarithmic axis as plain text (1e-05) instead of mathtext (10^-5 typeset): mathtext
+    parsing took a seventh of the time to draw a figure with log axes."""
+    axis.set_major_formatter(LogFormatter(labelOnlyBase=True))
+    axis.set_minor_formatter(LogFormatter(labelOnlyBase=True, minor_thresholds=(0, 0)))
 
 
 def _fig_legend(fig: Figure) -> None:
     """One legend for the figure, below the axes (outside them with the constrained layout)."""
     outside = type(fig.get_layout_engine()).__name__ == "ConstrainedLayoutEngine"
-    fig.legend(loc="outside lower center" if outside else "lower center", ncols=4, fontsize="x-small")
+    fig.legend(loc="outside lower center" if outside else "lower center", ncols=4, fontsize="x-small",
+               frameon=False)
 
 
-def mark_crossing(ax: Axes, scenario: Scenario | None, legend: bool = True, position_axis: bool = False) -> None:
-    """Shade the time any axle is on the bridge and draw the four entry/exit times (gid
-    ``crossing.<event>``); optionally a top axis with the first axle's position x [m]."""
+def mark_crossing(ax: Axes, scenario: Scenario | None, legend: bool = True, position_axis: bool = False,
+                  channel: str | None = None) -> None:
+    """Shade the time the train (or the channel's car) is on the bridge and draw the four entry/exit
+    times of its first and last axle (gid ``crossing.<event>``); optionally a top axis with that
+    first axle's position x [m]. ``channel``: a vehicle channel marks its own car's events."""
     if scenario is None:
         return
-    c = data.crossing_times(scenario)
+    c = data.channel_crossing(scenario, channel) if channel is not None else data.crossing_times(scenario)
     ax.axvspan(c.first_on, c.last_off, color="0.5", alpha=0.08, lw=0, gid="crossing.span")
     for key, label, t in c.marks():
         colour, style = _EVENT_STYLE[key]
         ax.axvline(t, color=colour, ls=style, lw=1.0, label=label if legend else None, gid=f"crossing.{key}")
     if position_axis:
         top = ax.secondary_xaxis("top", functions=(c.position, c.time_at))
-        top.set_xlabel(f"first axle position x [m] (bridge from 0 to {c.bridge_length:g} m)")
+        whose = f"{c.who}'s first axle" if c.who else "first axle"
+        top.set_xlabel(f"{whose}: position x [m] (bridge from 0 to {c.bridge_length:g} m)")
 
 
 def _time_axis(ax: Axes) -> None:
@@ -64,15 +92,20 @@ def _edges(x: np.ndarray, first: float, last: float) -> np.ndarray:
     return np.concatenate(([x[0] - first / 2], (x[:-1] + x[1:]) / 2, [x[-1] + last / 2]))
 
 
-def plot_psd_map(resp: RandomResponse, channel: str, *, fig: Figure | None = None, dynamic_range: float = 1e8) -> Figure:
-    """Time-frequency map of the one-sided PSD of ``channel`` (log colour scale), as the reference
-    study's figures 3-5. Zero PSD (frequencies outside the track's wavelength band) stays blank;
-    the colour scale spans at most ``dynamic_range`` below the peak."""
-    if resp.psd is None:
-        raise ValueError("this result holds no PSD map (Monte Carlo, or PEM run with keep_psd=False)")
-    S = resp.psd[resp.index(channel)]
-    unit = resp.unit(channel)
-    fig, (ax,) = _figure(fig, height=4.2)
+def plot_psd_map(resp: RandomResponse, channel: str, *, fig: Figure | None = None, dynamic_range: float = 1e8,
+                 log_frequency: bool | None = None) -> Figure:
+    """Time-frequency map of the one-sided PSD of ``channel`` (log colour scale, display unit^2/Hz),
+    as the reference study's figures 3-5. Zero PSD (frequencies outside the track's wavelength band)
+    stays blank; the colour scale spans at most ``dynamic_range`` below the peak.
+
+    ``log_frequency``: a logarithmic frequency axis; None (default) chooses it where the content
+    sits at low frequencies (:func:`tb_exudyn.plotting.data.low_frequency_content`, e.g. car bodies).
+    """
+    du = data.display_unit(resp.unit(channel))
+    S = data._psd_of(resp, channel) * du.factor ** 2
+    if log_frequency is None:
+        log_frequency = data.low_frequency_content(resp, channel)
+    fig, (ax,) = _figure(fig, height=3.4)
     vmax = float(S.max())
     positive = S[S > 0]
     if vmax > 0:
@@ -83,63 +116,87 @@ def plot_psd_map(resp: RandomResponse, channel: str, *, fig: Figure | None = Non
     dt = resp.scenario.analysis.output_step
     t_edges = _edges(resp.time, dt, dt)
     f_edges = _edges(resp.freq, resp.df[0], resp.df[-1])  # the PEM quadrature cells
+    if log_frequency and f_edges[0] <= 0:
+        f_edges[0] = resp.freq[0] / 2
     mesh = ax.pcolormesh(t_edges, f_edges, np.ma.masked_less_equal(S, 0.0), norm=norm, shading="flat",
                          cmap="viridis", rasterized=True)
+    if log_frequency:
+        ax.set_yscale("log")
+        _plain_log(ax.yaxis)
     cb = fig.colorbar(mesh, ax=ax)
-    cb.set_label(f"S [{data.psd_unit(unit)}]")
-    mark_crossing(ax, resp.scenario, position_axis=True)
-    ax.set_ylabel("frequency f [Hz]")
+    _plain_log(cb.ax.yaxis)
+    cb.ax.yaxis.set_minor_locator(NullLocator())  # up to 8 decades: minor ticks add nothing but drawing time
+    cb.set_label(f"S [{data.psd_unit(du.unit)}]")
+    mark_crossing(ax, resp.scenario, position_axis=True, channel=channel)
+    ax.set_ylabel("frequency f [Hz]" + (" (log scale)" if log_frequency else ""))
     _time_axis(ax)
     _fig_legend(fig)
-    ax.set_title(f"{channel}: one-sided PSD, band {data.band_text(resp)}")
+    _title(ax, channel, f"one-sided PSD, band {data.band_text(resp)}")
     return fig
 
 
+def _title(ax: Axes, channel: str, what: str) -> None:
+    """Two-line title: the readable label, then the channel name and what is shown."""
+    ax.set_title(f"{data.channel_label(channel)}\n{channel}: {what}", fontsize="medium")
+
+
 def plot_psd_slices(resp: RandomResponse, channel: str, times: Sequence[float] | None = None, *,
-                    fig: Figure | None = None) -> Figure:
-    """PSD of ``channel`` against frequency at the output times nearest to ``times`` (default: the
-    time of maximum sigma); each line is labelled with its time and sigma."""
+                    fig: Figure | None = None, log_frequency: bool | None = None) -> Figure:
+    """PSD of ``channel`` (display unit^2/Hz) against frequency at the output times nearest to
+    ``times`` (default: the time of maximum sigma); each line is labelled with its time and sigma.
+    ``log_frequency`` as in :func:`plot_psd_map`."""
     used, freq, S = data.psd_slices(resp, channel, times)
-    unit = resp.unit(channel)
+    du = data.display_unit(resp.unit(channel))
+    if log_frequency is None:
+        log_frequency = data.low_frequency_content(resp, channel)
     row = resp.index(channel)
-    fig, (ax,) = _figure(fig, sharex=False)
-    for t, s in zip(used, S):
-        sigma = resp.std[row, int(np.argmin(np.abs(resp.time - t)))]
-        ax.semilogy(freq, np.where(s > 0, s, np.nan), marker=".", label=f"t = {t:.4g} s, sigma = {sigma:.3g} {unit}")
+    fig, (ax,) = _figure(fig, sharex=False, legend_below=False, position_axis=False)
+    for t, s in zip(used, S * du.factor ** 2):
+        sigma = resp.std[row, int(np.argmin(np.abs(resp.time - t)))] * du.factor
+        ax.plot(freq, np.where(s > 0, s, np.nan), marker=".",
+                label=f"t = {t:.4g} s, sigma = {data.format_number(sigma, 3)} {du.unit}")
+    ax.set_yscale("log")
+    _plain_log(ax.yaxis)
+    ax.yaxis.set_minor_locator(NullLocator())  # many decades: minor ticks add nothing but drawing time
+    if log_frequency:
+        ax.set_xscale("log")
+        _plain_log(ax.xaxis)
     ax.set_xlabel("frequency f [Hz]")
-    ax.set_ylabel(f"S [{data.psd_unit(unit)}]")
+    ax.set_ylabel(f"S [{data.psd_unit(du.unit)}]")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize="small")
-    ax.set_title(f"{channel}: one-sided PSD, band {data.band_text(resp)}")
+    _title(ax, channel, f"one-sided PSD, band {data.band_text(resp)}")
     return fig
 
 
 def plot_bounds(resp: RandomResponse, channel: str, k: float = 3.0, samples=None, *,
                 fig: Figure | None = None) -> Figure:
-    """Mean and mean +- k sigma of ``channel`` against time (the reference study's figures 6-8).
+    """Mean and mean +- k sigma of ``channel`` against time (the reference study's figures 6-8),
+    in the channel's display unit.
 
     ``samples``: None (none), True (the result's stored Monte Carlo samples), an array (n, nt) or
     (n, n_channels, nt), or TimeHistory objects; drawn faintly behind.
     """
     row = resp.index(channel)
     unit = resp.unit(channel)
-    mean, std = resp.mean[row], resp.std[row]
+    f = data.display_unit(unit).factor
+    mean, std = resp.mean[row] * f, resp.std[row] * f
     fig, (ax,) = _figure(fig)
     paths = data.sample_matrix(resp, channel, samples)
     if paths is not None:
         for i, p in enumerate(paths):
-            ax.plot(resp.time, p, color="0.55", lw=0.5, alpha=0.35, zorder=1,
+            ax.plot(resp.time, p * f, color="0.55", lw=0.5, alpha=0.35, zorder=1,
                     label=f"samples ({len(paths)})" if i == 0 else None)
     ax.fill_between(resp.time, mean - k * std, mean + k * std, color="tab:blue", alpha=0.2, lw=0, zorder=2,
                     label=f"mean +- {k:g} sigma")
     ax.plot(resp.time, mean + k * std, color="tab:blue", lw=0.8, zorder=3, gid="upper")
     ax.plot(resp.time, mean - k * std, color="tab:blue", lw=0.8, zorder=3, gid="lower")
     ax.plot(resp.time, mean, color="k", lw=1.2, zorder=4, label="mean", gid="mean")
-    mark_crossing(ax, resp.scenario, position_axis=True)
-    ax.set_ylabel(data.channel_label(channel, unit))
+    mark_crossing(ax, resp.scenario, position_axis=True, channel=channel)
+    ax.set_ylabel(data.axis_label(channel, unit))
     _time_axis(ax)
     _fig_legend(fig)
-    ax.set_title(f"{channel}: {data.mc_label(resp)}, sigma over {data.band_text(resp)}")
+    _title(ax, channel, f"{data.mc_label(resp)}, sigma over {data.band_text(resp)}")
     return fig
 
 
@@ -147,50 +204,57 @@ def plot_pem_vs_mc(pem: RandomResponse, mc: RandomResponse | Sequence[RandomResp
                    fig: Figure | None = None) -> Figure:
     """Mean (top) and sigma (bottom) of ``channel`` by PEM and by one or more Monte Carlo runs, with
     the Monte Carlo 95 % confidence bands (``mean_ci``, ``std_ci``), as the reference study's
-    figures 1-2."""
+    figures 1-2; in the channel's display unit."""
     runs = [mc] if isinstance(mc, RandomResponse) else list(mc)
-    unit = pem.unit(channel)
-    fig, (ax_m, ax_s) = _figure(fig, nrows=2, height=2.8)
-    ax_m.plot(pem.time, pem.mean[pem.index(channel)], color="k", lw=1.4, label="PEM mean (deterministic run)")
-    ax_s.plot(pem.time, pem.std[pem.index(channel)], color="k", lw=1.4, label=f"PEM ({data.band_text(pem)})")
+    du = data.display_unit(pem.unit(channel))
+    f = du.factor
+    fig, (ax_m, ax_s) = _figure(fig, nrows=2, height=2.4, legend_below=False)
+    ax_m.plot(pem.time, pem.mean[pem.index(channel)] * f, color="k", lw=1.4, label="PEM mean (deterministic run)")
+    ax_s.plot(pem.time, pem.std[pem.index(channel)] * f, color="k", lw=1.4, label=f"PEM ({data.band_text(pem)})")
     for r in runs:
         row, name = r.index(channel), data.mc_label(r)
-        line, = ax_m.plot(r.time, r.mean[row], lw=1.0, label=f"{name} mean")
+        line, = ax_m.plot(r.time, r.mean[row] * f, lw=1.0, label=f"{name} mean")
         if r.mean_ci is not None:
-            ax_m.fill_between(r.time, r.mean_ci[0, row], r.mean_ci[1, row], color=line.get_color(), alpha=0.2,
+            ax_m.fill_between(r.time, r.mean_ci[0, row] * f, r.mean_ci[1, row] * f, color=line.get_color(), alpha=0.2,
                               lw=0, label=f"{name} 95 % interval")
-        line, = ax_s.plot(r.time, r.std[row], lw=1.0, label=f"{name} ({data.band_text(r)})")
+        line, = ax_s.plot(r.time, r.std[row] * f, lw=1.0, label=f"{name} ({data.band_text(r)})")
         if r.std_ci is not None:
-            ax_s.fill_between(r.time, r.std_ci[0, row], r.std_ci[1, row], color=line.get_color(), alpha=0.2,
+            ax_s.fill_between(r.time, r.std_ci[0, row] * f, r.std_ci[1, row] * f, color=line.get_color(), alpha=0.2,
                               lw=0, label=f"{name} 95 % interval")
     for ax, what in ((ax_m, "mean"), (ax_s, "sigma")):
-        mark_crossing(ax, pem.scenario, legend=ax is ax_m, position_axis=ax is ax_m)
-        ax.set_ylabel(f"{what} [{unit}]")
+        mark_crossing(ax, pem.scenario, legend=ax is ax_m, position_axis=ax is ax_m, channel=channel)
+        ax.set_ylabel(f"{what} [{du.unit}]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize="x-small", ncols=2 if ax is ax_s else 1, loc="upper left")
     ax_s.set_xlabel("time t [s]")
-    ax_m.set_title(f"{channel}: PEM against Monte Carlo")
+    _title(ax_m, channel, "PEM against Monte Carlo")
     return fig
 
 
 def plot_time_history(th: TimeHistory, channels: str | Sequence[str], *, fig: Figure | None = None) -> Figure:
-    """Deterministic histories of ``channels`` (names or glob patterns), one axes each, with the
-    train's passage over the bridge marked and the first axle's position on a top axis."""
+    """Deterministic histories of ``channels`` (names or glob patterns), one axes each, in display
+    units, with the passage over the bridge marked (each vehicle channel: its own car's) and the
+    first axle's position on a top axis."""
     names = data.select_channels(th, channels)
-    fig, axes = _figure(fig, nrows=len(names), height=2.2 if len(names) > 1 else 3.6)
+    fig, axes = _figure(fig, nrows=len(names), height=2.0 if len(names) > 1 else 3.0)
     for i, (ax, name) in enumerate(zip(axes, names)):
-        ax.plot(th.time, th[name], color="k", lw=1.0, gid="history")
-        mark_crossing(ax, th.scenario, legend=i == 0, position_axis=i == 0)
+        du = data.display_unit(th.unit(name))
+        ax.plot(th.time, np.asarray(th[name]) * du.factor, color="k", lw=1.0, gid="history")
+        mark_crossing(ax, th.scenario, legend=i == 0, position_axis=i == 0, channel=name)
         if len(names) == 1:
-            ax.set_ylabel(data.channel_label(name, th.unit(name)))
-        else:  # long names do not fit beside short axes: name above, unit beside
-            ax.set_title(name, loc="left", fontsize="small")
-            ax.set_ylabel(f"[{th.unit(name)}]")
+            ax.set_ylabel(data.axis_label(name, th.unit(name)))
+        else:  # long labels do not fit beside short axes: label above, unit beside
+            ax.set_title(data.channel_label(name), loc="left", fontsize="small")
+            ax.set_ylabel(f"[{du.unit}]")
         ax.grid(True, alpha=0.3)
     _fig_legend(fig)
     axes[-1].set_xlabel("time t [s]")
     title = th.scenario.name if th.scenario is not None else "time history"
-    axes[0].set_title(f"{title}: one run, excitation {th.provenance.get('excitation', 'not recorded')}")
+    what = f"one run, excitation {th.provenance.get('excitation', 'not recorded')}"
+    if len(names) == 1:
+        _title(axes[0], names[0], f"{title}, {what}")
+    else:
+        axes[0].set_title(f"{title}: {what}", loc="center")
     return fig
 
 

@@ -1,19 +1,53 @@
-"""Figures of saved result folders, written atomically next to the results (for ``tb-exudyn plot``)."""
+"""Figures of saved result folders, drawn in parallel and written atomically inside the folder.
+
+:func:`plot_folder` (``tb-exudyn plot``) draws the standard figures of every result in a folder:
+per channel the k-sigma bounds, the PSD map and the PSD at maximum sigma (PEM), or the history
+(one run), and PEM against Monte Carlo where the folder holds both. By default only the channels
+that matter are drawn (:func:`tb_exudyn.plotting.data.default_channels`); ``channels=PATTERN``
+draws others.
+
+Parallel: the figures are independent, so they are drawn by a pool of spawned processes (the
+project's start method: a forked copy of a process with threads can deadlock), each with
+matplotlib's Agg backend and one BLAS thread. The calling process draws too (it takes figures from
+the end of the queue while the workers start), so ``workers=N`` means N drawing processes in all
+and ``workers=1`` draws everything here with no pool. Each worker receives only the channel it
+draws (:func:`tb_exudyn.plotting.data.channel_subset`, about 1 MB for a 200 x 557 PSD map).
+
+Paths: every file is written inside the folder given; a channel name that would leave it (from a
+foreign or hostile ``meta.json``: ``a/../../x``) or a figures folder that is a symbolic link is
+refused with a :class:`~tb_exudyn.errors.ResultsError` naming the file, before anything is drawn.
+"""
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+import warnings
+from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Sequence
+from typing import Any, Sequence
 
 from matplotlib.figure import Figure
 
-from ..results import RandomResponse, find_results
 from ..atomic import write_atomic
+from ..errors import ResultsError, SettingError
+from ..results import RandomResponse, find_results
 from . import data
 from .figures import plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history
 
+#: figure resolution [dots per inch] of the PNG files (and of the report's images): 750 px wide
+DPI = 100
+#: figure kinds, in the order they are drawn and shown
+KINDS = ("bounds", "psd_map", "psd_slices", "history", "pem_vs_mc")
+#: below this many figures, drawing here beats starting a worker (a spawned process needs about
+#: 1-2 s to import matplotlib and tb_exudyn, the time of 5-10 figures)
+MIN_JOBS_FOR_POOL = 8
+_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "NUMEXPR_NUM_THREADS")
 
-def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
+
+def save_figure(fig: Figure, path: str | Path, dpi: int = DPI) -> Path:
     """Write ``fig`` to ``path`` atomically; the format is the file's suffix (png, pdf, svg, ...)."""
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower()
@@ -23,47 +57,188 @@ def save_figure(fig: Figure, path: str | Path, dpi: int = 120) -> Path:
     return path
 
 
-def figures_of(result, channels: str | Sequence[str] | None = None):
-    """(file stem, figure factory) of every standard figure of one result: per selected channel the
-    k-sigma bounds (with stored samples), PSD map and PSD at maximum sigma, or the history."""
+# ============================================================================================ paths
+def confined_path(root: Path, folder: Path, stem: str, suffix: str, source: Path) -> Path:
+    """``folder/<stem>.<suffix>``, checked to lie inside ``root``.
+
+    ``stem`` comes from a channel name read from ``source`` (a ``meta.json``); it must be one
+    file name (no path separator, not '.' or '..'), ``folder`` must not be a symbolic link, and
+    the resolved path must lie inside the resolved ``root``. Raises ResultsError naming ``source``
+    (or the folder) otherwise.
+    """
+    name = f"{stem}.{suffix}"
+    if "/" in stem or "\\" in stem or "\x00" in stem or stem in (".", "..") or name.startswith("."):
+        raise ResultsError(f"{source}: channel {stem.rsplit('.', 1)[0]!r} is not a plain name (it holds a path "
+                           f"separator or '..'); refusing to write a figure outside {root}")
+    if folder.is_symlink():
+        raise ResultsError(f"{folder}: the figures folder is a symbolic link (to {os.readlink(folder)}); "
+                           f"refusing to write figures through it (remove it, then plot again)")
+    path = folder / name
+    real_root = root.resolve()
+    if not path.resolve().is_relative_to(real_root):
+        raise ResultsError(f"{source}: figure {path} would be written outside the output folder {real_root} "
+                           "(through a symbolic link); refusing")
+    return path
+
+
+# ============================================================================================ jobs
+@dataclass(frozen=True)
+class FigureJob:
+    """One figure: its kind (:data:`KINDS`), the channel, the files to write (one per format) and
+    the data it needs (one-channel results, picklable)."""
+
+    kind: str
+    channel: str
+    paths: tuple[Path, ...]
+    payload: tuple[Any, ...]
+
+
+def figure_file(folder: Path, channel: str, kind: str, fmt: str = "png") -> Path:
+    """Where a figure goes: ``<folder>/figures/<channel>.<kind>.<fmt>`` (no checks)."""
+    return folder / "figures" / f"{channel}.{kind}.{fmt}"
+
+
+def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str]) -> list[FigureJob]:
+    source = path / "meta.json"
+    out = []
     for ch in data.select_channels(result, channels):
-        if isinstance(result, RandomResponse):
-            yield f"{ch}.bounds", lambda ch=ch: plot_bounds(result, ch, samples=True if result.samples is not None else None)
-            if result.psd is not None:
-                yield f"{ch}.psd_map", lambda ch=ch: plot_psd_map(result, ch)
-                yield f"{ch}.psd_slices", lambda ch=ch: plot_psd_slices(result, ch)
+        kinds = ("bounds",) if isinstance(result, RandomResponse) else ("history",)
+        if data.has_psd(result, ch):
+            kinds += ("psd_map", "psd_slices")
+        one = (data.channel_subset(result, [ch]),)
+        for kind in kinds:
+            paths = tuple(confined_path(root, path / "figures", f"{ch}.{kind}", fmt, source) for fmt in formats)
+            out.append(FigureJob(kind, ch, paths, one))
+    return out
+
+
+def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels: str | Sequence[str] | None = None,
+                formats: Sequence[str] = ("png",)) -> list[FigureJob]:
+    """Every standard figure of the results ``found`` in ``folder`` (see :func:`plot_folder`),
+    with its paths checked (:func:`confined_path`)."""
+    root = Path(folder)
+    jobs: list[FigureJob] = []
+    for path, result in found:
+        jobs += _jobs_of(root, path, result, channels, formats)
+    pems = [r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem"]
+    mcs = [(p, r) for p, r in found if isinstance(r, RandomResponse) and r.method.startswith("monte_carlo")]
+    if pems and mcs:
+        for ch in data.select_channels(pems[0], channels):
+            if all(ch in r.channels for _, r in mcs):
+                paths = tuple(confined_path(root, root / "figures", f"{ch}.pem_vs_mc", fmt, mcs[0][0] / "meta.json")
+                              for fmt in formats)
+                payload = (data.channel_subset(pems[0], [ch]), [data.channel_subset(r, [ch]) for _, r in mcs])
+                jobs.append(FigureJob("pem_vs_mc", ch, paths, payload))
+    return jobs
+
+
+def make_figure(kind: str, channel: str, payload: tuple[Any, ...]) -> Figure:
+    """The figure of one job (what a worker draws)."""
+    if kind == "pem_vs_mc":
+        return plot_pem_vs_mc(payload[0], payload[1], channel)
+    (result,) = payload
+    if kind == "history":
+        return plot_time_history(result, [channel])
+    if kind == "bounds":
+        return plot_bounds(result, channel, samples=True if result.samples is not None else None)
+    if kind == "psd_map":
+        return plot_psd_map(result, channel)
+    if kind == "psd_slices":
+        return plot_psd_slices(result, channel)
+    raise ValueError(f"unknown figure kind {kind!r}; kinds: {KINDS}")
+
+
+def draw_job(job: FigureJob, dpi: int = DPI) -> tuple[Path, ...]:
+    """Draw one job and write its files (runs in a worker or here)."""
+    fig = make_figure(job.kind, job.channel, job.payload)
+    return tuple(save_figure(fig, p, dpi=dpi) for p in job.paths)
+
+
+def _init_worker() -> None:
+    for name in _THREAD_VARIABLES:
+        os.environ[name] = "1"
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
+def default_workers() -> int:
+    """The cores this process may use."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def draw_jobs(jobs: Sequence[FigureJob], workers: int | None = None, progress: bool = False,
+              dpi: int = DPI) -> list[Path]:
+    """Draw ``jobs`` with ``workers`` drawing processes in all (this one included; default: the
+    cores this process may use; fewer than :data:`MIN_JOBS_FOR_POOL` jobs are drawn here), with a tqdm progress bar over figures when ``progress``; returns
+    the files written, in the order of ``jobs``."""
+    from tqdm.auto import tqdm
+
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise SettingError("plot_folder", "workers", workers, "a whole number >= 1 or None (all cores)")
+    n = min(workers or default_workers(), len(jobs))
+    if len(jobs) < MIN_JOBS_FOR_POOL:
+        n = 1
+    done: dict[int, tuple[Path, ...]] = {}
+    with tqdm(total=len(jobs), unit="figure", desc="figures", disable=not progress, leave=False) as bar:
+        if n <= 1:
+            for i, job in enumerate(jobs):
+                done[i] = draw_job(job, dpi)
+                bar.update()
         else:
-            yield f"{ch}.history", lambda ch=ch: plot_time_history(result, [ch])
+            with ProcessPoolExecutor(max_workers=n - 1, mp_context=multiprocessing.get_context("spawn"),
+                                     initializer=_init_worker) as pool:
+                futures: list[Future] = []
+                for job in jobs:
+                    fut = pool.submit(draw_job, job, dpi)
+                    fut.add_done_callback(lambda f: None if f.cancelled() else bar.update())
+                    futures.append(fut)
+                # this process takes jobs from the end while the workers start and take them from the front
+                for i in range(len(jobs) - 1, -1, -1):
+                    if not futures[i].cancel():
+                        break
+                    done[i] = draw_job(jobs[i], dpi)
+                    bar.update()
+                broken = False
+                for i, fut in enumerate(futures):
+                    if i in done:
+                        continue
+                    if not broken:
+                        try:
+                            done[i] = fut.result()
+                            continue
+                        except BrokenProcessPool:  # e.g. a script without `if __name__ == "__main__":`
+                            broken = True
+                            warnings.warn("the figure workers could not start; drawing the figures in this "
+                                          "process (guard a script's main code with `if __name__ == "
+                                          "\"__main__\":`)", RuntimeWarning, stacklevel=2)
+                    done[i] = draw_job(jobs[i], dpi)
+                    bar.update()
+    return [p for i in range(len(jobs)) for p in done[i]]
 
 
 def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
-                formats: Sequence[str] = ("png",)) -> list[Path]:
+                formats: Sequence[str] = ("png",), *, workers: int | None = None, progress: bool = False,
+                found: Sequence[tuple[Path, Any]] | None = None) -> list[Path]:
     """Write the standard figures of a saved result folder and return their paths.
 
     ``folder`` is one result folder (``meta.json`` + ``arrays.npz``) or a folder holding several
     (e.g. the ``--out`` folder with ``pem/`` and ``mc/``). Each result's figures go to
     ``<result>/figures/<channel>.<kind>.<format>``; when the folder holds a PEM and Monte Carlo
     results, ``<folder>/figures/<channel>.pem_vs_mc.<format>`` compares them. ``channels``: names or
-    glob patterns (default: the key channels, see :data:`tb_exudyn.plotting.data.KEY_CHANNELS`).
+    glob patterns (default: the channels that matter, :func:`tb_exudyn.plotting.data.default_channels`).
+    ``workers``: drawing processes (default: all cores); ``progress``: a progress bar over figures.
+    ``found``: the results already loaded (``find_results(folder)``), to avoid reading them again.
+
+    Raises ResultsError, before drawing anything, when a figure would be written outside ``folder``.
     """
     folder = Path(folder)
-    found = find_results(folder)
-    written: list[Path] = []
-
-    def write(make, out: Path, stem: str) -> None:
-        fig = make()
-        written.extend(save_figure(fig, out / f"{stem}.{fmt}") for fmt in formats)
-
-    for path, result in found:
-        for stem, make in figures_of(result, channels):
-            write(make, path / "figures", stem)
-    pems = [r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem"]
-    mcs = [r for _, r in found if isinstance(r, RandomResponse) and r.method.startswith("monte_carlo")]
-    if pems and mcs:
-        common = [c for c in data.select_channels(pems[0], channels) if all(c in m.channels for m in mcs)]
-        for ch in common:
-            write(lambda ch=ch: plot_pem_vs_mc(pems[0], mcs, ch), folder / "figures", f"{ch}.pem_vs_mc")
-    return written
+    found = find_results(folder) if found is None else found
+    return draw_jobs(figure_jobs(folder, found, channels, formats), workers=workers, progress=progress)
 
 
-__all__ = ["figures_of", "plot_folder", "save_figure"]
+__all__ = ["DPI", "FigureJob", "KINDS", "confined_path", "default_workers", "draw_job", "draw_jobs", "figure_file",
+           "figure_jobs", "make_figure", "plot_folder", "save_figure"]

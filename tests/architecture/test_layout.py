@@ -28,7 +28,7 @@ def test_the_import_graph_sees_the_package():
     assert len(modules()) > 60
     assert ("tb_exudyn.engines.batched", "tb_exudyn.engines.base") in pairs
     assert ("tb_exudyn.methods.pem", "tb_exudyn.engines") in pairs
-    assert ("tb_exudyn.report", "tb_exudyn.plotting") in pairs
+    assert ("tb_exudyn.report", "tb_exudyn.plotting.files") in pairs
 
 
 def test_no_import_cycle():

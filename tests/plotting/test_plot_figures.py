@@ -52,9 +52,25 @@ def test_psd_map(pem):
     assert isinstance(mesh.norm, LogNorm) and mesh.norm.vmax == S.max()
     assert ax.get_ylim() == pytest.approx(pem.band)  # cells are the PEM quadrature cells
     assert ax.get_xlabel() == "time t [s]" and ax.get_ylabel() == "frequency f [Hz]"
-    assert CH in ax.get_title() and "0-12 Hz" in ax.get_title()
+    assert ax.get_yscale() == "linear"  # the synthetic map's content is spread over the band
+    assert "car 1, body, lateral acceleration" in ax.get_title() and CH in ax.get_title() and "0-12 Hz" in ax.get_title()
     assert fig.axes[1].get_ylabel() == "S [(m/s^2)^2/Hz]"  # the colour bar
     assert _crossing_lines(ax) == pytest.approx(EVENTS)
+
+
+def test_psd_map_in_display_units_and_log_frequency(pem):
+    """A force channel is drawn in kN^2/Hz (S times 1e-6); log_frequency=True gives a log axis whose
+    lowest edge stays positive (the first cell's edge, 0 Hz, becomes half the first frequency)."""
+    ch = "car1.axle1.force_y"
+    fig = plot_psd_map(pem, ch, log_frequency=True)
+    ax = fig.axes[0]
+    (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
+    S = pem.psd[pem.index(ch)]
+    shown = np.ma.asarray(mesh.get_array()).reshape(S.shape)
+    assert np.allclose(shown.compressed(), 1e-6 * S[S > 0], rtol=1e-15, atol=0)
+    assert fig.axes[1].get_ylabel() == "S [kN^2/Hz]" and ax.get_yscale() == "log"
+    assert ax.get_ylim()[0] == pytest.approx(pem.freq[0] / 2)
+    assert plot_psd_slices(pem, ch, log_frequency=True).axes[0].get_xscale() == "log"
 
 
 def test_psd_map_needs_a_psd(mc):
@@ -71,6 +87,7 @@ def test_psd_slices_default_is_the_time_of_max_sigma(pem):
     assert np.array_equal(line.get_xdata(), pem.freq)
     assert np.array_equal(line.get_ydata()[:-1], expected[:-1]) and np.isnan(line.get_ydata()[-1])
     assert f"t = {pem.time[i]:.4g} s" in line.get_label() and f"{pem.std[row, i]:.3g} m/s^2" in line.get_label()
+    # the label's sigma is formatted by format_number: 3 significant digits, no exponent
     assert ax.get_yscale() == "log" and ax.get_xlabel() == "frequency f [Hz]"
 
 
@@ -83,17 +100,35 @@ def test_psd_slices_at_given_times_take_the_nearest_output_time(pem):
 
 
 def test_bounds(pem):
+    """A force is drawn in kN: the lines are 1e-3 times the stored N (to rounding: rtol 1e-15)."""
     fig = plot_bounds(pem, "car1.axle1.force_y", k=2.5)
     ax = fig.axes[0]
     r = pem.index("car1.axle1.force_y")
-    assert np.array_equal(_line(ax, "mean").get_ydata(), pem.mean[r])
-    assert np.allclose(_line(ax, "upper").get_ydata(), pem.mean[r] + 2.5 * pem.std[r], rtol=0, atol=1e-9)
-    assert np.allclose(_line(ax, "lower").get_ydata(), pem.mean[r] - 2.5 * pem.std[r], rtol=0, atol=1e-9)
-    assert ax.get_ylabel() == "car1.axle1.force_y [N]"
+    assert np.allclose(_line(ax, "mean").get_ydata(), 1e-3 * pem.mean[r], rtol=1e-15, atol=0)
+    assert np.allclose(_line(ax, "upper").get_ydata(), 1e-3 * (pem.mean[r] + 2.5 * pem.std[r]), rtol=1e-14, atol=1e-12)
+    assert np.allclose(_line(ax, "lower").get_ydata(), 1e-3 * (pem.mean[r] - 2.5 * pem.std[r]), rtol=1e-14, atol=1e-12)
+    assert ax.get_ylabel() == "lateral wheel-rail force [kN]"
+    assert "car 1, axle 1, lateral wheel-rail force" in ax.get_title()
     assert "PEM" in ax.get_title() and "0-12 Hz" in ax.get_title()
     assert _crossing_lines(ax) == pytest.approx(EVENTS)
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
-    assert "mean +- 2.5 sigma" in labels and "first axle enters" in labels and "last axle leaves" in labels
+    assert "mean +- 2.5 sigma" in labels and "car 1: first axle enters" in labels and "car 1: last axle leaves" in labels
+
+
+def test_vehicle_channels_mark_their_own_cars_crossing(pem):
+    """Two cars: car 2's channel marks car 2's first and last axle, the bridge's the train's."""
+    sc = pem.scenario
+    car = sc.train.vehicles[0]
+    two = sc.replace(train=sc.train.replace(vehicles=(car, car)))
+    r = type(pem)(**{**pem.__dict__, "scenario": two, "channels": ("bridge.span1.mid.acc_z", "car2.body.acc_y",
+                                                                   "car2.axle1.force_y", "car2.axle1.left.force_z")})
+    v = 250 / 3.6
+    a_first, a_last = car.length + car.axle_offsets[0], car.length + car.axle_offsets[-1]
+    car2 = {"first_on": (30 + a_first) / v, "first_off": (62 + a_first) / v, "last_on": (30 + a_last) / v,
+            "last_off": (62 + a_last) / v}
+    assert _crossing_lines(plot_bounds(r, "car2.axle1.force_y").axes[0]) == pytest.approx(car2)
+    train = {"first_on": 30 / v, "first_off": 62 / v, "last_on": (30 + a_last) / v, "last_off": (62 + a_last) / v}
+    assert _crossing_lines(plot_bounds(r, "bridge.span1.mid.acc_z").axes[0]) == pytest.approx(train)
 
 
 def test_bounds_with_samples(mc):
@@ -129,12 +164,13 @@ def test_time_history(th):
     fig = plot_time_history(th, ["bridge.*", "car1.axle1.force_y"])
     axes = [ax for ax in fig.axes if ax.get_ylabel()]
     assert len(axes) == 2
-    assert [ax.get_title(loc="left") for ax in axes] == ["bridge.span1.mid.acc_z", "car1.axle1.force_y"]
-    assert [ax.get_ylabel() for ax in axes] == ["[m/s^2]", "[N]"]
-    assert np.array_equal(_line(axes[1], "history").get_ydata(), th["car1.axle1.force_y"])
+    assert [ax.get_title(loc="left") for ax in axes] == ["span 1, mid-span, vertical acceleration",
+                                                         "car 1, axle 1, lateral wheel-rail force"]
+    assert [ax.get_ylabel() for ax in axes] == ["[m/s^2]", "[kN]"]
+    assert np.allclose(_line(axes[1], "history").get_ydata(), 1e-3 * th["car1.axle1.force_y"], rtol=1e-15, atol=0)
     assert _crossing_lines(axes[0]) == pytest.approx(EVENTS)
     single = plot_time_history(th, "car1.body.acc_y").axes[0]
-    assert single.get_ylabel() == "car1.body.acc_y [m/s^2]"
+    assert single.get_ylabel() == "lateral acceleration [m/s^2]"
     with pytest.raises(KeyError, match="matches no channel"):
         plot_time_history(th, "car9.*")
 
@@ -150,7 +186,7 @@ def test_figures_stay_out_of_pyplot_and_accept_a_given_figure(pem):
         plt.close(fig)
 
 
-def test_default_channels_are_the_key_channels(pem):
+def test_default_channels_are_the_channels_that_matter(pem):
     assert select_channels(pem) == ["bridge.span1.mid.acc_z", "car1.body.acc_y", "car1.axle1.force_y",
                                     "car1.axle1.left.force_z"]
     assert select_channels(pem, "car1.axle1.*") == ["car1.axle1.force_y", "car1.axle1.left.force_z"]

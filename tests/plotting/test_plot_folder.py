@@ -1,11 +1,14 @@
-"""plot_folder: figures of saved results, written atomically next to them."""
+"""plot_folder: figures of saved results, drawn in parallel, written atomically inside the folder given."""
 
 from __future__ import annotations
+
+import json
 
 import pytest
 
 from tb_exudyn.errors import ResultsError
-from tb_exudyn.plotting import plot_folder, save_figure, plot_bounds
+from tb_exudyn.plotting import plot_bounds, plot_folder, save_figure
+from tb_exudyn.report import write_report
 
 
 def _png(path):
@@ -48,3 +51,57 @@ def test_plot_folder_errors(tmp_path, pem):
     with pytest.raises(ValueError, match="cannot write figures as 'docx'"):
         save_figure(plot_bounds(pem, "car1.body.acc_y"), tmp_path / "x.docx")
     assert not list(tmp_path.iterdir())
+
+
+def test_default_figures_are_drawn_in_parallel_and_match_the_serial_ones(tmp_path, pem):
+    """12 figures (4 channels x bounds, PSD map, PSD slices): 2 drawing processes (this one and a
+    spawned worker) write byte-identical PNG files to one process."""
+    for w in (1, 2):
+        pem.save(tmp_path / f"w{w}")
+    serial = plot_folder(tmp_path / "w1", workers=1)
+    parallel = plot_folder(tmp_path / "w2", workers=2, progress=True)
+    assert len(serial) == 12 and [p.name for p in parallel] == [p.name for p in serial]
+    assert all(a.read_bytes() == b.read_bytes() for a, b in zip(serial, parallel))
+
+
+def _hostile(tmp_path, pem, channel):
+    """A result folder whose meta.json names a channel as given."""
+    pem.save(tmp_path / "out" / "pem")
+    meta_path = tmp_path / "out" / "pem" / "meta.json"
+    meta = json.loads(meta_path.read_text())
+    meta["channels"][1] = channel
+    meta_path.write_text(json.dumps(meta))
+    return meta_path
+
+
+def test_a_channel_name_cannot_write_outside_the_folder(tmp_path, pem):
+    meta = _hostile(tmp_path, pem, "car1/../../../escaped")
+    with pytest.raises(ResultsError) as err:
+        plot_folder(tmp_path / "out", channels="*")
+    message = str(err.value)
+    assert str(meta) in message and "\n" not in message and "escaped" in message
+    assert not list(tmp_path.rglob("*.png")) and not (tmp_path / "escaped.bounds.png").exists()
+    with pytest.raises(ResultsError, match="escaped"):
+        write_report(tmp_path / "out", channels="*")
+    assert not (tmp_path / "out" / "report.html").exists()
+
+
+def test_a_symlinked_figures_folder_is_refused(tmp_path, pem):
+    pem.save(tmp_path / "out" / "pem")
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    (tmp_path / "out" / "pem" / "figures").symlink_to(outside)
+    with pytest.raises(ResultsError) as err:
+        plot_folder(tmp_path / "out")
+    assert str(tmp_path / "out" / "pem" / "figures") in str(err.value) and "symbolic link" in str(err.value)
+    assert not list(outside.iterdir())
+
+
+def test_a_symlinked_result_folder_cannot_lead_outside(tmp_path, pem):
+    outside = tmp_path / "elsewhere"
+    pem.save(outside)
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "pem").symlink_to(outside)
+    with pytest.raises(ResultsError, match="symbolic link"):
+        plot_folder(tmp_path / "out")
+    assert not (outside / "figures").exists()

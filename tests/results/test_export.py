@@ -1,4 +1,5 @@
-"""CSV and MATLAB export: files load back equal to the result (CSV exactly: repr-precision floats)."""
+"""Exports: labelled arrays (to_xarray, NetCDF), CSV for pandas and MATLAB files load back equal to the
+result (CSV exactly: repr-precision floats; NetCDF and MAT bit for bit: they store the doubles)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import numpy as np
 import pytest
 import scipy.io
 
+from tb_exudyn.errors import SettingError
 from tb_exudyn.results import export
 from tb_exudyn.results.export import export_csv, export_mat, read_csv
 from tb_exudyn.scenario import scenario_from_dict
@@ -40,7 +42,10 @@ def test_random_response_csv_is_exact(tmp_path):
         t, names, back = read_csv(path)
         assert np.array_equal(t, r.time) and np.array_equal(back, values) and names == header[1:]
     first = files[1].read_text().splitlines()[0]
-    assert first.startswith("#") and "0-12 Hz" in first and "sigma" in first
+    assert first.startswith("time [s],")  # no comment line: what the file holds is in the sidecar
+    about = json.loads(export.sidecar_path(files[1]).read_text())
+    assert "0-12 Hz" in about["about"] and "sigma" in about["about"]
+    assert about["columns"][2] == {"header": "car1.body.acc_y [m/s^2]", "name": "car1.body.acc_y", "unit": "m/s^2"}
     assert not list(tmp_path.glob(".*"))
 
 
@@ -89,3 +94,103 @@ def test_a_failed_write_leaves_no_file(tmp_path, monkeypatch):
     with pytest.raises(OSError, match="disk full"):
         export_mat(synthetic.time_history(), tmp_path / "th.mat")
     assert not list(tmp_path.iterdir())
+
+
+# ------------------------------------------------------------------------------------------ labelled arrays
+xr = pytest.importorskip("xarray")
+
+
+def test_to_xarray_of_a_pem_result():
+    r = synthetic.pem_response()
+    ds = export.to_xarray(r)
+    assert dict(ds.sizes) == {"channel": 4, "time": r.time.size, "frequency": 6}
+    assert list(ds.channel.values) == list(r.channels) and list(ds.unit.values) == list(r.units)
+    assert ds.label.sel(channel="car1.axle1.force_y").item() == "car 1, axle 1, lateral wheel-rail force"
+    assert np.array_equal(ds.time.values, r.time) and np.array_equal(ds.frequency.values, r.freq)
+    assert np.array_equal(ds["mean"].values, r.mean) and np.array_equal(ds["std"].values, r.std)
+    assert np.array_equal(ds.psd.transpose("channel", "frequency", "time").values, r.psd)
+    assert np.array_equal(ds.df.values, r.df)
+    # labelled access: a channel and a time by name, not by index
+    i = r.index("car1.body.acc_y")
+    assert ds["std"].sel(channel="car1.body.acc_y", time=0.5).item() == r.std[i, int(np.argmin(abs(r.time - 0.5)))]
+    assert ds.time.attrs["units"] == "s" and ds.frequency.attrs["units"] == "Hz"
+    assert ds["std"].attrs["units_coordinate"] == "unit" and ds.psd_unit.values[1] == "(m/s^2)^2/Hz"
+    assert list(ds.attrs["band_hz"]) == list(r.band) and ds.attrs["method"] == "pem"
+    assert json.loads(ds.attrs["provenance_json"]) == r.provenance
+    assert scenario_from_dict(tomllib.loads(ds.attrs["scenario_toml"]), "nc") == r.scenario
+
+
+def test_to_xarray_of_monte_carlo_and_of_a_run():
+    mc = synthetic.mc_response()
+    ds = export.to_xarray(mc)
+    assert list(ds.bound.values) == ["lower", "upper"] and ds.sizes["sample"] == mc.n_samples
+    assert np.array_equal(ds.std_ci.values, mc.std_ci) and np.array_equal(ds.mean_ci.values, mc.mean_ci)
+    assert np.array_equal(ds.samples.values, mc.samples) and np.array_equal(ds.min_wheel_force.values, mc.min_wheel_force)
+    assert "frequency" not in ds.dims and ds.attrs["n_samples"] == mc.n_samples
+    th = synthetic.time_history()
+    ds = export.to_xarray(th)
+    assert np.array_equal(ds.value.sel(channel="car1.axle1.force_y").values, th["car1.axle1.force_y"])
+    assert ds.attrs["kind"] == "time_history"
+
+
+def test_var_by_type_has_a_type_dimension():
+    r = synthetic.pem_response()
+    vbt = np.stack([0.25 * r.std ** 2, 0.75 * r.std ** 2])
+    r = type(r)(**{**r.__dict__, "var_by_type": vbt, "types": ("german_low.vertical", "german_low.alignment")})
+    ds = export.to_xarray(r)
+    assert list(ds.type.values) == ["german_low.vertical", "german_low.alignment"]
+    assert np.array_equal(ds.var_by_type.sel(type="german_low.alignment").values, vbt[1])
+
+
+@pytest.mark.parametrize("engine", ["h5netcdf", "scipy"])
+def test_netcdf_reads_back_with_xarray(tmp_path, engine):
+    pytest.importorskip(engine)
+    for r in (synthetic.pem_response(), synthetic.mc_response(), synthetic.time_history()):
+        path = export.export_netcdf(r, tmp_path / "r.nc", engine=engine)
+        with xr.open_dataset(path, engine=engine) as back:
+            back = back.load()
+        want = export.to_xarray(r)
+        for name in want.data_vars:
+            assert np.array_equal(back[name].values, want[name].values), name  # the doubles, bit for bit
+        assert list(back.channel.values) == list(want.channel.values)
+        assert list(back.unit.values) == list(want.unit.values)
+        assert np.array_equal(back.time.values, want.time.values)
+        assert back.attrs["scenario_toml"] == want.attrs["scenario_toml"]
+        if "band_hz" in want.attrs:
+            assert list(np.atleast_1d(back.attrs["band_hz"])) == list(want.attrs["band_hz"])
+    assert not list(tmp_path.glob(".*"))
+
+
+def test_csv_reads_with_pandas_defaults(tmp_path):
+    """pandas.read_csv(path) with no arguments: the header is the first line, units in the headers.
+    Values are compared to rtol 1e-15: pandas before 3.0 parses floats by default with a fast
+    parser that may differ from the exact double by 1 ulp (pandas 3 reads them exactly)."""
+    pd = pytest.importorskip("pandas")
+    r = synthetic.pem_response()
+    path, sidecar = export.export(r, "csv", tmp_path / "pem.csv")
+    table = pd.read_csv(path)
+    assert list(table.columns[:3]) == ["time [s]", "bridge.span1.mid.acc_z mean [m/s^2]",
+                                       "bridge.span1.mid.acc_z sigma [m/s^2]"]
+    assert len(table.columns) == 1 + 2 * len(r.channels)
+    for i, (c, u) in enumerate(zip(r.channels, r.units)):
+        assert np.allclose(table[f"{c} mean [{u}]"], r.mean[i], rtol=1e-15, atol=0)
+        assert np.allclose(table[f"{c} sigma [{u}]"], r.std[i], rtol=1e-15, atol=0)
+    assert np.allclose(table["time [s]"], r.time, rtol=1e-15, atol=0)
+    assert json.loads(sidecar.read_text())["columns"][0]["unit"] == "s"
+    th = synthetic.time_history()
+    (path, _) = export.export(th, "csv", tmp_path / "th.csv")
+    assert list(pd.read_csv(path).columns) == ["time [s]"] + [f"{c} [{th.unit(c)}]" for c in th.names]
+
+
+def test_export_entry_point(tmp_path):
+    r = synthetic.mc_response()
+    (mat,) = export.export(r, "mat", tmp_path / "mc.mat")
+    m = scipy.io.loadmat(mat)
+    assert np.array_equal(m["std_response"], r.std)
+    assert [str(x[0]) for x in m["labels"].ravel()][1] == "car 1, body, lateral acceleration"
+    (nc,) = export.export(r, "netcdf", tmp_path / "mc.nc")
+    assert nc.stat().st_size > 0
+    with pytest.raises(SettingError, match="key 'format' = 'xlsx'.*allowed: netcdf, csv, mat"):
+        export.export(r, "xlsx", tmp_path / "mc.xlsx")
+    with pytest.raises(SettingError, match="is a folder"):
+        export.export(r, "csv", tmp_path)

@@ -1,0 +1,177 @@
+"""A self-contained HTML report of saved results, read top-down by an engineer.
+
+Sections, in order: the verdicts (:class:`CheckEntry` rows, from the checks of a result) and the
+warnings (each result's provenance ``warnings``); for a scenario that reproduces a study, the
+study's stated findings beside ours (data: ``models/studies/*.toml``, :func:`load_study`); the
+figures, each next to the numbers it explains, grouped by bridge / car / wheelsets; the full
+channel table, grouped the same way, collapsible and filterable; the modes (:class:`ModeEntry`
+rows); the scenario; the provenance.
+
+Inputs that other layers compute arrive as documented data objects; a section whose input is
+absent says "not computed":
+
+- ``checks``: a sequence of :class:`CheckEntry` (or objects with the same attribute names, e.g. the
+  rows of ``result.checks()``), one per criterion and location;
+- ``modes``: a sequence of :class:`ModeEntry` (or objects with the same attribute names), the
+  damped modes of the linearised system.
+
+One page, no external resources: figures are embedded as base64 PNG, the style and the few lines
+of script (the channel filter; the page reads the same without it) are inline, and every piece of
+text is escaped. Values are shown in engineering units (:func:`tb_exudyn.plotting.data.display_unit`).
+Until the checks exist, the verdict section shows a screening of max |mean| + 3 sigma against the
+limits of :func:`code_limit` (all [check]), clearly labelled as not being a verdict.
+matplotlib is imported only when figures are drawn (through :mod:`tb_exudyn.plotting`).
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+import html
+from pathlib import Path
+from typing import Any, Iterable, Sequence
+
+from .._version import __version__
+from ..atomic import write_text_atomic
+from ..plotting import data as pdata
+from ..plotting.files import draw_jobs, figure_jobs, plot_folder
+from ..results import RandomResponse, find_results
+from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
+from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, as_check_entries,
+                      as_mode_entries, code_limit, compare_findings, screening, static_axle_load, summary)
+from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_section, findings_section, link, modes_section,
+                   provenance_section, result_name, scenario_section, verdicts_section, warnings_section)
+
+esc = html.escape
+
+
+def ordered(found: Sequence[tuple[Path, Result]]) -> list[tuple[Path, Result]]:
+    """The results in reading order: PEM first, then Monte Carlo, then single runs (stable)."""
+    def rank(item):
+        r = item[1]
+        return 0 if isinstance(r, RandomResponse) and r.method == "pem" else 1 if isinstance(r, RandomResponse) else 2
+    return sorted(found, key=rank)
+
+
+def _first_random(found: Sequence[tuple[Path, Result]]) -> Result | None:
+    for _, r in found:
+        if isinstance(r, RandomResponse) and r.method == "pem":
+            return r
+    return found[0][1] if found else None
+
+
+def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
+                  channels: str | Sequence[str] | None = None, title: str | None = None, *,
+                  checks: Iterable[Any] | None = None, modes: Iterable[Any] | None = None,
+                  pictures: dict[tuple[str, str, str], bytes] | None = None,
+                  names: dict[str, list[str]] | None = None, comparison: Sequence[str] = (),
+                  warnings: Sequence[str] = ()) -> str:
+    """The HTML text of a report on ``found`` results (see :func:`write_report`).
+
+    ``pictures``: PNG bytes by (result folder name, channel, kind) ("" as folder for pem_vs_mc);
+    ``names``: the channels with figures per result folder name (default: ``channels`` selected);
+    ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own.
+    """
+    found = ordered(found)
+    check_rows = as_check_entries(checks)
+    mode_rows = as_mode_entries(modes)
+    pictures = pictures or {}
+    if names is None:
+        names = {p.name: pdata.select_channels(r, channels) for p, r in found}
+    figure_ids = {anchor("fig", ch) for ch in names.get(found[0][0].name, [])} if found else set()
+    scenarios = [r.scenario for _, r in found if r.scenario is not None]
+    sc = scenarios[0] if scenarios else None
+    first = _first_random(found)
+    title = title or f"tb_exudyn report: {sc.name if sc else found[0][0].name}"
+    now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    what = []
+    for path, r in found:
+        w = result_name(path, r)
+        if isinstance(r, RandomResponse):
+            w += f", sigma over {pdata.band_text(r)}" + (f", {r.n_samples} samples" if r.n_samples else
+                                                         f", {len(r.freq)} frequencies")
+        what.append(w)
+    pem = next((r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem" and r.psd is not None), None)
+    studies = studies_for(sc)
+    nav = [("verdicts", "Verdicts"), ("warnings", "Warnings")] + ([("findings", "Study findings")] if studies else []) + [
+        ("figures", "Figures"), ("channels", "All channels"), ("modes", "Modes"), ("scenario", "Scenario"),
+        ("provenance", "Provenance")]
+    body = [f"<h1>{esc(title)}</h1>",
+            f'<p class="meta">{esc(sc.description if sc else "")}</p>',
+            f'<p class="meta">{esc("; ".join(what))}. Generated {esc(now)} by tb_exudyn {esc(__version__)}.</p>',
+            "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
+            verdicts_section(check_rows, first, k, figure_ids),
+            warnings_section(found, warnings),
+            findings_section(studies, pem, figure_ids),
+            figures_section(found, pictures, names, k, list(comparison)),
+            channels_section(found, k, figure_ids),
+            modes_section(mode_rows),
+            scenario_section(scenarios),
+            provenance_section(found)]
+    return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+            f"<meta name=\"viewport\" content=\"width=device-width\"><title>{esc(title)}</title>"
+            f"<style>{STYLE}</style></head><body>\n" + "\n".join(b for b in body if b)
+            + f"\n<script>{FILTER_SCRIPT}</script>\n</body></html>\n")
+
+
+def _fresh(png: Path, newest_input: float) -> bool:
+    try:
+        return png.stat().st_mtime >= newest_input
+    except OSError:
+        return False
+
+
+def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels, *, workers: int | None = None,
+                    progress: bool = False) -> tuple[dict[tuple[str, str, str], bytes], dict[str, list[str]], list[str]]:
+    """The report's figures as PNG bytes: the files ``plot_folder`` wrote when they are newer than
+    the results, the others drawn now (in parallel, into the same files). Returns (pictures,
+    channels with figures per result folder name, channels with a PEM against Monte Carlo figure)."""
+    jobs = figure_jobs(folder, found, channels, ("png",))
+    newest = max((p / n).stat().st_mtime for p, _ in found for n in ("arrays.npz", "meta.json") if (p / n).exists())
+    missing = [j for j in jobs if not _fresh(j.paths[0], newest)]
+    draw_jobs(missing, workers=workers, progress=progress)
+    pictures: dict[tuple[str, str, str], bytes] = {}
+    names: dict[str, list[str]] = {p.name: [] for p, _ in found}
+    comparison: list[str] = []
+    for job in jobs:
+        if job.kind == "pem_vs_mc":
+            pictures[("", job.channel, job.kind)] = job.paths[0].read_bytes()
+            comparison.append(job.channel)
+            continue
+        result_dir = job.paths[0].parent.parent.name
+        pictures[(result_dir, job.channel, job.kind)] = job.paths[0].read_bytes()
+        if job.channel not in names[result_dir]:
+            names[result_dir].append(job.channel)
+    return pictures, names, comparison
+
+
+def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: float = 3.0,
+                 channels: str | Sequence[str] | None = None, checks: Iterable[Any] | None = None,
+                 modes: Iterable[Any] | None = None, workers: int | None = None, progress: bool = False,
+                 found: Sequence[tuple[Path, Result]] | None = None) -> Path:
+    """Write one self-contained HTML page on the results in ``folder`` (one result folder, or a
+    folder of result folders) to ``out_html`` (default ``<folder>/report.html``), atomically.
+
+    ``channels``: names or glob patterns of the channels to draw (default: the channels that
+    matter, :func:`tb_exudyn.plotting.data.default_channels`); the channel table lists every
+    channel. Figures that ``plot_folder`` already wrote (newer than the results) are embedded as
+    they are; missing ones are drawn (``workers`` processes, a progress bar with ``progress``) into
+    ``<result>/figures``. ``checks``, ``modes``: the verdict rows and the modes (see
+    :class:`CheckEntry`, :class:`ModeEntry`; None: "not computed"). ``found``: the results already
+    loaded (``find_results(folder)``).
+    """
+    folder = Path(folder)
+    found = find_results(folder) if found is None else found
+    pictures, names, comparison = report_pictures(folder, found, channels, workers=workers, progress=progress)
+    text = render_report(found, k=k, channels=channels, checks=checks, modes=modes, pictures=pictures,
+                         names=names, comparison=comparison)
+    out = Path(out_html) if out_html is not None else folder / "report.html"
+    write_text_atomic(out, text)
+    return out
+
+
+
+
+__all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
+           "SummaryRow", "as_check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
+           "load_study", "plot_folder", "render_report", "report_pictures", "scenario_sections", "screening",
+           "static_axle_load", "studies_for", "summary", "write_report"]

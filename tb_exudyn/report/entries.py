@@ -1,0 +1,228 @@
+"""The report's inputs as data: the verdict rows (:class:`CheckEntry`), the modes
+(:class:`ModeEntry`), the per-channel summary, the screening against the former hard-coded limits,
+and the study's findings beside ours (:func:`compare_findings`)."""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import MISSING, dataclass, fields
+from typing import Any, Iterable, Union
+
+import numpy as np
+
+from ..plotting import data as pdata
+from ..results import RandomResponse, TimeHistory
+from ..scenario import Car15, Scenario
+from ..scenario.studies import Study, StudyFinding, StudyQuantity
+
+Result = Union[RandomResponse, TimeHistory]
+
+
+@dataclass(frozen=True)
+class CheckEntry:
+    """One row of the verdicts table: a criterion checked at one location.
+
+    The checks of a result (issue 16, ``result.checks()``) provide these attributes; any object
+    with them is accepted (:func:`as_check_entries`). ``estimate`` and ``limit`` are in ``unit``
+    (SI; shown in its display unit). ``verdict`` is a word ("OK", "EXCEEDS", "NOT APPLICABLE", ...);
+    ``probability`` the probability that the limit is exceeded at least once per passage (NaN: not
+    computed); ``caveats`` the warnings that apply to this row (a lightly damped mode, a grid error,
+    a quantity the linear model cannot represent); ``channel`` the channel it comes from (links the
+    row to its figures)."""
+
+    criterion: str
+    location: str
+    estimate: float
+    limit: float
+    unit: str
+    verdict: str
+    probability: float = math.nan
+    clause: str = ""
+    caveats: tuple[str, ...] = ()
+    channel: str = ""
+
+
+@dataclass(frozen=True)
+class ModeEntry:
+    """One damped mode of the linearised system: ``frequency`` [Hz], ``damping_ratio`` [1], a
+    ``label`` saying what moves ("car 2, leading bogie, yaw"), the ``context`` it was computed in
+    ("vehicles on rigid track", "coupled, train at t = 3.3 s") and a ``warning`` ("" or e.g.
+    "lightly damped: decay time longer than the run"). Any object with these attributes is accepted."""
+
+    frequency: float
+    damping_ratio: float
+    label: str
+    context: str = ""
+    warning: str = ""
+
+
+def _entries(rows: Iterable[Any] | None, cls: type) -> list | None:
+    if rows is None:
+        return None
+    out = []
+    required = [f.name for f in fields(cls) if f.default is MISSING and f.default_factory is MISSING]
+    for i, row in enumerate(rows):
+        if isinstance(row, cls):
+            out.append(row)
+            continue
+        missing = [n for n in required if not hasattr(row, n)]
+        if missing:
+            raise TypeError(f"{cls.__name__} row {i}: {type(row).__name__} has no attribute {missing[0]!r} "
+                            f"(needs {', '.join(required)})")
+        values = {f.name: getattr(row, f.name) for f in fields(cls) if hasattr(row, f.name)}
+        if "caveats" in values:
+            values["caveats"] = tuple(values["caveats"] or ())
+        out.append(cls(**values))
+    return out
+
+
+def as_check_entries(rows: Iterable[Any] | None) -> list[CheckEntry] | None:
+    """The verdict rows as :class:`CheckEntry` (None stays None: "not computed")."""
+    return _entries(rows, CheckEntry)
+
+
+def as_mode_entries(rows: Iterable[Any] | None) -> list[ModeEntry] | None:
+    """The modes as :class:`ModeEntry` (None stays None: "not computed")."""
+    return _entries(rows, ModeEntry)
+
+
+# ============================================================================================ screening limits
+@dataclass(frozen=True)
+class CodeLimit:
+    """A limit on the magnitude of a channel (same unit as the channel)."""
+
+    criterion: str
+    value: float
+    unit: str
+    source: str
+    note: str = ""
+
+
+DECK_NOTE = ("ballasted track assumed (direct-fastened track: 5.0 m/s^2); the code checks frequencies up to "
+             "max(30 Hz, 1.5 f1, f3); girder axis (torsion times track eccentricity not included)")
+
+
+def static_axle_load(scenario: Scenario, car: int) -> float | None:
+    """Static axle load P_st [N] of car number ``car`` (1-based): its weight shared by its four axles
+    (15-DOF cars are symmetric); None for other vehicle kinds."""
+    v = scenario.train.vehicles[car - 1]
+    if not isinstance(v, Car15):
+        return None
+    return (v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass) * scenario.analysis.gravity / 4
+
+
+def code_limit(channel: str, scenario: Scenario | None) -> CodeLimit | None:
+    """The screening limit that applies to a channel, or None (interim: the verdicts of the checks
+    replace this screening; their limits are data in models/limits)."""
+    if re.fullmatch(r"bridge\.span\d+\.\w+\.acc_z", channel):
+        return CodeLimit("deck vertical acceleration", 3.5, "m/s^2", "EN 1990 Annex A2, A2.4.4.2.1", DECK_NOTE)
+    if re.fullmatch(r"car\d+\.body\.acc_z", channel):
+        return CodeLimit("car body vertical acceleration", 1.3, "m/s^2", "TB 10621")
+    if re.fullmatch(r"car\d+\.body\.acc_y", channel):
+        return CodeLimit("car body lateral acceleration", 1.0, "m/s^2", "TB 10621")
+    m = re.fullmatch(r"car(\d+)\.axle\d+\.force_y", channel)
+    if m and scenario is not None and int(m.group(1)) <= len(scenario.train.vehicles):
+        p_st = static_axle_load(scenario, int(m.group(1)))
+        if p_st is not None:
+            h = 0.85 * (10.0 + p_st / 1e3 / 3.0) * 1e3
+            return CodeLimit("lateral wheelset force H", h, "N", "Prud'homme type limit",
+                             f"H <= 0.85 (10 + P_st/3) kN, P_st = {p_st / 1e3:.4g} kN static axle load")
+    return None
+
+
+@dataclass(frozen=True)
+class SummaryRow:
+    channel: str
+    unit: str
+    max_abs_mean: float  # a single run: max |value|
+    max_sigma: float     # nan for a single run
+    peak: float          # max |mean| + k sigma, or max |value|
+    limit: CodeLimit | None
+
+    @property
+    def margin(self) -> float:
+        return math.nan if self.limit is None else self.limit.value - self.peak
+
+    @property
+    def status(self) -> str:
+        return "" if self.limit is None else ("OK" if self.peak <= self.limit.value else "EXCEEDS")
+
+
+def summary(result: Result, k: float = 3.0) -> list[SummaryRow]:
+    """Per channel: max |mean|, max sigma, max |mean| + k sigma and the screening limit with its margin."""
+    if isinstance(result, RandomResponse):
+        return [SummaryRow(c, u, m, s, p, code_limit(c, result.scenario)) for c, u, m, s, p in result.summary_rows(k)]
+    out = []
+    for c in result.names:
+        peak = float(np.max(np.abs(result[c])))
+        out.append(SummaryRow(c, result.unit(c), peak, math.nan, peak, code_limit(c, result.scenario)))
+    return out
+
+
+@dataclass(frozen=True)
+class ScreeningRow:
+    """Per screening criterion: the location with the smallest margin, and how many exceed."""
+
+    criterion: str
+    worst: SummaryRow
+    n_locations: int
+    n_exceeding: int
+
+
+def screening(result: Result, k: float = 3.0) -> list[ScreeningRow]:
+    """The interim screening: per criterion of :func:`code_limit`, the worst location."""
+    by: dict[str, list[SummaryRow]] = {}
+    for r in summary(result, k):
+        if r.limit is not None:
+            by.setdefault(r.limit.criterion, []).append(r)
+    return [ScreeningRow(c, min(rows, key=lambda r: r.margin / r.limit.value), len(rows),
+                         sum(r.status == "EXCEEDS" for r in rows)) for c, rows in by.items()]
+
+
+@dataclass(frozen=True)
+class FindingRow:
+    """A study quantity beside ours: ``ours`` (a value, or (low, high) for a band), the agreement
+    ("matched", "not matched", "" without a rule, or why it could not be computed)."""
+
+    finding: StudyFinding
+    quantity: StudyQuantity
+    ours: float | tuple[float, float] | None
+    agreement: str
+
+
+def measure(resp: RandomResponse, q: StudyQuantity) -> float | tuple[float, float]:
+    """Our value of a study quantity (:data:`MEASURES`)."""
+    if q.measure == "psd_peak_frequency":
+        return pdata.psd_peak(resp, q.channel)[0]
+    if q.measure == "psd_band_99":
+        return pdata.psd_band(resp, q.channel, 0.99)
+    if q.measure == "sigma_to_mean_ratio":
+        return pdata.sigma_to_mean_ratio(resp, q.channel, 3.0)
+    return pdata.band_across_zero_share(resp, q.channel, 3.0)
+
+
+def compare_findings(study: Study, resp: RandomResponse) -> list[FindingRow]:
+    """Every quantity of the study's findings beside ours."""
+    rows = []
+    for f in study.findings:
+        for q in f.quantities:
+            if q.channel not in resp.channels:
+                rows.append(FindingRow(f, q, None, "channel not in this result"))
+                continue
+            try:
+                ours = measure(resp, q)
+            except ValueError as exc:  # no PSD map of this channel
+                rows.append(FindingRow(f, q, None, str(exc).split(" (")[0]))
+                continue
+            agreement = ""
+            if isinstance(ours, float):
+                if not math.isnan(q.tolerance):
+                    # to within rounding: a peak exactly `tolerance` away (a whole number of grid cells) matches
+                    agreement = "matched" if abs(ours - q.study) <= q.tolerance * (1 + 1e-9) else "not matched"
+                elif not math.isnan(q.agree_below):
+                    agreement = "matched" if ours < q.agree_below else "not matched"
+                elif not math.isnan(q.agree_above):
+                    agreement = "matched" if ours > q.agree_above else "not matched"
+            rows.append(FindingRow(f, q, ours, agreement))
+    return rows
