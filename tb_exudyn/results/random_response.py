@@ -9,7 +9,6 @@ all and read defensively (:mod:`.storage`).
 
 from __future__ import annotations
 
-import fnmatch
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -18,6 +17,7 @@ import numpy as np
 
 from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
+from .base import ChannelResult, ChannelStatistics
 from .metadata import (meta_band, meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
 from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
@@ -38,7 +38,7 @@ _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.
 
 
 @dataclass(frozen=True, eq=False)
-class RandomResponse:
+class RandomResponse(ChannelResult):
     """Random response of every channel.
 
     Attributes
@@ -82,21 +82,18 @@ class RandomResponse:
     provenance: dict[str, Any] = field(default_factory=dict)
 
     # ---------------------------------------------------------------- access
-    def index(self, channel: str) -> int:
-        """Row of a channel; KeyError listing close names if unknown."""
-        try:
-            return self.channels.index(channel)
-        except ValueError:
-            close = [c for c in self.channels if channel.split(".")[0] in c][:8]
-            raise KeyError(f"no channel {channel!r}; e.g. {close or list(self.channels[:8])}") from None
-
-    def select(self, patterns: str | list[str]) -> list[str]:
-        """Channel names matching glob pattern(s), in stored order."""
-        pats = [patterns] if isinstance(patterns, str) else list(patterns)
-        return [c for c in self.channels if any(fnmatch.fnmatchcase(c, p) for p in pats)]
+    @property
+    def channel_names(self) -> tuple[str, ...]:
+        return tuple(self.channels)
 
     def unit(self, channel: str) -> str:
         return self.units[self.index(channel)]
+
+    def __getitem__(self, channel: str) -> ChannelStatistics:
+        """One channel's statistics by name, e.g. ``pem["car1.body.acc_y"].std``."""
+        i = self.index(channel)
+        return ChannelStatistics(name=channel, unit=self.units[i], time=self.time, mean=self.mean[i],
+                                 std=self.std[i], freq=self.freq, psd=None if self.psd is None else self.psd[i])
 
     def bounds(self, k: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
         """mean - k sigma and mean + k sigma, each (nc, nt)."""

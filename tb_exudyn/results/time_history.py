@@ -7,7 +7,6 @@ written whole or not at all and read defensively (:mod:`.storage`).
 
 from __future__ import annotations
 
-import fnmatch
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
@@ -16,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..scenario import Scenario, scenario_to_toml
+from .base import ChannelResult
 from .metadata import meta_channels, meta_dict, meta_scenario, meta_str, open_result_folder
 from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
 
@@ -26,7 +26,7 @@ _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.
 
 
 @dataclass(frozen=True, eq=False)
-class TimeHistory:
+class TimeHistory(ChannelResult):
     """Channel values of one run.
 
     Attributes
@@ -52,9 +52,15 @@ class TimeHistory:
             if name not in self.units:
                 raise ValueError(f"channel {name!r} has no unit")
 
+    default_plot = "history"
+
     # ---------------------------------------------------------------- access
     @property
     def names(self) -> tuple[str, ...]:
+        return tuple(self.channels)
+
+    @property
+    def channel_names(self) -> tuple[str, ...]:
         return tuple(self.channels)
 
     def __getitem__(self, name: str) -> NDArray[np.float64]:
@@ -67,11 +73,6 @@ class TimeHistory:
 
     def unit(self, name: str) -> str:
         return self.units[name]
-
-    def select(self, patterns: str | list[str] | tuple[str, ...]) -> list[str]:
-        """Channel names matching glob pattern(s), in stored order."""
-        pats = [patterns] if isinstance(patterns, str) else list(patterns)
-        return [c for c in self.channels if any(fnmatch.fnmatchcase(c, p) for p in pats)]
 
     def peak(self, name: str) -> tuple[float, float]:
         """(value with the largest magnitude, its time) of a channel."""

@@ -52,3 +52,27 @@ def test_select_and_unknown_channel():
     assert r.select("a.*") == ["a.disp_z", "a.acc_z"]
     with pytest.raises(KeyError, match="no channel"):
         r.index("c.nothing")
+
+
+def test_channels_by_name_and_plot_hands_off_to_plotting():
+    """A random response gives one channel's statistics by name (the same arrays as the rows) and
+    ``plot`` returns the plotting function's figure; a time history the same for its values; an
+    unknown channel or figure kind is refused by name."""
+    from matplotlib.figure import Figure
+
+    from tb_exudyn.errors import SettingError
+    from tb_exudyn.results import TimeHistory
+
+    r = _response()
+    name = r.channels[1]
+    ch = r[name]
+    assert ch.unit == r.units[1] and np.array_equal(ch.std, r.std[1]) and np.array_equal(ch.psd, r.psd[1])
+    lo, hi = ch.bounds(2.0)
+    assert np.array_equal(hi, r.mean[1] + 2.0 * r.std[1])
+    assert isinstance(r.plot(name), Figure) and isinstance(r.plot(name, "psd_map"), Figure)
+    with pytest.raises(KeyError, match="no channel 'nope'"):
+        r["nope"]
+    with pytest.raises(SettingError, match="key 'kind'"):
+        r.plot(name, "spectrogram")
+    th = TimeHistory(time=r.time, channels={name: r.mean[1]}, units={name: r.units[1]})
+    assert np.array_equal(th[name], r.mean[1]) and isinstance(th.plot(name), Figure)
