@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> None:
 
     print(f"{os.cpu_count()} cores; load average before: {os.getloadavg()[0]:.2f} (other processes slow the pool)")
     t0 = time.perf_counter()
-    mc = run_monte_carlo(sc, n_samples=n, seed=1, workers=args.workers, progress=False)
+    mc = run_monte_carlo(sc, n_samples=n, seed=1, workers=args.workers, progress=False, engine="exudyn")
     t_mc = time.perf_counter() - t0
     run = mc.provenance["sample_run_time_median_s"]
     steps = round(mc.time[-1] / sc.analysis.time_step)
@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> None:
 
     sc_pem = sc.replace(analysis=sc.analysis.replace(n_freq=m))
     t0 = time.perf_counter()
-    pem = run_pem(sc_pem, workers=args.workers, progress=False, keep_psd=False)
+    pem = run_pem(sc_pem, workers=args.workers, progress=False, keep_psd=False, engine="exudyn")
     t_pem = time.perf_counter() - t0
     runs = 2 * pem.provenance["tasks"]
     print(f"PEM, {sc.name}: {m} frequencies x {len(pem.types)} types = {runs} runs on {args.workers} workers: "

@@ -69,7 +69,7 @@ def bench(name: str, n: int, repeats: int, n_exudyn: int, workers: int) -> None:
     if n_exudyn < 1:
         return
     t0 = time.perf_counter()
-    ref = run_monte_carlo(sc, n_samples=max(2, n_exudyn), seed=1, workers=workers, progress=False, keep_samples=True)
+    ref = run_monte_carlo(sc, n_samples=max(2, n_exudyn), seed=1, workers=workers, progress=False, keep_samples=True, engine="exudyn")
     t_exu = time.perf_counter() - t0
     m = ref.n_samples
     extrapolated = t_exu * n / m

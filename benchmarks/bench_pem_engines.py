@@ -146,7 +146,7 @@ def main() -> None:
     # 2. Exudyn engine, reduced grid
     red = sc.replace(analysis=sc.analysis.replace(n_freq=args.reduced))
     t0 = time.perf_counter()
-    ref = run_pem(red, workers=args.workers, progress=False)
+    ref = run_pem(red, workers=args.workers, progress=False, engine="exudyn")
     t_red = time.perf_counter() - t0
     t_mean = ref.provenance["total_time_s"]
     n_red, n_full = ref.provenance["tasks"], sc.analysis.n_freq * n_types

@@ -83,10 +83,10 @@ def main(argv: list[str] | None = None) -> int:
     with single_threaded_blas(), ProcessPoolExecutor(args.workers, mp_context=spawn) as pool:
         pem = run_pem(sc, executor=pool, out=out, progress=not args.quick)
         t_pem = time.perf_counter() - t0
-        mc_small = run_monte_carlo(sc, n_samples=n_small, executor=pool, out=out, progress=not args.quick)
+        mc_small = run_monte_carlo(sc, n_samples=n_small, executor=pool, out=out, progress=not args.quick, engine="exudyn")
         mc_small.save(out / f"mc{n_small}")
         mc_large = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, resume=True,
-                                   progress=not args.quick)  # reuses the first n_small samples
+                                   progress=not args.quick, engine="exudyn")  # reuses the first n_small samples
         t_all = time.perf_counter() - t0
         # the same n_large samples on the linear model (batched engine): PEM's model, in seconds
         mc_linear = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, progress=not args.quick,

@@ -1,6 +1,6 @@
 """The ``tb-exudyn`` command: a thin layer over the library.
 
-Parses arguments, loads the scenario, calls the solvers, saves and prints. A user error (bad
+Parses arguments, loads the scenario, calls the methods, saves and prints. A user error (bad
 scenario file, impossible setting) is printed as one message and exits with status 2; no traceback.
 """
 
@@ -8,17 +8,24 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import fnmatch
 import math
 import sys
 from typing import Sequence
 
 from .engines import ENGINES
 from .errors import SettingError, UserError
+from ._version import __version__
+from .atomic import write_text_atomic
+from .results import find_results
 from .results.compare import compare_folders
+from .results.export import FORMATS as EXPORT_FORMATS
+from .results.export import export
 from .results.storage import check_writable
-from .scenario import Analysis, Scenario, list_models, load_scenario
+from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
 from .scenario.show import scenario_table
 from .structure import StructureError, modal_bridge
+from .system.labels import default_patterns, display_unit, format_number
 from .system.modes import DIRECTIONS, merged_messages, nth_frequency
 from .track import get_spectrum, spectrum_names
 
@@ -90,8 +97,14 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-DEFAULT_SCENARIO = "quick"
+#: the main job: the reference study (README), with the everyday engine
+DEFAULT_SCENARIO = "li_zhu_2011"
+DEFAULT_ENGINE = "batched"
 DEFAULT_OUT = "tb_exudyn_out"
+#: the channel table of a run, written into its output folder (the terminal shows a short summary)
+TABLE_FILE = "channels.txt"
+#: channels listed on the terminal, the largest max |mean| + 3 sigma relative to max |mean| first
+SHOWN_CHANNELS = 8
 
 
 def _summary_table(result, k: float = 3.0) -> str:
@@ -104,6 +117,47 @@ def _summary_table(result, k: float = 3.0) -> str:
     lines.append(f"(sigma over the band {band}; {result.method}, {result.n_samples or len(result.freq)} "
                  f"{'samples' if result.n_samples else 'frequencies'})")
     return "\n".join(lines)
+
+
+def _short_summary(result, table_path, k: float = 3.0) -> str:
+    """What a user reads first on the terminal: the warnings (lightly damped modes, grid error,
+    loss of contact), the channels whose random part is largest against their mean, and where the
+    full table is."""
+    lines = []
+    warnings_ = [str(w) for w in result.provenance.get("warnings", [])]
+    if warnings_:
+        lines.append(f"{len(warnings_)} warning(s) (also in the report):")
+        lines += [f"  - {w}" for w in warnings_[:6]]
+        if len(warnings_) > 6:
+            lines.append(f"  ... and {len(warnings_) - 6} more")
+    rows = result.summary_rows(k)
+    patterns = [p for _, group in default_patterns(result.channels) for p in group]
+    key = [r for r in rows if any(fnmatch.fnmatchcase(r[0], p) for p in patterns)] or rows[:SHOWN_CHANNELS]
+    width = max((len(r[0]) for r in key), default=10)
+    lines.append(f"key channels ({len(rows)} channels in {table_path}):")
+    lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
+    for n, u, m, sd, p in key:
+        du = display_unit(u)
+        lines.append(f"  {n:<{width}}  {format_number(du.factor * m):>12} {format_number(du.factor * sd):>12} "
+                     f"{format_number(du.factor * p):>14} {du.unit}")
+    return "\n".join(lines)
+
+
+def _scenario_with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
+    """The scenario with the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels); a
+    bad value names the option."""
+    sc = scenario
+    for attr, option, section in (("speed_kmh", "--speed-kmh", None), ("n_freq", "--n-freq", "analysis"),
+                                  ("freq_spacing", "--freq-spacing", "analysis"), ("channels", "--channels", "analysis")):
+        value = getattr(args, attr, None)
+        if value is None:
+            continue
+        value = tuple(value) if isinstance(value, list) else value
+        try:
+            sc = sc.replace(**{attr: value}) if section is None else sc.replace(analysis=sc.analysis.replace(**{attr: value}))
+        except ScenarioError as exc:
+            raise SettingError("command line", option, value, exc.allowed, exc.reason) from None
+    return sc
 
 
 def _methods():  # noqa: ANN202
@@ -121,7 +175,7 @@ def _figures():  # noqa: ANN202
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    scenario = load_scenario(args.scenario)
+    scenario = _scenario_with_options(load_scenario(args.scenario), args)
     out = check_writable(args.out)
     methods = _methods()
     print(f"scenario {scenario.name}: {scenario.description}")
@@ -132,25 +186,44 @@ def _cmd_run(args: argparse.Namespace) -> int:
     elif args.method == "pem":
         result = methods.run_pem(scenario, workers=args.workers, out=out, resume=args.resume,
                                  progress=not args.no_progress, engine=args.engine, linearization=args.linearization)
-        print(_summary_table(result))
-        print(f"PEM: {result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
+        print(f"PEM ({result.provenance['engine']} engine, {len(result.freq)} frequencies): "
+              f"{result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
     else:
         result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers,
                                          out=out, resume=args.resume, progress=not args.no_progress,
                                          engine=args.engine, linearization=args.linearization)
-        print(_summary_table(result))
         p = result.provenance
         what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
             else "Monte Carlo"
         print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
+    if args.method != "det":
+        table = out / TABLE_FILE
+        write_text_atomic(table, _summary_table(result) + "\n")
+        print(_short_summary(result, table))
     if not args.no_figures:
         plot_folder, write_report = _figures()
-        figures = plot_folder(out)
-        report = write_report(out)
+        found = find_results(out)
+        figures = plot_folder(out, found=found, progress=not args.no_progress)
+        report = write_report(out, found=found)
         print(f"{len(figures)} figures and the report: {report}")
     print(f"results in {out.resolve()}")
+    return EXIT_OK
+
+
+def _cmd_export(args: argparse.Namespace) -> int:
+    found = find_results(args.folder)
+    if args.result is not None:
+        found = [(p, r) for p, r in found if p.name == args.result]
+        if not found:
+            raise SettingError("command line", "--result", args.result, "the name of a result folder in FOLDER")
+    elif len(found) > 1:
+        raise SettingError("command line", "--result", None,
+                           " or ".join(p.name for p, _ in found) + " (FOLDER holds several results)",
+                           "which result to export")
+    for path in export(found[0][1], args.format, args.output):
+        print(path)
     return EXIT_OK
 
 
@@ -177,7 +250,17 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="tb-exudyn",
         description="Random vibration of a train crossing a bridge (Exudyn, pseudo-excitation method, Monte Carlo).",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog="""examples:
+  tb-exudyn run                        the reference study li_zhu_2011 (PEM, batched engine) and its report
+  tb-exudyn run quick --out q          the small default scenario into ./q
+  tb-exudyn run li_zhu_2011 --speed-kmh 300 --channels 'bridge.*' 'car1.*'
+  tb-exudyn run li_zhu_2011_mc_check --method mc --samples 500
+  tb-exudyn modes li_zhu_2011          natural frequencies, damping ratios, the damping guard
+  tb-exudyn export tb_exudyn_out --format netcdf --output study.nc
+""",
     )
+    parser.add_argument("--version", action="version", version=f"tb-exudyn {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("list", help="named vehicles, bridges, scenarios and track spectra")
     p.set_defaults(func=_cmd_list)
@@ -195,17 +278,31 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--all", action="store_true", help="also the decoupled weak-spring modes")
     p.set_defaults(func=_cmd_modes)
 
-    p = sub.add_parser("run", help="run a scenario: deterministic (det), PEM (pem) or Monte Carlo (mc)")
+    p = sub.add_parser("run", help="run a scenario: deterministic (det), PEM (pem) or Monte Carlo (mc)",
+                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
+  tb-exudyn run                                  li_zhu_2011, PEM on the batched engine, figures and report
+  tb-exudyn run quick --out q --no-figures       the small scenario, numbers only
+  tb-exudyn run li_zhu_2011 --engine exudyn      the reference engine (most of an hour)
+  tb-exudyn run li_zhu_2011 --n-freq 400 --freq-spacing adaptive
+  tb-exudyn run li_zhu_2011_mc_check --method mc --samples 500 --engine exudyn
+""")
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
     p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
-    p.add_argument("--engine", choices=tuple(ENGINES), default="exudyn",
-                   help="exudyn: one Exudyn run per PEM frequency and part, or per Monte Carlo sample (the "
-                        "reference, default); batched: all pseudo-excitations, or all samples, integrated together "
-                        "on the model linearised about rest (Monte Carlo results labelled monte_carlo_linear)")
+    p.add_argument("--engine", choices=tuple(ENGINES), default=DEFAULT_ENGINE,
+                   help="batched (default): all pseudo-excitations, or all samples, integrated together on the "
+                        "model linearised about rest (Monte Carlo results labelled monte_carlo_linear); exudyn: one "
+                        "Exudyn run per PEM frequency and part, or per Monte Carlo sample (the reference); dense: "
+                        "the linear model on full matrices (a small reference)")
+    p.add_argument("--speed-kmh", dest="speed_kmh", type=float, default=None, help="train speed [km/h] (overrides the scenario's)")
+    p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
+    p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
+                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
+    p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
+                   help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
     p.add_argument("--linearization", choices=("rest", "static"), default=None,
                    help="batched engine: linearise about rest (default; PEM's model, as the Exudyn PEM engine) or "
                         "about the static equilibrium under gravity (adds the suspension preload's stiffness, which "
@@ -228,6 +325,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--formats", nargs="+", default=["png"], choices=("png", "pdf", "svg"))
     p.set_defaults(func=_cmd_plot)
 
+    p = sub.add_parser("export", help="saved results as NetCDF (labelled arrays), CSV or MAT")
+    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
+    p.add_argument("--format", choices=EXPORT_FORMATS, default="netcdf",
+                   help="netcdf (xarray + h5netcdf: pip install \".[netcdf]\"), csv (plain pandas.read_csv), mat")
+    p.add_argument("--output", required=True, help="the file to write")
+    p.add_argument("--result", default=None, help="which result of FOLDER (e.g. pem, mc) when it holds several")
+    p.set_defaults(func=_cmd_export)
+
     p = sub.add_parser("report", help="one self-contained HTML page of saved results")
     p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
     p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html)")
@@ -237,7 +342,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 #: options naming a file or folder (an empty one would silently mean the current folder)
 PATH_OPTIONS = {"scenario": "SCENARIO", "out": "--out", "folder": "FOLDER", "pem_dir": "PEM_DIR", "mc_dir": "MC_DIR",
-                "html": "--html"}
+                "html": "--html", "output": "--output"}
 MIN_SAMPLES = 2  # a sample standard deviation needs two samples (as run_monte_carlo checks)
 
 

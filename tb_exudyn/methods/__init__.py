@@ -35,7 +35,7 @@ from .deterministic import run_deterministic, summarize
 from .monte_carlo import LossOfContactWarning
 
 #: the engine the functions use when none is given
-DEFAULT_ENGINE = "exudyn"
+DEFAULT_ENGINE = "batched"
 
 
 def _deterministic(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None,

@@ -1,9 +1,15 @@
-"""Readable labels of channel names (the naming rule of :mod:`.channels`), for figures, the report
-and labelled exports: ``car1.bogie1.acc_y`` -> "car 1, leading bogie, lateral acceleration"."""
+"""How channels are shown: readable labels of channel names (the naming rule of :mod:`.channels`),
+``car1.bogie1.acc_y`` -> "car 1, leading bogie, lateral acceleration"; engineering display units
+(kN, mm, m/s^2); and the key channels that figures, summaries and stored PSD maps show by default.
+Plain Python (no matplotlib): figures, the report, exports and the command line share it."""
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
+from typing import Sequence
+
+import numpy as np
 
 _COMPONENT = {"y": "lateral", "z": "vertical", "rx": "roll", "ry": "pitch", "rz": "yaw"}
 _BRIDGE_COMPONENT = {"y": "lateral", "z": "vertical", "rx": "torsional"}
@@ -66,4 +72,81 @@ def channel_label(name: str) -> str:
     return name
 
 
-__all__ = ["channel_label"]
+@dataclass(frozen=True)
+class DisplayUnit:
+    """How a channel's values are shown: ``shown = factor * si_value`` in ``unit``."""
+
+    unit: str
+    factor: float
+
+
+#: SI unit -> (display unit, factor). Forces in kN and displacements in mm (the magnitudes of a
+#: train-bridge run: wheel loads of 10-100 kN, deflections of 0.01-10 mm); rotations in mrad;
+#: accelerations stay in m/s^2 and rad/s^2, the unit the codes' limits use (EN 1990 A2: 3.5 m/s^2).
+DISPLAY_UNITS: dict[str, DisplayUnit] = {
+    "N": DisplayUnit("kN", 1e-3),
+    "m": DisplayUnit("mm", 1e3),
+    "m/s": DisplayUnit("mm/s", 1e3),
+    "m/s^2": DisplayUnit("m/s^2", 1.0),
+    "rad": DisplayUnit("mrad", 1e3),
+    "rad/s": DisplayUnit("mrad/s", 1e3),
+    "rad/s^2": DisplayUnit("rad/s^2", 1.0),
+}
+
+
+def display_unit(si_unit: str) -> DisplayUnit:
+    """The engineering unit and factor for a channel stored in ``si_unit`` (the one place this
+    convention lives); a unit not in :data:`DISPLAY_UNITS` (e.g. a ratio) is shown as it is."""
+    return DISPLAY_UNITS.get(si_unit, DisplayUnit(si_unit, 1.0))
+
+
+def psd_unit(unit: str) -> str:
+    """Unit of a one-sided PSD per Hz of a channel in ``unit``."""
+    if not unit:
+        return "1/Hz"
+    return f"({unit})^2/Hz" if "/" in unit or " " in unit else f"{unit}^2/Hz"
+
+
+def format_number(x: float, digits: int = 4) -> str:
+    """``digits`` significant digits, without an exponent for 1e-3 <= |x| < 1e6 (the range of
+    values in display units); an exponent outside it; '' for None or NaN."""
+    if x is None or (isinstance(x, float) and np.isnan(x)):
+        return ""
+    x = float(x)
+    if x == 0.0:
+        return "0"
+    if not np.isfinite(x):
+        return "inf" if x > 0 else "-inf"
+    if 1e-3 <= abs(x) < 1e6:
+        return np.format_float_positional(x, precision=digits, unique=False, fractional=False, trim="-")
+    return f"{x:.{digits - 1}e}"
+
+
+def _middle_span(names: Sequence[str]) -> int | None:
+    spans = sorted({int(m.group(1)) for n in names if (m := re.match(r"bridge\.span(\d+)\.mid\.", n))})
+    return spans[(len(spans) - 1) // 2] if spans else None
+
+
+def default_patterns(names: Sequence[str]) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """(component, glob patterns) of the channels drawn by default, a short list per component:
+
+    - those the verdicts check (EN 1990 deck vertical acceleration at every mid-span; car-body
+      vertical and lateral accelerations; the lateral axle force of each car's leading axle);
+    - those of the reference study's figures 3-8 (Li & Zhu, section 4.3-4.4): the middle span's
+      mid-point lateral and vertical displacement and acceleration, the first car's body and
+      leading bogie lateral displacement and acceleration, the wheel-rail forces of its first axle.
+    """
+    mid = _middle_span(names)
+    bridge = ("bridge.span*.mid.acc_z",)
+    if mid is not None:
+        bridge += (f"bridge.span{mid}.mid.disp_[yz]", f"bridge.span{mid}.mid.acc_y")
+    return (
+        ("bridge", bridge),
+        ("car bodies", ("car*.body.acc_[yz]", "car1.body.disp_y")),
+        ("bogies", ("car1.bogie1.disp_y", "car1.bogie1.acc_y")),
+        ("wheelsets", ("car*.axle1.force_y", "car1.axle1.left.force_z", "car1.axle1.right.force_z",
+                       "car1.axle1.force_z")),
+    )
+
+
+__all__ = ["DISPLAY_UNITS", "DisplayUnit", "channel_label", "default_patterns", "display_unit", "format_number", "psd_unit"]

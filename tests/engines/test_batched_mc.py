@@ -70,7 +70,7 @@ def test_linear_samples_are_the_exudyn_samples_of_the_sprung_mass():
     sc = mc_scenario(channels=("*",))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = run_monte_carlo(sc, n_samples=5, seed=3, workers=1, progress=False, keep_samples=True)
+        ref = run_monte_carlo(sc, n_samples=5, seed=3, workers=1, progress=False, keep_samples=True, engine="exudyn")
         lin = run_monte_carlo(sc, n_samples=5, seed=3, workers=1, progress=False, keep_samples=True, engine="batched")
     assert lin.method == "monte_carlo_linear" and ref.method == "monte_carlo"
     assert lin.channels == ref.channels and np.array_equal(lin.time, ref.time)
@@ -203,7 +203,7 @@ def test_loss_of_contact_is_flagged_by_the_linear_engine():
     with pytest.warns(LossOfContactWarning, match="lost wheel-rail contact"):
         lin = run_monte_carlo(sc, n_samples=8, seed=1, workers=1, progress=False, engine="batched")
     with pytest.warns(LossOfContactWarning):
-        ref = run_monte_carlo(sc, n_samples=8, seed=1, workers=1, progress=False)
+        ref = run_monte_carlo(sc, n_samples=8, seed=1, workers=1, progress=False, engine="exudyn")
     assert np.array_equal(lin.min_wheel_force <= 0, ref.min_wheel_force <= 0)
     assert lin.provenance["samples_with_loss_of_contact"] == ref.provenance["samples_with_loss_of_contact"] > 0
     assert np.allclose(lin.min_wheel_force, ref.min_wheel_force, rtol=0, atol=1e-6 * 5750 * 9.81)
@@ -244,7 +244,7 @@ def test_static_linearization_adds_the_preload_stiffness_of_the_exudyn_model():
     kw = dict(n_samples=4, seed=1, workers=1, progress=False, keep_samples=True)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = run_monte_carlo(sc, **kw)
+        ref = run_monte_carlo(sc, engine="exudyn", **kw)
         rest = run_monte_carlo(sc, engine="batched", **kw)
         static = run_monte_carlo(sc, engine="batched", linearization="static", **kw)
     scale = ref.std.max(axis=1)
@@ -267,7 +267,7 @@ def test_linearization_is_refused_where_it_does_not_apply(scenario):
     with pytest.raises(CapabilityError, match="cannot linearise about 'static'.*engine 'batched' or 'dense' can"):
         run_pem(scenario, engine="exudyn", linearization="static", progress=False)
     with pytest.raises(CapabilityError, match="runs the full model"):
-        run_monte_carlo(scenario, n_samples=4, linearization="rest", progress=False)
+        run_monte_carlo(scenario, n_samples=4, linearization="rest", progress=False, engine="exudyn")
     with pytest.raises(SettingError, match="run_monte_carlo: key 'linearization' = 'mean': unknown linearization point"):
         run_monte_carlo(scenario, n_samples=4, engine="batched", linearization="mean", progress=False)
 
@@ -278,7 +278,7 @@ def test_fft_profiles_run_on_the_linear_engine_too(scenario):
     product) against the Exudyn Monte Carlo's: the same 1e-5 of each channel's largest sigma as the
     PEM-grid samples; measured 4.9e-7."""
     kw = dict(n_samples=3, seed=9, workers=1, progress=False, keep_samples=True, discretisation="fft")
-    ref = run_monte_carlo(scenario, **kw)
+    ref = run_monte_carlo(scenario, engine="exudyn", **kw)
     lin = run_monte_carlo(scenario, engine="batched", **kw)
     assert lin.provenance["discretisation"] == "fft" and lin.band == ref.band
     worst, i = _worst(lin.samples, ref.samples, ref.std.max(axis=1))

@@ -53,13 +53,13 @@ def scenario():
 def pem(scenario):
     from tb_exudyn.methods import run_pem
 
-    return run_pem(scenario, workers=2, progress=False)
+    return run_pem(scenario, workers=2, progress=False, engine="exudyn")
 
 
 @pytest.fixture(scope="module")
 def mc_large(scenario):
     start = time.perf_counter()
-    result = run_monte_carlo(scenario, n_samples=N_LARGE, seed=1, workers=2, progress=False)
+    result = run_monte_carlo(scenario, n_samples=N_LARGE, seed=1, workers=2, progress=False, engine="exudyn")
     result.provenance["test_wall_time_s"] = time.perf_counter() - start
     return result
 
@@ -67,7 +67,7 @@ def mc_large(scenario):
 @pytest.fixture(scope="module")
 def small(scenario):
     """Six samples in this process, with the samples kept: the reference of the execution tests."""
-    return run_monte_carlo(scenario, n_samples=6, seed=3, workers=1, progress=False, keep_samples=True)
+    return run_monte_carlo(scenario, n_samples=6, seed=3, workers=1, progress=False, keep_samples=True, engine="exudyn")
 
 
 def _same(a, b, samples=True):
@@ -147,8 +147,8 @@ def test_reduction_and_confidence_intervals_match_numpy_on_the_kept_samples(smal
 def test_same_seed_same_result_and_workers_do_not_matter(scenario, small):
     """Same seed, 2 workers instead of 1: bitwise the same result (tolerance zero: runs are
     deterministic and the reduction is in sample order). Another seed gives another result."""
-    _same(run_monte_carlo(scenario, n_samples=6, seed=3, workers=2, progress=False, keep_samples=True), small)
-    other = run_monte_carlo(scenario, n_samples=6, seed=4, workers=1, progress=False)
+    _same(run_monte_carlo(scenario, n_samples=6, seed=3, workers=2, progress=False, keep_samples=True, engine="exudyn"), small)
+    other = run_monte_carlo(scenario, n_samples=6, seed=4, workers=1, progress=False, engine="exudyn")
     assert not np.allclose(other.std, small.std)
 
 
@@ -173,7 +173,7 @@ def test_fft_discretisation_runs_and_reproduces(scenario):
     from tb_exudyn.methods import run_deterministic
 
     mc = run_monte_carlo(scenario, n_samples=2, seed=9, workers=1, progress=False, keep_samples=True,
-                         discretisation="fft")
+                         discretisation="fft", engine="exudyn")
     assert mc.band == pytest.approx((300 / 3.6 / 120, 300 / 3.6)) and mc.provenance["discretisation"] == "fft"
     th = run_deterministic(scenario, sample_excitation(scenario, 9, 1, "fft"))
     ref = th.channels["car1.body.acc_z"]
@@ -190,7 +190,7 @@ def test_killed_run_resumes_to_the_same_result(scenario, tmp_path):
         import tb_exudyn as tbx
         from tb_exudyn.methods import run_monte_carlo
         run_monte_carlo(tbx.load_scenario({str(save_scenario(scenario, tmp_path / 's.toml'))!r}), n_samples=8,
-                        seed=5, workers=1, out={str(out)!r}, progress=False)
+                        seed=5, workers=1, out={str(out)!r}, progress=False, engine="exudyn")
     """)
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     tasks = out / "checkpoint-mc" / "tasks"
@@ -201,10 +201,10 @@ def test_killed_run_resumes_to_the_same_result(scenario, tmp_path):
     proc.wait()
     done = len(list(tasks.glob("*.npz")))
     assert 2 <= done < 8, f"the run should have been stopped part-way ({done} of 8 samples)"
-    resumed = run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, out=out, resume=True, progress=False)
+    resumed = run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, out=out, resume=True, progress=False, engine="exudyn")
     assert (resumed.provenance["tasks_from_checkpoint"], resumed.provenance["tasks_run"]) == (done, 8 - done)
-    _same(resumed, run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, progress=False), samples=False)
-    more = run_monte_carlo(scenario, n_samples=10, seed=5, workers=1, out=out, resume=True, progress=False)
+    _same(resumed, run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, progress=False, engine="exudyn"), samples=False)
+    more = run_monte_carlo(scenario, n_samples=10, seed=5, workers=1, out=out, resume=True, progress=False, engine="exudyn")
     assert more.provenance["tasks_from_checkpoint"] == 8 and more.n_samples == 10
     from tb_exudyn.results import load_results
 
@@ -224,7 +224,7 @@ def test_loss_of_contact_is_flagged():
     sc = mc_scenario(channels=("car1.body.acc_z",), speed_kmh=400.0, irregularities=("german_high.vertical",),
                      lead_in=45.0)
     with pytest.warns(LossOfContactWarning, match="lost wheel-rail contact"):
-        mc = run_monte_carlo(sc, n_samples=8, seed=1, workers=1, progress=False)
+        mc = run_monte_carlo(sc, n_samples=8, seed=1, workers=1, progress=False, engine="exudyn")
     lost = mc.min_wheel_force <= 0
     assert 0 < lost.sum() < 8 and mc.provenance["samples_with_loss_of_contact"] == lost.sum()
     sc_f = sc.replace(analysis=sc.analysis.replace(channels=("car1.axle1.force_z",)))
@@ -299,10 +299,10 @@ def test_bad_settings_fail_before_any_run(scenario):
     """Bad arguments are SettingErrors naming the function and the argument (a user error, exit 2 in
     the CLI), raised before any run; a scenario without irregularity is a ScenarioError."""
     with pytest.raises(SettingError, match="run_monte_carlo: key 'discretisation'"):
-        run_monte_carlo(scenario, n_samples=4, discretisation="sobol", progress=False)  # type: ignore[arg-type]
+        run_monte_carlo(scenario, n_samples=4, discretisation="sobol", progress=False, engine="exudyn")  # type: ignore[arg-type]
     with pytest.raises(SettingError, match="run_monte_carlo: key 'n_samples'"):
-        run_monte_carlo(scenario, n_samples=1, progress=False)
+        run_monte_carlo(scenario, n_samples=1, progress=False, engine="exudyn")
     with pytest.raises(SettingError, match="run_monte_carlo: key 'resume'"):
-        run_monte_carlo(scenario, n_samples=4, resume=True, progress=False)
+        run_monte_carlo(scenario, n_samples=4, resume=True, progress=False, engine="exudyn")
     with pytest.raises(ScenarioError, match="irregularit"):
-        run_monte_carlo(scenario.replace(track=scenario.track.replace(irregularities=())), n_samples=4, progress=False)
+        run_monte_carlo(scenario.replace(track=scenario.track.replace(irregularities=())), n_samples=4, progress=False, engine="exudyn")

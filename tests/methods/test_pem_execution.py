@@ -35,7 +35,7 @@ def scenario():
 
 @pytest.fixture(scope="module")
 def reference(scenario):
-    return run_pem(scenario, workers=1, progress=False)
+    return run_pem(scenario, workers=1, progress=False, engine="exudyn")
 
 
 def _same(a, b):
@@ -45,11 +45,11 @@ def _same(a, b):
 
 
 def test_two_workers_equal_one(scenario, reference):
-    _same(run_pem(scenario, workers=2, progress=False), reference)
+    _same(run_pem(scenario, workers=2, progress=False, engine="exudyn"), reference)
 
 
 def test_saved_result_loads_back(scenario, reference, tmp_path):
-    r = run_pem(scenario, workers=1, out=tmp_path, progress=False)
+    r = run_pem(scenario, workers=1, out=tmp_path, progress=False, engine="exudyn")
     _same(load_results(tmp_path / "pem"), reference)
 
 
@@ -61,7 +61,7 @@ def test_killed_sweep_resumes_to_the_same_result(scenario, reference, tmp_path):
     code = textwrap.dedent(f"""
         import tb_exudyn as tbx
         from tb_exudyn.methods import run_pem
-        run_pem(tbx.load_scenario({str(scenario_file)!r}), workers=1, out={str(out)!r}, progress=False)
+        run_pem(tbx.load_scenario({str(scenario_file)!r}), workers=1, out={str(out)!r}, progress=False, engine="exudyn")
     """)
     proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     tasks = out / "checkpoint" / "tasks"
@@ -73,7 +73,7 @@ def test_killed_sweep_resumes_to_the_same_result(scenario, reference, tmp_path):
     proc.wait()
     done = len(list(tasks.glob("*.npz")))
     assert 2 <= done < 7, f"the sweep should have been stopped part-way ({done} of 7 tasks)"
-    resumed = run_pem(scenario, workers=1, out=out, resume=True, progress=False)
+    resumed = run_pem(scenario, workers=1, out=out, resume=True, progress=False, engine="exudyn")
     assert resumed.provenance["tasks"] == 7
     assert resumed.provenance["tasks_from_checkpoint"] == done
     assert resumed.provenance["tasks_run"] == 7 - done
@@ -84,5 +84,5 @@ def test_dask_local_cluster_gives_the_same_result(scenario, reference):
     distributed = pytest.importorskip("distributed", reason="the 'dask' extra is not installed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with distributed.Client(cluster) as client:
-            result = run_pem(scenario, executor=client.get_executor(), progress=False)
+            result = run_pem(scenario, executor=client.get_executor(), progress=False, engine="exudyn")
     _same(result, reference)
