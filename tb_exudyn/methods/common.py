@@ -46,7 +46,17 @@ class AnalysisSetup:
         return merged_messages(self.damping)
 
     def provenance(self) -> dict[str, Any]:
-        return {"damping_warnings": [dataclasses.asdict(w) for w in self.damping]}
+        """The damping warnings and the modal table (vehicle and bridge modes in the analysed band,
+        ``damped_modes``: what the report lists) as plain data."""
+        band = (self.grid.band[0], self.grid.band[1])
+        table = self.modes.of_kind("vehicle", "bridge").in_band(*band)
+        warned = {(round(w.frequency, 9), w.label) for w in self.damping}
+        rows = [{"frequency": float(f), "damping_ratio": float(z), "label": str(lab),
+                 "context": "vehicles on rigid track, bridge alone (t = 0)",
+                 "warning": "lightly damped: decays slower than the run lasts"
+                 if (round(float(f), 9), str(lab)) in warned else ""}
+                for f, z, lab in zip(table.frequency, table.damping_ratio, table.label)]
+        return {"damping_warnings": [dataclasses.asdict(w) for w in self.damping], "damped_modes": rows}
 
 
 def analysis_setup(scenario: Scenario, *, warn: bool = True) -> AnalysisSetup:

@@ -73,6 +73,9 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     """
     found = ordered(found)
     check_rows = as_check_entries(checks)
+    if modes is None:  # the modal table a random result carries (its analysis set-up)
+        carried = [r.provenance["damped_modes"] for _, r in found if r.provenance.get("damped_modes")]
+        modes = [ModeEntry(**m) for m in carried[0]] if carried else None
     mode_rows = as_mode_entries(modes)
     pictures = pictures or {}
     if names is None:
