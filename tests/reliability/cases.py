@@ -571,7 +571,7 @@ def _workers_zero(d: Path) -> Run:
 
 
 def _linearization_exudyn(d: Path) -> Run:
-    return Run(argv=("run", "quick", "--method", "mc", "--samples", "4", "--linearization", "static",
+    return Run(argv=("run", "quick", "--method", "mc", "--engine", "exudyn", "--samples", "4", "--linearization", "static",
                      "--out", str(d / "o"), "--no-figures"), expect=("command line", "'--linearization'"))
 
 
