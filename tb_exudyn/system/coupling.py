@@ -402,7 +402,13 @@ class WheelRailCoupling:
 
     def _linear_force(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
         """Forces of the general linear rows, K u + D u' + f_in."""
-        return st.K_lin @ u + st.D_lin @ ud + st.f_lin  # type: ignore[operator]
+        return self.linear_law(st, u, ud, st.f_lin)  # type: ignore[arg-type]
+
+    def linear_law(self, st: ContactState, u: NDArray, ud: NDArray, f_in: NDArray) -> NDArray:
+        """The general rows' law: f_g = K_g u + D_g u' + f_in at the contact state ``st``, for
+        coordinates u, u' (n,) or (n, m) and input forces f_in (n_g,) or (n_g, m) (real or complex;
+        e.g. a column source's ``linear_inputs``). The one formula of the general rows' force."""
+        return st.K_lin @ u + st.D_lin @ ud + f_in  # type: ignore[operator]
 
     def _all_forces(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
         """Penalty rows' forces, then the general rows' (the same array without general rows)."""
