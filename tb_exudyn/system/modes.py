@@ -3,9 +3,10 @@
 Pure numpy/scipy, no Exudyn. The builder supplies M, K, D of the linearised system and a
 :class:`Dof` description of every global coordinate (:mod:`tb_exudyn.builder.system_modes`).
 
-Eigenproblem. M q'' + D q' + K q = 0 in first-order form: with x = [q; q'],
-``[[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x`` (``scipy.linalg.eig``, generalised, so M need
-not be inverted; infinite eigenvalues of a singular M are dropped). For an eigenvalue
+Eigenproblem. M q'' + D q' + K q = 0 in first-order form, with x = [q; q'] (K and D need not be
+symmetric: creep forces): for M positive definite the standard problem in mass-normalised
+coordinates (:func:`_first_order`), else ``[[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x``
+(``scipy.linalg.eig``, generalised; infinite eigenvalues of a singular M are dropped). For an eigenvalue
 lambda = -zeta omega_n + i omega_n sqrt(1 - zeta^2):
 
 - undamped natural frequency f_n = |lambda| / 2 pi [Hz] (:attr:`ModeTable.frequency`; the
@@ -43,7 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Literal, Sequence
+from typing import Literal, Mapping, Sequence
 
 import numpy as np
 import scipy.linalg as la
@@ -60,6 +61,14 @@ LABEL_SHARE = 0.2
 DEGENERATE_RTOL = 1e-8
 #: matrix entries below this fraction of the matrix's largest entry do not connect coordinates
 COUPLING_ZERO = 1e-14
+#: an eigenvalue with |Im lambda| below this fraction of |lambda| is real (:func:`_part_modes`)
+REAL_SNAP = 1e-11
+#: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
+#: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
+#: wheelsets' antisymmetric longitudinal modes 1.3e-16; the least reached modes 2.9e-8 (the train's
+#: surge on the weak springs, through the bogies' pitch), 2e-5 (car body bounce by the vertical
+#: profile), 1.5e-5 (body roll by cross-level)
+REACH_ZERO = 1e-10
 
 Role = Literal["bridge", "vehicle", "wheelset"]
 #: the kinds of mode: what holds most of its energy (see :func:`mode_kind`)
@@ -103,11 +112,14 @@ class Dof:
 class Eigenmodes:
     """Raw result of :func:`damped_modes`: one entry per mode (conjugate pairs once), unsorted.
 
-    eigenvalues : (n_modes,) complex [1/s]; shares : (n_modes, n_dof) kinetic-energy shares.
+    eigenvalues : (n_modes,) complex [1/s]; shares : (n_modes, n_dof) kinetic-energy shares;
+    reach : (n_modes, n_groups) how strongly each group of inputs reaches each mode (None: no inputs
+    given; see :func:`damped_modes`).
     """
 
     eigenvalues: NDArray[np.complex128]
     shares: FloatArray
+    reach: FloatArray | None = None
 
 
 def independent_parts(*matrices: FloatArray, zero: float = COUPLING_ZERO) -> list[NDArray[np.int64]]:
@@ -132,36 +144,73 @@ def _kinetic_shares(phi: NDArray[np.complex128], M: FloatArray) -> FloatArray:
     return e / np.where(total > 0.0, total, 1.0)
 
 
-def _localise(phi: NDArray[np.complex128], M: FloatArray, part_index: NDArray[np.int64]) -> NDArray[np.complex128]:
-    """A basis of span(phi) (equal eigenvalues) whose vectors are localised on parts: the
-    eigenvectors of the operator W (part index + 1 on the diagonal) in the M inner product."""
+def _localise(phi: NDArray[np.complex128], M: FloatArray, part_index: NDArray[np.int64]
+              ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """A basis phi c of span(phi) (equal eigenvalues) whose vectors are localised on parts: the
+    eigenvectors of the operator W (part index + 1 on the diagonal) in the M inner product;
+    returns (phi c, c)."""
     B = phi.conj().T @ M @ phi
     A = phi.conj().T @ ((part_index + 1.0)[:, None] * (M @ phi))
     B, A = 0.5 * (B + B.conj().T), 0.5 * (A + A.conj().T)
     w = np.linalg.eigvalsh(B)
     if w[0] <= 1e-10 * w[-1]:  # (nearly) dependent vectors: a defective eigenvalue; keep as is
-        return phi
+        return phi, np.eye(phi.shape[1], dtype=complex)
     _, c = la.eigh(A, B)
-    return phi @ c
+    return phi @ c, c
+
+
+def _first_order(M: FloatArray, K: FloatArray, D: FloatArray
+                 ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
+    """The first-order pencil (A, B) of M q'' + D q' + K q = 0 and the Cholesky factor L of M.
+
+    M positive definite (every coordinate carries mass, as the builder makes it): the standard
+    problem (B None) in mass-normalised coordinates p = L^T q, A = [[0, I], [-L^-1 K L^-T,
+    -L^-1 D L^-T]], which LAPACK balances: its left eigenvectors are accurate to round-off of the
+    mode's own scale (on a train with 2e9 N/m contacts the generalised pencil's left vectors carry
+    1e-12 of noise, the standard form's 1e-16). Otherwise the generalised pencil
+    [[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x (infinite eigenvalues of a singular M dropped
+    later) and L None."""
+    n = M.shape[0]
+    eye, zero = np.eye(n), np.zeros((n, n))
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return np.block([[zero, eye], [-K, -D]]), np.block([[eye, zero], [zero, M]]), None
+    Li = la.solve_triangular(L, eye, lower=True)
+    return np.block([[zero, eye], [-(Li @ K @ Li.T), -(Li @ D @ Li.T)]]), None, L
 
 
 def _part_modes(
-    M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64]
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Eigenvalues (Im >= 0, finite) and displacement eigenvectors of one independent part."""
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64],
+    inputs: Sequence[FloatArray] | None = None,
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128], FloatArray | None]:
+    """Eigenvalues (Im >= 0, finite), displacement eigenvectors of one independent part and (with
+    ``inputs``) each mode's reach by each group of inputs (:func:`_reach`; inside a degenerate set
+    the left vectors are rotated with the right ones, Y^H B X = I on the set before and after)."""
     n = M.shape[0]
-    eye, zero = np.eye(n), np.zeros((n, n))
-    A = np.block([[zero, eye], [-K, -D]])
-    B = np.block([[eye, zero], [zero, M]])
-    lam, vec = la.eig(A, B)
+    A, B, L = _first_order(M, K, D)
+    if inputs is not None:
+        lam, vl, vec = la.eig(A, B, left=True, right=True)
+    else:
+        lam, vec = la.eig(A, B)
+        vl = None
+    # a double real eigenvalue of two equal, independent motions (the two bogies' overdamped pitch)
+    # may come as a pair lambda +- i 1e-14 |lambda|: two real modes (a critically damped single
+    # motion's double root splits by sqrt(eps) and stays one pair, as before)
+    lam = np.where(np.abs(lam.imag) <= REAL_SNAP * np.abs(lam), lam.real + 0j, lam)
     keep = np.isfinite(lam) & (lam.imag >= 0.0)
-    lam, phi = lam[keep], vec[:n, keep]
+    lam, x = lam[keep], vec[:, keep]
+    y = None if vl is None else vl[:, keep]
+    if L is not None:  # back to the coordinates q (both halves of x)
+        x = np.vstack([la.solve_triangular(L.T, x[:n], lower=False), la.solve_triangular(L.T, x[n:], lower=False)])
     # a rigid mode's displacement part carries it; an oscillating mode's phi = x[:n] as well
-    norms = np.linalg.norm(phi, axis=0)
-    phi = phi / np.where(norms > 0.0, norms, 1.0)
+    norms = np.linalg.norm(x[:n], axis=0)
+    x = x / np.where(norms > 0.0, norms, 1.0)
     # degenerate sets: rotate to localised vectors
     order = np.argsort(np.abs(lam))
-    lam, phi = lam[order], phi[:, order]
+    lam, x = lam[order], x[:, order]
+    y = None if y is None else y[:, order]
+    Bq = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), M]])
     i = 0
     while i < lam.size:
         j = i + 1
@@ -169,32 +218,72 @@ def _part_modes(
         while j < lam.size and abs(lam[j] - lam[i]) <= DEGENERATE_RTOL * scale:
             j += 1
         if j - i > 1:
-            phi[:, i:j] = _localise(phi[:, i:j], M, part_index)
+            _, c = _localise(x[:n, i:j], M, part_index)
+            if y is not None:  # y in the pencil's coordinates: x there is [L^T q; L^T q'] (or q)
+                xs = x[:, i:j] if L is None else np.vstack([L.T @ x[:n, i:j], L.T @ x[n:, i:j]])
+                G = y[:, i:j].conj().T @ (xs if B is None else Bq @ xs)
+                try:
+                    y[:, i:j] = y[:, i:j] @ np.linalg.inv(G).conj().T @ np.linalg.inv(c).conj().T
+                except np.linalg.LinAlgError:  # a defective set: keep the vectors eig gave
+                    pass
+            x[:, i:j] = x[:, i:j] @ c
         i = j
-    return lam, phi
+    reach = None if y is None or inputs is None else _reach(y[n:], L, inputs)
+    return lam, x[:n], reach
+
+
+def _reach(y_v: NDArray[np.complex128], L: FloatArray | None, inputs: Sequence[FloatArray]) -> FloatArray:
+    """(n_modes, n_groups): the largest over a group's columns f of the cosine between f and the
+    velocity half y_v of a mode's left eigenvector, both in mass-normalised coordinates (y_v as
+    :func:`_first_order` gives it there; f -> L^-1 f; their product, the modal input, is that of
+    the original coordinates). Mass normalisation puts translations and rotations on one (energy)
+    scale. Without L (singular M): in the original coordinates."""
+    yt = y_v / np.where(np.linalg.norm(y_v, axis=0) > 0.0, np.linalg.norm(y_v, axis=0), 1.0)
+    out = np.zeros((y_v.shape[1], len(inputs)))
+    for g, F in enumerate(inputs):
+        Ft = F if L is None else la.solve_triangular(L, F, lower=True)
+        fn = np.linalg.norm(Ft, axis=0)
+        keep = fn > 0.0
+        if keep.any():
+            out[:, g] = np.abs(yt.conj().T @ (Ft[:, keep] / fn[keep])).max(axis=1)
+    return out
 
 
 def damped_modes(
-    M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None,
+    inputs: Sequence[FloatArray] | None = None,
 ) -> Eigenmodes:
     """Damped modes of M q'' + D q' + K q = 0 (module docstring): each independent part solved
     on its own, conjugate pairs once, degenerate sets localised on the parts given by
     ``part_index`` (an integer per coordinate naming its body; default: every coordinate its own).
+    K and D need not be symmetric (creep forces): the eigenproblem is the general one.
+
+    ``inputs``: groups of input force vectors (each (n, k): generalised forces per unit input, e.g.
+    one group per irregularity kind, a column per axle and value or slope). Then ``reach[i, g]`` is
+    the largest over the group's columns f of the cosine between f and the velocity half of mode
+    i's left eigenvector y_i in the first-order form B x' = A x + [0; f] u, in mass-normalised
+    coordinates (:func:`_reach`; y_i^H [0; f] is the mode's modal input: Hautus' test). A mode no input of a group reaches (the wheelsets' antisymmetric
+    longitudinal mode of a symmetric bogie: no input pushes along x, and that mode moves nothing
+    else) has reach zero up to round-off (below :data:`REACH_ZERO`); the coordinates' graph cannot
+    see that when the coordinates are connected (a bogie's pitch moves its axle boxes along x).
     """
     M, K, D = (np.asarray(a, dtype=float) for a in (M, K, D))
     n = M.shape[0]
     if M.shape != (n, n) or K.shape != (n, n) or D.shape != (n, n):
         raise ValueError(f"M, K, D must be square and of one size, got {M.shape}, {K.shape}, {D.shape}")
     pidx = np.arange(n) if part_index is None else np.asarray(part_index, dtype=np.int64)
-    lams, shares = [], []
+    groups = None if inputs is None else [np.asarray(F, dtype=float).reshape(n, -1) for F in inputs]
+    lams, shares, reach = [], [], []
     for idx in independent_parts(M, K, D):
         sub = np.ix_(idx, idx)
-        lam, phi = _part_modes(M[sub], K[sub], D[sub], pidx[idx])
+        lam, phi, r = _part_modes(M[sub], K[sub], D[sub], pidx[idx], None if groups is None else [F[idx] for F in groups])
         s = np.zeros((lam.size, n))
         s[:, idx] = _kinetic_shares(phi, M[sub]).T
         lams.append(lam)
         shares.append(s)
-    return Eigenmodes(np.concatenate(lams), np.vstack(shares))
+        if r is not None:
+            reach.append(r)
+    return Eigenmodes(np.concatenate(lams), np.vstack(shares), np.vstack(reach) if groups is not None else None)
 
 
 # ============================================================================================
@@ -280,6 +369,9 @@ class ModeTable:
     shares : (n, n_dof) kinetic-energy shares per coordinate (rows sum to 1)
     dofs : the coordinates' descriptions
     description : what system this is (e.g. which train position)
+    reach : (n, n_groups) how strongly each group of inputs reaches each mode (:func:`damped_modes`),
+        or None when the table was computed without inputs
+    input_groups : the names of the groups (e.g. the irregularity kinds)
     """
 
     eigenvalues: NDArray[np.complex128]
@@ -291,6 +383,8 @@ class ModeTable:
     shares: FloatArray = field(repr=False)
     dofs: tuple[Dof, ...] = field(repr=False)
     description: str = ""
+    reach: FloatArray | None = field(default=None, repr=False)
+    input_groups: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return int(self.frequency.size)
@@ -313,8 +407,21 @@ class ModeTable:
         return ModeTable(
             self.eigenvalues[m], self.frequency[m], self.damped_frequency[m], self.damping_ratio[m],
             tuple(k for k, keep in zip(self.kind, m) if keep), tuple(s for s, keep in zip(self.label, m) if keep),
-            self.shares[m], self.dofs, self.description,
+            self.shares[m], self.dofs, self.description, None if self.reach is None else self.reach[m],
+            self.input_groups,
         )
+
+    def reached(self, groups: Sequence[str] | None = None) -> NDArray[np.bool_]:
+        """Whether an input of the named groups (default: every group) reaches each mode (reach above
+        :data:`REACH_ZERO`); all True for a table computed without inputs."""
+        if self.reach is None:
+            return np.ones(len(self), dtype=bool)
+        names = self.input_groups if groups is None else tuple(groups)
+        unknown = set(names) - set(self.input_groups)
+        if unknown:
+            raise ValueError(f"unknown input group(s) {sorted(unknown)}; the table has {', '.join(self.input_groups)}")
+        cols = [self.input_groups.index(g) for g in names]
+        return (self.reach[:, cols] > REACH_ZERO).any(axis=1) if cols else np.zeros(len(self), dtype=bool)
 
     def in_band(self, f_min: float, f_max: float) -> "ModeTable":
         """Modes with f_min <= undamped frequency <= f_max [Hz]."""
@@ -360,6 +467,7 @@ class ModeTable:
         lines.append(f"{'#':>4} {'f_n [Hz]':>10} {'f_d [Hz]':>10} {'zeta':>9} {'decay [s]':>9} {'kind':<9} label")
         tau = self.decay_time
         over = self.overdamped
+        reached = self.reached()
         for i in range(len(self)):
             z = self.damping_ratio[i]
             zs = ">= 1" if over[i] else ("nan" if not math.isfinite(z) else f"{z:.3g}")
@@ -367,6 +475,7 @@ class ModeTable:
             lines.append(
                 f"{i + 1:>4} {self.frequency[i]:>10.4f} {fd:>10} {zs:>9} "
                 f"{_fmt_time(tau[i]):>9} {self.kind[i]:<9} {self.label[i]}"
+                + ("" if reached[i] else " [no input reaches it here]")
             )
         lines.append("(f_n = |lambda| / 2 pi undamped, f_d = Im lambda / 2 pi damped; decay = 1 / (zeta omega_n); "
                      "zeta >= 1: a real eigenvalue lambda, a non-oscillating motion decaying as exp(lambda t), "
@@ -375,15 +484,19 @@ class ModeTable:
 
 
 def mode_table(
-    M: FloatArray, K: FloatArray, D: FloatArray, dofs: Sequence[Dof], description: str = ""
+    M: FloatArray, K: FloatArray, D: FloatArray, dofs: Sequence[Dof], description: str = "",
+    inputs: Mapping[str, FloatArray] | None = None,
 ) -> ModeTable:
-    """The :class:`ModeTable` of M q'' + D q' + K q = 0 with coordinates described by ``dofs``."""
+    """The :class:`ModeTable` of M q'' + D q' + K q = 0 with coordinates described by ``dofs``;
+    ``inputs`` (group name -> (n, k) input forces, e.g. per irregularity kind) gives each mode its
+    reach (:func:`damped_modes`, :meth:`ModeTable.reached`)."""
     dofs = tuple(dofs)
     if len(dofs) != np.asarray(M).shape[0]:
         raise ValueError(f"{len(dofs)} coordinate descriptions for a system of {np.asarray(M).shape[0]} coordinates")
     keys = {}
     part_index = [keys.setdefault((d.group, d.part), len(keys)) for d in dofs]
-    raw = damped_modes(M, K, D, part_index)
+    groups = tuple(inputs) if inputs is not None else ()
+    raw = damped_modes(M, K, D, part_index, None if inputs is None else [inputs[g] for g in groups])
     lam = raw.eigenvalues
     mod = np.abs(lam)
     freq = mod / (2.0 * math.pi)
@@ -399,6 +512,7 @@ def mode_table(
         kind=tuple(mode_kind(s, dofs, f) for s, f in zip(shares, freq)),
         label=tuple(mode_label(s, dofs) for s in shares),
         shares=shares, dofs=dofs, description=description,
+        reach=None if raw.reach is None else raw.reach[order], input_groups=groups,
     )
 
 
@@ -481,11 +595,15 @@ def damping_warnings(
     run: RunTimes,
     *,
     excited: NDArray[np.bool_] | Sequence[bool] | None = None,
+    inputs: Sequence[str] | None = None,
     fraction: float = DECAY_FRACTION,
 ) -> list[DampingWarning]:
     """Every mode with f_min <= f_n <= f_max whose decay time 1 / (zeta omega_n) is longer than
     ``fraction`` x the run's duration (kinds in :data:`GUARD_EXEMPT` excepted; with ``excited``, a
-    bool per coordinate, only modes holding most of their energy on excited coordinates).
+    bool per coordinate, only modes holding most of their energy on excited coordinates; with
+    ``inputs`` and a table with reach, only vehicle modes an input of those groups reaches,
+    :meth:`ModeTable.reached`: e.g. not the undamped antisymmetric longitudinal wheelset mode of a
+    creep car without longitudinal primary damping, which no irregularity can excite).
 
     Why this criterion. Under a broadband input starting at rest, a mode's response variance rises
     as sigma^2(t) = sigma_inf^2 (1 - exp(-2 t / tau)) (:func:`envelope_growth`), tau = 1 / (zeta
@@ -515,6 +633,10 @@ def damping_warnings(
     reached = np.ones(len(table), dtype=bool)
     if excited is not None:
         reached = table.shares @ np.asarray(excited, dtype=float) > 0.5
+    if inputs is not None and table.reach is not None:
+        # the reach is that of the table's train position: a bridge mode with no axle on the bridge
+        # is reached later in the run (``excited`` covers the run), a vehicle mode's is the same
+        reached &= table.reached(inputs) | np.array([k == "bridge" for k in table.kind])
     out = []
     for i in range(len(table)):
         f = float(table.frequency[i])
