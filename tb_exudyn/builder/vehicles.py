@@ -29,6 +29,13 @@ other only, so the decoupling above still holds: the x coordinates form their ow
 subsystem, reached by no irregularity and by no mode of the 15 DOFs, the wheelsets or the bridge.
 A damper at another height would add a pitch term and couple the car's pitch to the weakly held x.
 
+Creep cars (``creep_car``, :func:`add_creep_car`) have longitudinal springs in both stages, at the
+axle box and secondary heights: a bogie's or the body's pitch moves their ends along x, so there
+the x coordinates belong to the vertical plane (the weak springs on the body's and bogies' x hold
+only the train's surge, 0.1 Hz, and are not marked decoupled); only the wheelsets' spin is on a
+decoupled weak spring. The wheelsets' lateral motion, roll and yaw are coupled by the creep rows
+(:mod:`tb_exudyn.system.creep`), their vertical motion by the penalty rows as on car15.
+
 Wheel-rail contact damping (``analysis.contact_damping_ratio``, default 0.5): the damping ratio of
 every contact against the wheel mass it carries (vertical: half a wheelset per wheel; lateral: the
 wheelset), c = 2 zeta sqrt(k m). The contact is a penalty form of the reference model's constraint
@@ -433,7 +440,7 @@ def _add_creep_rows(parts: TrainParts, name: str, axle: int, node: int, rows: Cr
         )
 
 
-def _car15_bounce_frequency(car: Car15) -> float:
+def _car15_bounce_frequency(car: Car15 | CreepCar) -> float:
     """Car body bounce on both suspension stages in series [Hz] (a lowest-mode estimate)."""
     k_corner = 1.0 / (1.0 / (2 * car.secondary.k_z) + 1.0 / (4 * car.primary.k_z))
     return math.sqrt(2 * k_corner / car.body.mass) / (2 * math.pi)
