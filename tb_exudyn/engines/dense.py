@@ -34,6 +34,7 @@ class DenseEngine(Engine):
 
     name = "dense"
     full_model = False
+    linear_rows = True
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
         super().__init__(scenario, options, wheel_forces)

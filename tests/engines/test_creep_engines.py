@@ -85,9 +85,31 @@ def test_dense_engine_agrees_with_exudyn_on_the_creep_car(exudyn_reference):
 
 def test_batched_engine_agrees_with_exudyn_on_the_creep_car(exudyn_reference):
     """As the dense engine's test, for the batched engine: needs its support of the coupling's
-    general linear rows (written on branch ``speed``; until that is merged the batched engine
-    ignores the creep rows and this test fails)."""
+    general linear rows (written on branch ``speed``, which also sets ``BatchedEngine.linear_rows``;
+    until that is merged the batched engine refuses the creep car and this test fails)."""
     _check_against_exudyn("batched", exudyn_reference)
+
+
+def test_an_engine_without_general_rows_refuses_the_creep_car():
+    """Exact problem: li_zhu_2011_creep with an engine whose ``linear_rows`` capability is False
+    (a subclass of the dense engine made for this test) and the Exudyn and dense engines. Reference:
+    the capability contract (engines/base.py): an engine that would drop the creep rows (the
+    wheelsets' whole lateral guidance) refuses with a one-line CapabilityError naming the key and
+    the vehicle kind, before any run; the engines that integrate them accept."""
+    from tb_exudyn.engines.dense import DenseEngine
+    from tb_exudyn.engines.exudyn import ExudynEngine
+    from tb_exudyn.errors import CapabilityError
+
+    class Without(DenseEngine):
+        name = "without_rows"
+        linear_rows = False
+
+    sc = tbx.load_scenario("li_zhu_2011_creep")
+    with pytest.raises(CapabilityError, match="key 'train.vehicles' = 'creep_car'.*creep rows"):
+        Without.check(sc)
+    DenseEngine.check(sc)
+    ExudynEngine.check(sc)
+    Without.check(tbx.load_scenario("li_zhu_2011"))  # car15: no general rows
 
 
 def test_pem_agrees_with_the_linear_monte_carlo_on_the_creep_car():
