@@ -335,7 +335,8 @@ def mode_label(shares: FloatArray, dofs: Sequence[Dof], threshold: float = LABEL
 def mode_kind(shares: FloatArray, dofs: Sequence[Dof], frequency: float) -> str:
     """"rigid" (frequency below :data:`RIGID_FREQUENCY`), else what holds the largest share of
     the energy: "decoupled" (weak-spring coordinates), "bridge", "vehicle" (car bodies, bogies,
-    sprung masses) or "contact" (wheelsets on the stiff wheel-rail contact)."""
+    sprung masses) or "contact" (wheelsets: on the stiff wheel-rail contact, and a creep car's
+    wheelsets in their creep-guided lateral, yaw and longitudinal motion)."""
     if frequency < RIGID_FREQUENCY:
         return "rigid"
     shares = np.asarray(shares, dtype=float)
