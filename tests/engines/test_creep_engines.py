@@ -44,7 +44,7 @@ def _relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def exudyn_reference():
-    """run_pem with the Exudyn engine on creep_quick() (2 frequencies, 0.6 and 30 Hz, all 152
+    """run_pem with the Exudyn engine on creep_quick() (2 frequencies, 0.6 and 30 Hz, all 144
     channels) at a working amplitude of 1e-5 m with Newton tolerances 1e-10 / 1e-8 N, as the batched
     engine's car15 test (tests/engines/test_batched.py: at 1e-4 m the rigid bodies' nonlinearity
     leaves 3e-6)."""
