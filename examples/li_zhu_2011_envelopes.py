@@ -50,6 +50,7 @@ from tb_exudyn.results.export import write_table_csv
 
 from li_zhu_2011_psd_maps import (
     add_common_arguments,
+    add_scenario_argument,
     quiet_quick_warnings,
     run_study_pem,
     study_scenario,
@@ -158,6 +159,7 @@ def save_figures(pem: RandomResponse, folder: Path) -> list[Path]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_common_arguments(parser, NAME)
+    add_scenario_argument(parser)
     parser.add_argument("--from", dest="source", default=None,
                         help="folder of a saved PEM result (li_zhu_2011_psd_maps.py --out DIR): no sweep")
     parser.add_argument("--n-freq", type=int, default=None,
@@ -173,7 +175,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         if args.quick:
             quiet_quick_warnings()
-        sc = study_scenario(args.quick, args.n_freq, args.spacing)
+        sc = study_scenario(args.quick, args.n_freq, args.spacing, name=args.scenario)
         pem = run_study_pem(sc, out, args.workers, getattr(args, "engine", None), progress=not args.quick,
                             keep_psd=False)
         origin = f"computed in {time.perf_counter() - t0:.1f} s ({args.workers} workers)"

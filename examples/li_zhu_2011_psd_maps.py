@@ -18,6 +18,7 @@ bridge mid-span, car body and first-wheelset channels the envelope script needs)
 ``li_zhu_2011_envelopes.py --from OUT`` draws figures 6-8 without a second sweep.
 
     python examples/li_zhu_2011_psd_maps.py [--quick] [--n-freq N] [--spacing log] [--workers N] [--out DIR] [--resume]
+                                            [--scenario li_zhu_2011_creep]
 
 Full setting: the study's 200 frequencies 0.3-60 Hz (600 tasks of two runs each). With the batched
 engine (the default when available) this takes about 20 s on 2 cores; with ``--engine exudyn`` over an
@@ -91,9 +92,22 @@ def add_common_arguments(parser: argparse.ArgumentParser, name: str) -> None:
                             help="PEM engine: 'batched' (default, all runs at once) or 'exudyn' (one Exudyn run each)")
 
 
+#: the scenarios the study's scripts run: the reference study and its version with creep-guided
+#: wheelsets (issue 19, docs/findings.md section 6)
+STUDY_SCENARIOS = ("li_zhu_2011", "li_zhu_2011_creep")
+
+
+def add_scenario_argument(parser: argparse.ArgumentParser) -> None:
+    """--scenario: which of :data:`STUDY_SCENARIOS` the study's scripts run."""
+    parser.add_argument("--scenario", choices=STUDY_SCENARIOS, default="li_zhu_2011",
+                        help="li_zhu_2011 (default: the reference study) or li_zhu_2011_creep (its cars with "
+                             "creep-guided wheelsets)")
+
+
 def study_scenario(quick: bool = False, n_freq: int | None = None, spacing: str | None = None,
-                   channels=CHANNELS) -> Scenario:
-    """The reference study (``li_zhu_2011``), its output channels restricted to ``channels``.
+                   channels=CHANNELS, name: str = "li_zhu_2011") -> Scenario:
+    """The reference study (``li_zhu_2011``, or ``name`` from :data:`STUDY_SCENARIOS`), its output
+    channels restricted to ``channels``.
 
     ``n_freq``, ``spacing``: a coarser frequency grid over the same band 0.3-60 Hz, linear (the
     study's) or logarithmic (better at low frequencies for the same count). ``quick``: one motor car,
@@ -101,7 +115,7 @@ def study_scenario(quick: bool = False, n_freq: int | None = None, spacing: str 
     1-25 Hz, bridge modes to 40 Hz, time step 2 ms (output every 20 ms) with a softer wheel-rail
     contact (5e8 N/m) that this step resolves.
     """
-    sc = tbx.load_scenario("li_zhu_2011")
+    sc = tbx.load_scenario(name)
     an = sc.analysis.replace(channels=tuple(channels))
     if n_freq is not None:
         an = an.replace(n_freq=n_freq)
@@ -199,6 +213,7 @@ def save_figures(pem: RandomResponse, folder: Path) -> list[Path]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_common_arguments(parser, NAME)
+    add_scenario_argument(parser)
     parser.add_argument("--n-freq", type=int, default=None,
                         help="number of PEM frequencies over 0.3-60 Hz (default: the study's 200)")
     parser.add_argument("--spacing", choices=("linear", "log"), default=None,
@@ -207,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.quick:
         quiet_quick_warnings()
-    sc = study_scenario(args.quick, args.n_freq, args.spacing)
+    sc = study_scenario(args.quick, args.n_freq, args.spacing, name=args.scenario)
     out = Path(args.out)
     t0 = time.perf_counter()
     pem = run_study_pem(sc, out, args.workers, getattr(args, "engine", None), resume=args.resume,

@@ -26,7 +26,8 @@ from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scena
 from .scenario.show import scenario_table
 from .structure import StructureError, modal_bridge
 from .system.labels import default_patterns, display_unit, format_number
-from .system.modes import DIRECTIONS, merged_messages, nth_frequency
+from .system.damping_guard import merged_messages
+from .system.modes import DIRECTIONS, nth_frequency
 from .track import get_spectrum, spectrum_names
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2

@@ -44,6 +44,7 @@ EXPECTED: dict[str, tuple[str, ...]] = {
     ),
     "speed_sweep.py": ("speed_sweep.csv", "speed_sweep.png", "v220/pem/meta.json", "v350/pem/meta.json"),
     "li_zhu_2011_verification.py": ("comparison.txt", "pem/meta.json", "mc/meta.json", "figures/*.pem_vs_mc.png"),
+    "creep_car_stability.py": ("stability.txt",),
 }
 
 #: a --quick run must stay well under a minute on 2 free cores; this bound only catches a setting

@@ -175,7 +175,7 @@ class TrainBridgeModel:
         parts = TrainParts(
             ground_marker=ground_marker, gravity=an.gravity, contact_damping_ratio=an.contact_damping_ratio,
             half_gauge=sc.track.half_gauge, contact_stiffness_z=an.contact_stiffness_z,
-            contact_stiffness_y=an.contact_stiffness_y,
+            contact_stiffness_y=an.contact_stiffness_y, speed=sc.speed,
         )
         axle_offsets = np.asarray(sc.train.axle_positions, dtype=float)
         axle = 0
@@ -213,7 +213,7 @@ class TrainBridgeModel:
             self.bridge, axle_start, sc.speed, layout, parts.load_axle, parts.load_force,
             half_gauge=sc.track.half_gauge, taper_length=sc.track.taper_length,
         )
-        self.contact_names = tuple(parts.contacts.names)
+        self.contact_names = tuple(parts.contacts.all_names)
         coupling = self.coupling
 
         def force_uf(mbs_, t, item, q, q_t):  # noqa: ANN001 - Exudyn's signature

@@ -28,7 +28,8 @@ from ..scenario.model import Scenario
 from ..system.components import find_components
 from ..system.conventions import scenario_steps
 from ..system.excitation import KINDS
-from ..system.modes import DampingWarning, Dof, ModeTable, RunTimes, damping_warnings, mode_table
+from ..system.damping_guard import DampingWarning, RunTimes, damping_warnings
+from ..system.modes import Dof, ModeTable, mode_table
 from ..track import get_spectrum
 from .linear import linear_system
 from .model import TrainBridgeModel, build_model
@@ -121,12 +122,27 @@ def system_modes(
     if model is None:
         model = build_model(scenario, warn=False)
     M, K, D = model.linearized_system(t)
+    inputs = input_forces(model, t)
     x0 = -scenario.track.lead_in + scenario.speed * t
     on = sum(0.0 <= x0 - a <= scenario.bridge.length for a in scenario.train.axle_positions)
     where = ("vehicles on rigid track, bridge free" if on == 0 and t == 0.0
              else f"first axle at x = {x0:.4g} m (t = {t:.4g} s), {on} of {len(scenario.train.axle_positions)} axles on the bridge")
     text = f"modes of '{scenario.name}': {where}; coupling frozen (no convective terms), linearised about rest"
-    return mode_table(M, K, D, model_dofs(model), text)
+    return mode_table(M, K, D, model_dofs(model), text, inputs)
+
+
+def input_forces(model: TrainBridgeModel, t: float) -> dict[str, NDArray[np.float64]]:
+    """Irregularity kind -> (n_ode2, 2 n_axles) generalised forces of a unit input value and a unit
+    slope at each axle, the train at its positions of time t (:meth:`WheelRailCoupling.unit_input_forces`
+    in global coordinates): what gives each mode its reach (:meth:`ModeTable.reached`)."""
+    local = model.coupling.unit_input_forces(t)
+    ci = model.coupling_indices()
+    out = {}
+    for k, kind in enumerate(KINDS):
+        F = np.zeros((model.n_ode2, local.shape[2]))
+        F[ci] = local[k]
+        out[kind] = F
+    return out
 
 
 # ============================================================================================
@@ -158,7 +174,7 @@ def excited_coordinates(scenario: Scenario, model: TrainBridgeModel) -> NDArray[
     batched engine finds them (``find_components``); e.g. no lateral bridge mode under a vertical
     sprung mass on a vertical profile, no weak-spring coordinate ever. Switches the model to no
     excitation, no gravity, rest (the pseudo-runs' state)."""
-    kinds = {KINDS.index(k) for k in (get_spectrum(s).kind for s in scenario.track.irregularities) if k in KINDS}
+    kinds = {KINDS.index(k) for k in scenario_kinds(scenario)}
     out = np.zeros(model.n_ode2, dtype=bool)
     for comp in find_components(linear_system(model), scenario_steps(scenario).output_times):
         if kinds & set(comp.kinds):
@@ -176,7 +192,8 @@ def damping_guard(
     """The damping warnings of a scenario's random runs (:func:`~tb_exudyn.system.modes.damping_warnings`):
     the modes of the vehicles on rigid track and of the free bridge (``system_modes`` at t = 0, or
     ``table`` of the same model) inside ``band`` (default :func:`analysed_band`) that the scenario's
-    irregularities excite (:func:`excited_coordinates`) and whose decay time exceeds the run. Empty
+    irregularities excite (:func:`excited_coordinates`, and that an input of their kinds reaches:
+    :meth:`ModeTable.reached`) and whose decay time exceeds the run. Empty
     for a scenario without irregularities (nothing random excites any mode). Each warning carries
     the channel patterns it affects ("car2.*", "bridge.*").
 
@@ -192,4 +209,10 @@ def damping_guard(
         table = system_modes(scenario, model=model)
     excited = excited_coordinates(scenario, model)
     return damping_warnings(table, analysed_band(scenario) if band is None else band, run_times(scenario),
-                            excited=excited)
+                            excited=excited, inputs=scenario_kinds(scenario))
+
+
+def scenario_kinds(scenario: Scenario) -> tuple[str, ...]:
+    """The irregularity kinds (:data:`~tb_exudyn.system.excitation.KINDS`) of the scenario's spectra."""
+    kinds = {get_spectrum(s).kind for s in scenario.track.irregularities}
+    return tuple(k for k in KINDS if k in kinds)

@@ -41,9 +41,12 @@ def check_engine(name: str, scenario: Any, options: Any = None, *, linearized: b
     on a full-model engine linearises nothing, so ``analysis.linearization`` does not apply there."""
     cls = engine_class(name, where)
     if linearized or not cls.full_model:
+        from ..builder.vehicles import LINEAR_ROW_KINDS  # imports Exudyn: on first use only
+
         others = [(n, engine_class(n)) for n in ENGINES if n != name]
         lin = scenario.analysis.linearization
-        can = [n for n, c in others if lin in c.linearizations]
+        rows = any(v.kind in LINEAR_ROW_KINDS for v in scenario.train.vehicles)
+        can = [n for n, c in others if lin in c.linearizations and (c.linear_rows or not rows)]
         cls.check(scenario, options, f"engine {' or '.join(map(repr, can))} can" if can else "")
     return cls
 

@@ -25,6 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..builder import build_model
+from ..builder.vehicles import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
 from ..results.storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
@@ -45,6 +46,9 @@ class Engine(ABC):
     linearizations : the linearization points (``analysis.linearization``) it integrates
     single_columns : True when columns are separate runs (tasks of one column each); False when it
         integrates many columns at once (a few large tasks)
+    linear_rows : True when the engine integrates the coupling's general linear rows (the creep
+        rows of ``creep_car`` vehicles: :data:`~tb_exudyn.builder.vehicles.LINEAR_ROW_KINDS`); an
+        engine without them would leave the wheelsets' lateral guidance out, so it is refused
 
     Parameters
     ----------
@@ -58,6 +62,7 @@ class Engine(ABC):
     full_model: ClassVar[bool]
     linearizations: ClassVar[tuple[str, ...]] = LINEARIZATIONS
     single_columns: ClassVar[bool] = False
+    linear_rows: ClassVar[bool] = False
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
         self.scenario = scenario
@@ -77,6 +82,13 @@ class Engine(ABC):
     @classmethod
     def check(cls, scenario: Any, options: Any = None, others: str = "") -> None:
         """Refuse what the engine cannot do (before any run); ``others`` says which engines can."""
+        kinds = sorted({v.kind for v in scenario.train.vehicles} & set(LINEAR_ROW_KINDS))
+        if kinds and not cls.linear_rows:
+            raise CapabilityError(
+                f"engine {cls.name!r}", "train.vehicles", ", ".join(kinds),
+                "vehicles without general linear contact rows" + (f"; {others}" if others else ""),
+                f"the {cls.name} engine does not integrate the creep rows of {', '.join(kinds)} vehicles",
+            )
         lin = scenario.analysis.linearization
         if lin not in cls.linearizations:
             raise CapabilityError(

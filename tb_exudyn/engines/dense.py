@@ -7,9 +7,11 @@ benchmark. Per step it assembles the full system matrix
     A(t) = beta' M + gamma' (D0 + Dc(t)) + K0 + Kc(t)
 
 with the coupling's own Jacobians Kc, Dc (:meth:`~tb_exudyn.system.coupling.WheelRailCoupling.jacobians`),
-solves A Delta = -(K(t) q~ + D(t) v~ + B^T (k r + c r')) for every column at once (complex
-right-hand sides, one LU per step), and evaluates the contact forces with the coupling's contact law
-and the inputs with the column source's ``contact_inputs``. Cost: one dense LU of the whole system
+solves A Delta = -(K(t) q~ + D(t) v~ + B^T (k r + c r') + A^T f_in) for every column at once
+(complex right-hand sides, one LU per step), and evaluates the contact forces with the coupling's
+contact laws (penalty rows: ``contact_law``; general linear rows such as creep: ``linear_law``, their
+Jacobians are in the coupling's) and the inputs with the column source's ``contact_inputs`` and
+``linear_inputs``. Cost: one dense LU of the whole system
 per step, so it is meant for small models (tests) and for measuring what the batched engine saves.
 """
 
@@ -32,6 +34,7 @@ class DenseEngine(Engine):
 
     name = "dense"
     full_model = False
+    linear_rows = True
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
         super().__init__(scenario, options, wheel_forces)
@@ -78,35 +81,44 @@ class DenseEngine(Engine):
         c1 = (1.0 - ga.alpha_f) / (1.0 - ga.alpha_m)
         ext = np.arange(len(self.outputs.names))
 
-        def forcing(t: float) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        general = lin.coupling.n_linear > 0
+
+        def forcing(t: float) -> tuple[Any, np.ndarray, np.ndarray, tuple[np.ndarray, ...], np.ndarray]:
             st, K, D, cp = self._matrices(t)
             r, r_dot = source.contact_inputs(cp, t)
             kr = lin.k[:, None] * r + lin.c[:, None] * r_dot
             F = np.zeros((n, m), dtype=complex)
             F[ci] = -(st.B.T @ kr)  # the generalised input forces -B^T (k r + c r')
-            return st, K, D, r, r_dot, F
+            if not general:
+                return st, K, D, (r, r_dot), F
+            f_in = source.linear_inputs(cp, t)
+            F[ci] -= st.A_lin.T @ f_in  # and the general rows' -A^T f_in
+            return st, K, D, (r, r_dot, f_in), F
 
-        def forces(st: Any, q: np.ndarray, v: np.ndarray, r: np.ndarray, r_dot: np.ndarray) -> np.ndarray:
-            return lin.coupling.contact_law(st, q[ci], v[ci], r, r_dot)
+        def forces(st: Any, q: np.ndarray, v: np.ndarray, inputs: tuple[np.ndarray, ...]) -> np.ndarray:
+            f = lin.coupling.contact_law(st, q[ci], v[ci], inputs[0], inputs[1])
+            if not general:
+                return f
+            return np.concatenate((f, lin.coupling.linear_law(st, q[ci], v[ci], inputs[2])))
 
         # start at rest: M qdd0 = -B(0)^T (k r + c r')
-        st, K, D, r, r_dot, F = forcing(0.0)
+        st, K, D, inputs, F = forcing(0.0)
         zero = np.zeros((n, m), dtype=complex)
         qdd0 = np.linalg.solve(lin.M, F)
-        reducer.record(0, self._outputs((zero, zero, qdd0), forces(st, zero, zero, r, r_dot)), ext)
+        reducer.record(0, self._outputs((zero, zero, qdd0), forces(st, zero, zero, inputs)), ext)
         a = qdd0.copy()
         qt = h * h * (0.5 - ga.beta) * qdd0 + h * h * ga.beta * ((ga.alpha_f - ga.alpha_m) / (1.0 - ga.alpha_m) * qdd0)
         at = (ga.alpha_f - ga.alpha_m) / (1.0 - ga.alpha_m) * qdd0
         vt = h * (1.0 - ga.gamma) * qdd0 + h * ga.gamma * at
         for step in range(1, self.n_steps + 1):
             t = step * h
-            st, K, D, r, r_dot, F = forcing(t)
+            st, K, D, inputs, F = forcing(t)
             A = bp * lin.M + gp * D + K
             delta = lu_solve(lu_factor(A), F - K @ qt - D @ vt)
             q, v, qdd = qt + delta, vt + gp * delta, bp * delta
             a = at + c1 * qdd
             if step % self.ratio == 0:
-                reducer.record(step // self.ratio, self._outputs((q, v, qdd), forces(st, q, v, r, r_dot)), ext)
+                reducer.record(step // self.ratio, self._outputs((q, v, qdd), forces(st, q, v, inputs)), ext)
             at = (ga.alpha_f * qdd - ga.alpha_m * a) / (1.0 - ga.alpha_m)
             qt = q + h * v + h * h * (0.5 - ga.beta) * a + h * h * ga.beta * at
             vt = v + h * (1.0 - ga.gamma) * a + h * ga.gamma * at

@@ -27,6 +27,7 @@ class ExudynEngine(Engine):
     full_model = True
     linearizations = ("rest",)
     single_columns = True
+    linear_rows = True
 
     def __init__(self, scenario: Any, options: SolverSettings | None = None, wheel_forces: bool = False) -> None:
         super().__init__(scenario, options or SolverSettings(), wheel_forces)

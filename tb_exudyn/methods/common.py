@@ -16,7 +16,8 @@ from .._version import __version__
 from ..builder import build_model
 from ..builder.system_modes import damping_guard, system_modes
 from ..scenario import Scenario
-from ..system.modes import DampingWarning, ModeTable, merged_messages
+from ..system.damping_guard import DampingWarning, merged_messages
+from ..system.modes import ModeTable
 from .grid import FrequencyGrid, scenario_grid
 
 

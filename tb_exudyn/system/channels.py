@@ -5,9 +5,11 @@ Pure numpy, no Exudyn. A channel name says where and what:
     bridge.<station>.<quantity>_<component>     e.g. bridge.span1.mid.acc_z
     car<k>.body.<quantity>_<component>          car body (car15) or sprung mass (z only)
     car<k>.bogie<i>.<quantity>_<component>      car15 bogies, i = 1 (leading), 2
-    car<k>.axle<j>.<quantity>_<component>       wheelsets (y, z, rx) and sprung-mass wheels (z)
-    car<k>.axle<j>.left.force_z, .right.force_z vertical wheel-rail force per wheel (car15)
-    car<k>.axle<j>.force_y                      lateral wheel-rail force per wheelset (car15)
+    car<k>.axle<j>.<quantity>_<component>       wheelsets (y, z, rx; creep_car also rz) and sprung-mass wheels (z)
+    car<k>.axle<j>.left.force_z, .right.force_z vertical wheel-rail force per wheel (car15, creep_car)
+    car<k>.axle<j>.force_y                      lateral wheel-rail force per wheelset (car15, creep_car)
+    car<k>.axle<j>.left.force_x, .right.force_x longitudinal creep force per wheel (creep_car)
+    car<k>.axle<j>.moment_z                     spin creep and gravitational yaw moment [N m] (creep_car)
     car<k>.axle1.force_z                        the wheel load of a sprung mass or moving force
 
 quantity: ``disp`` [m or rad], ``vel`` [m/s or rad/s], ``acc`` [m/s^2 or rad/s^2];
@@ -18,7 +20,8 @@ in running order whatever their kind.
 
 Force signs: ``force_z`` is the force the rail exerts on the wheel upward, i.e. the compressive
 wheel load (positive = the rail is pushed down); ``force_y`` is the force the rail exerts on the
-wheelset toward +y (left); the rail receives the opposite force.
+wheelset toward +y (left); ``force_x`` the force the rail exerts on a wheel toward +x (forward);
+``moment_z`` the moment about +z the rails exert on the wheelset; the rail receives the opposite.
 """
 
 from __future__ import annotations
@@ -78,6 +81,11 @@ def _motion_channels(prefix: str, source: str, index: int, components: Iterable[
     return out
 
 
+def contact_unit(name: str) -> str:
+    """Unit of a contact-row channel: "N m" for a moment (``...moment_z``), else "N"."""
+    return "N m" if name.rsplit(".", 1)[-1].startswith("moment") else "N"
+
+
 def catalogue(
     station_names: Sequence[str],
     bodies: Sequence[tuple[str, int, Sequence[tuple[str, int]]]],
@@ -93,7 +101,7 @@ def catalogue(
         out += _motion_channels(f"bridge.{station}", "bridge", s, tuple((c, i) for i, c in enumerate(BRIDGE_COMPONENTS)))
     for name, node, comps in bodies:
         out += _motion_channels(name, "node", node, comps)
-    out += [Channel(n, "N", "contact", i) for i, n in enumerate(contact_names)]
+    out += [Channel(n, contact_unit(n), "contact", i) for i, n in enumerate(contact_names)]
     out += [Channel(n, "N", "load", i) for i, n in enumerate(load_names)]
     return _vehicle_order(out)
 

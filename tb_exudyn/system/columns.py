@@ -13,9 +13,11 @@ Every engine integrates columns of one source at once (the batched and dense eng
   real samples per complex column (sample 2j the real part, 2j + 1 the imaginary part).
 
 :meth:`contact_inputs` of both is the reference evaluation of the inputs at the contacts of a
-coupling (r and r' per contact row and column), the same physics as
+coupling (r and r' per contact row and column), :meth:`linear_inputs` that of the input forces
+f_in of its general linear rows (e.g. creep: alignment and cross-level as rail motion), the same
+physics as
 :func:`~.excitation.rail_inputs` for one real run; the batched engine's fast per-step forms are
-tested against it.
+tested against them.
 """
 
 from __future__ import annotations
@@ -81,18 +83,36 @@ class HarmonicColumns:
         return tuple(HarmonicExcitation(kind=kind, spatial_frequency=float(self.omega[j]), amplitude=amplitude,  # type: ignore[return-value]
                                         part=part, cross_level_unit=self.units[j]) for part in ("real", "imag"))
 
-    def contact_inputs(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
-        """Complex inputs r, r' (n_c, m) at the contacts at time t: r_c = W[c, kind] s w(x_c)
-        exp(i phase), r'_c = v W s (w' + i Omega w) exp(i phase) at the position x_c of contact c's axle."""
+    def _taper_phase(self, coupling: Any, t: float) -> tuple[FloatArray, FloatArray, ComplexArray]:
+        """Taper w, its slope w' (n_axles,) and exp(i phase) (n_axles, m) at the axles at time t."""
         x = coupling.positions(t)
         x_ref = float(coupling.axle_start[0])
         w, dw = taper(x, x_ref, coupling.taper_length)
+        return w, dw, np.exp(1j * harmonic_phase(self.omega, x, x_ref))
+
+    def contact_inputs(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
+        """Complex inputs r, r' (n_c, m) at the contacts at time t: r_c = W[c, kind] s w(x_c)
+        exp(i phase), r'_c = v W s (w' + i Omega w) exp(i phase) at the position x_c of contact c's axle."""
+        w, dw, phase = self._taper_phase(coupling, t)
         a = coupling.contacts.axle
         W = coupling.contacts.input_map[:, self.kinds] * self.scale[None, :]
-        phase = np.exp(1j * harmonic_phase(self.omega, x[a], x_ref))
-        r = W * w[a, None] * phase
-        r_dot = coupling.speed * W * (dw[a, None] + 1j * self.omega[None, :] * w[a, None]) * phase
+        r = W * w[a, None] * phase[a]
+        r_dot = coupling.speed * W * (dw[a, None] + 1j * self.omega[None, :] * w[a, None]) * phase[a]
         return r, r_dot
+
+    def linear_inputs(self, coupling: Any, t: float) -> ComplexArray:
+        """Complex input forces f_in (n_g, m) of the coupling's general linear rows at time t:
+        W^v[g, kind] s w exp(i phase) + W^s[g, kind] s (w' + i Omega w) exp(i phase) at row g's
+        axle: the column form of the coupling's ``W^v . val + W^s . slope`` (no rows without
+        general rows)."""
+        lin = coupling.contacts.linear
+        if lin is None:
+            return np.zeros((0, self.width), dtype=complex)
+        w, dw, phase = self._taper_phase(coupling, t)
+        a = lin.axle
+        Wv = lin.input_value[:, self.kinds] * self.scale[None, :]
+        Ws = lin.input_slope[:, self.kinds] * self.scale[None, :]
+        return (Wv * w[a, None] + Ws * (dw[a, None] + 1j * self.omega[None, :] * w[a, None])) * phase[a]
 
 
 # ======================================================================================= profiles
@@ -238,12 +258,18 @@ class ProfileColumns:
         return ProfileExcitation(**{k: spline.row(i) for i, k in enumerate(kinds)},  # type: ignore[arg-type]
                                  cross_level_unit=self.cross_level_unit)
 
+    def _tapered(self, coupling: Any, t: float) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Taper w, w' (n_axles,) and the profiles' values and slopes (n_axles, kinds, 2 width) at
+        the axles at time t."""
+        x = coupling.positions(t)
+        w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)
+        value, slope = self.at(x)
+        return w, dw, value, slope
+
     def contact_inputs(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
         """Complex inputs r, r' (n_c, width) at the contacts at time t (samples 2j + i (2j + 1)):
         r = W w p, r' = v W (w' p + w p') with p, p' the profiles at the contact's axle."""
-        x = coupling.positions(t)
-        w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)
-        value, slope = self.at(x)  # (n_axles, kinds, 2 width)
+        w, dw, value, slope = self._tapered(coupling, t)
         W = coupling.contacts.input_map[:, self.kind_index] * self.kind_scale[None, :]
         a = coupling.contacts.axle
         p = np.einsum("ck,ckm->cm", W, value[a])
@@ -251,6 +277,22 @@ class ProfileColumns:
         r = w[a, None] * p
         r_dot = coupling.speed * (dw[a, None] * p + w[a, None] * dp)
         return r.view(np.complex128), r_dot.view(np.complex128)
+
+    def linear_inputs(self, coupling: Any, t: float) -> ComplexArray:
+        """Complex input forces f_in (n_g, width) of the coupling's general linear rows at time t:
+        W^v . (w p) + W^s . (w p' + w' p) at row g's axle (no rows without general rows)."""
+        lin = coupling.contacts.linear
+        if lin is None:
+            return np.zeros((0, self.width), dtype=complex)
+        w, dw, value, slope = self._tapered(coupling, t)
+        a = lin.axle
+        Wv = lin.input_value[:, self.kind_index] * self.kind_scale[None, :]
+        Ws = lin.input_slope[:, self.kind_index] * self.kind_scale[None, :]
+        p = np.einsum("gk,gkm->gm", Wv, value[a])
+        dp = np.einsum("gk,gkm->gm", Ws, slope[a])
+        ps = np.einsum("gk,gkm->gm", Ws, value[a])
+        f = w[a, None] * (p + dp) + dw[a, None] * ps
+        return f.view(np.complex128)
 
 
 __all__ = ["HarmonicColumns", "ProfileColumns", "SplineProfile", "hermite_cubic", "spline_slopes"]

@@ -68,8 +68,8 @@ class Component:
 
 
 def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Nonzero pattern of the coupling's Jacobians (n_loc, n_loc) over the given times, and of the
-    contact rows' gap maps B (n_c, n_loc).
+    """Nonzero pattern of the coupling's Jacobians (n_loc, n_loc) over the given times (penalty
+    rows and general linear rows), and of the penalty rows' gap maps B (n_c, n_loc).
 
     The Jacobians' pattern is that of sum_t rho_t J(t) for two draws of random weights rho_t in
     [1, 2] (a stacked product instead of one Jacobian per time): an entry cancels across times only
@@ -94,6 +94,12 @@ def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.b
             K[d] += Bs.T @ (kw * Bs)
             K[d][:, :nb] += Bs.T @ (cw * dSs)
             D[d] += Bs.T @ (cw * Bs)
+            if cp.n_linear:  # the general rows' A^T K, A^T D (e.g. creep)
+                As = np.concatenate([st.A_lin for st in states])
+                gw = np.repeat(rho[:: cp.n_contacts] if cp.n_contacts else 1.0 + rng.random(len(states)),
+                               cp.n_linear)[:, None]
+                K[d] += As.T @ (gw * np.concatenate([st.K_lin for st in states]))
+                D[d] += As.T @ (gw * np.concatenate([st.D_lin for st in states]))
     pattern = np.zeros((cp.n, cp.n), dtype=bool)
     for X in (*K, *D):
         pattern |= np.abs(X) > COUPLING_ZERO * np.abs(X).max(initial=0.0)
@@ -102,17 +108,24 @@ def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.b
 
 def excited_coordinates(lin: LinearSystem, times: FloatArray) -> NDArray[np.bool_]:
     """(3, n) whether an input of each kind reaches each global coordinate at any of the times:
-    the generalised input forces B^T (k r) and B^T (c r) with the same random value of r at all
-    contacts of an axle (which sit at the same x)."""
+    the generalised input forces B^T (k r) and B^T (c r) of the penalty rows and A^T W^v, A^T W^s of
+    the general rows (creep: alignment and cross-level as rail motion), with the same random value
+    of the input at all rows of an axle (which sit at the same x)."""
     cp = lin.coupling
     rng = np.random.default_rng(1)
     xi = 1.0 + rng.random(cp.axle_start.size)
     W = cp.contacts.input_map * xi[cp.contacts.axle][:, None]
     reach = np.zeros((len(KINDS), cp.n))
+    lin_rows = cp.contacts.linear
+    if lin_rows is not None:  # general rows: input forces W^v . val + W^s . slope, applied by A^T
+        Wg = [Wm * xi[lin_rows.axle][:, None] for Wm in (lin_rows.input_value, lin_rows.input_slope)]
     for t in times:
-        B = cp.contact_state(float(t)).B
+        st = cp.contact_state(float(t))
         for coef in (lin.k, lin.c):
-            np.maximum(reach, np.abs(B.T @ (coef[:, None] * W)).T, out=reach)
+            np.maximum(reach, np.abs(st.B.T @ (coef[:, None] * W)).T, out=reach)
+        if lin_rows is not None:
+            for Wm in Wg:
+                np.maximum(reach, np.abs(st.A_lin.T @ Wm).T, out=reach)
     out = np.zeros((len(KINDS), lin.n), dtype=bool)
     ci = np.concatenate((lin.bridge, lin.wheel))
     out[:, ci] = reach > COUPLING_ZERO * reach.max(axis=1, keepdims=True).clip(min=1e-300)

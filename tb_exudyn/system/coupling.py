@@ -402,7 +402,13 @@ class WheelRailCoupling:
 
     def _linear_force(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
         """Forces of the general linear rows, K u + D u' + f_in."""
-        return st.K_lin @ u + st.D_lin @ ud + st.f_lin  # type: ignore[operator]
+        return self.linear_law(st, u, ud, st.f_lin)  # type: ignore[arg-type]
+
+    def linear_law(self, st: ContactState, u: NDArray, ud: NDArray, f_in: NDArray) -> NDArray:
+        """The general rows' law: f_g = K_g u + D_g u' + f_in at the contact state ``st``, for
+        coordinates u, u' (n,) or (n, m) and input forces f_in (n_g,) or (n_g, m) (real or complex;
+        e.g. a column source's ``linear_inputs``). The one formula of the general rows' force."""
+        return st.K_lin @ u + st.D_lin @ ud + f_in  # type: ignore[operator]
 
     def _all_forces(self, st: ContactState, u: NDArray[np.float64], ud: NDArray[np.float64]) -> NDArray[np.float64]:
         """Penalty rows' forces, then the general rows' (the same array without general rows)."""
@@ -459,6 +465,31 @@ class WheelRailCoupling:
             D += st.A_lin.T @ st.D_lin  # type: ignore[union-attr]
         self._jac_key, self._jac = key, (K, D)
         return K, D
+
+    def unit_input_forces(self, t: float) -> NDArray[np.float64]:
+        """(3, n, 2 n_axles) generalised forces Q on u = [q_b; q_w] of a unit input of each kind
+        (vertical, alignment, cross-level angle; rows of :func:`.excitation.rail_inputs`) at one
+        axle, with the train at its positions of time t: column j < n_axles a unit value at axle j,
+        column n_axles + j a unit slope d/dx there (fixed in space: the rate is v times the slope).
+        Penalty rows -B^T (k W) and -B^T (c v W), general rows -A^T W^v and -A^T W^s. What an input
+        can reach (:func:`.modes.damped_modes`), without its spectrum."""
+        st = self.contact_state(t)
+        n_a = self.axle_start.size
+        out = np.zeros((3, self.n, 2 * n_a))
+        one = np.zeros((self.n_contacts, n_a))
+        one[np.arange(self.n_contacts), self.contacts.axle] = 1.0
+        lin = self._lin
+        if lin is not None:
+            one_g = np.zeros((lin.n_rows, n_a))
+            one_g[np.arange(lin.n_rows), lin.axle] = 1.0
+        for k in range(3):
+            Wk = self.contacts.input_map[:, k : k + 1] * one
+            out[k, :, :n_a] = -(st.B.T @ (self._k[:, None] * Wk))
+            out[k, :, n_a:] = -(st.B.T @ ((self.speed * self._c)[:, None] * Wk))
+            if lin is not None:
+                out[k, :, :n_a] -= st.A_lin.T @ (lin.input_value[:, k : k + 1] * one_g)  # type: ignore[union-attr]
+                out[k, :, n_a:] -= st.A_lin.T @ (lin.input_slope[:, k : k + 1] * one_g)  # type: ignore[union-attr]
+        return out
 
     def static_force(self, t: float) -> NDArray[np.float64]:
         """Q at u = 0 with the train standing at its positions of time t (inputs and point loads)."""

@@ -3,9 +3,10 @@
 Pure numpy/scipy, no Exudyn. The builder supplies M, K, D of the linearised system and a
 :class:`Dof` description of every global coordinate (:mod:`tb_exudyn.builder.system_modes`).
 
-Eigenproblem. M q'' + D q' + K q = 0 in first-order form: with x = [q; q'],
-``[[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x`` (``scipy.linalg.eig``, generalised, so M need
-not be inverted; infinite eigenvalues of a singular M are dropped). For an eigenvalue
+Eigenproblem. M q'' + D q' + K q = 0 in first-order form, with x = [q; q'] (K and D need not be
+symmetric: creep forces): for M positive definite the standard problem in mass-normalised
+coordinates (:func:`_first_order`), else ``[[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x``
+(``scipy.linalg.eig``, generalised; infinite eigenvalues of a singular M are dropped). For an eigenvalue
 lambda = -zeta omega_n + i omega_n sqrt(1 - zeta^2):
 
 - undamped natural frequency f_n = |lambda| / 2 pi [Hz] (:attr:`ModeTable.frequency`; the
@@ -43,7 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Literal, Sequence
+from typing import Literal, Mapping, Sequence
 
 import numpy as np
 import scipy.linalg as la
@@ -60,6 +61,14 @@ LABEL_SHARE = 0.2
 DEGENERATE_RTOL = 1e-8
 #: matrix entries below this fraction of the matrix's largest entry do not connect coordinates
 COUPLING_ZERO = 1e-14
+#: an eigenvalue with |Im lambda| below this fraction of |lambda| is real (:func:`_part_modes`)
+REAL_SNAP = 1e-11
+#: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
+#: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
+#: wheelsets' antisymmetric longitudinal modes 1.3e-16; the least reached modes 2.9e-8 (the train's
+#: surge on the weak springs, through the bogies' pitch), 2e-5 (car body bounce by the vertical
+#: profile), 1.5e-5 (body roll by cross-level)
+REACH_ZERO = 1e-10
 
 Role = Literal["bridge", "vehicle", "wheelset"]
 #: the kinds of mode: what holds most of its energy (see :func:`mode_kind`)
@@ -103,11 +112,14 @@ class Dof:
 class Eigenmodes:
     """Raw result of :func:`damped_modes`: one entry per mode (conjugate pairs once), unsorted.
 
-    eigenvalues : (n_modes,) complex [1/s]; shares : (n_modes, n_dof) kinetic-energy shares.
+    eigenvalues : (n_modes,) complex [1/s]; shares : (n_modes, n_dof) kinetic-energy shares;
+    reach : (n_modes, n_groups) how strongly each group of inputs reaches each mode (None: no inputs
+    given; see :func:`damped_modes`).
     """
 
     eigenvalues: NDArray[np.complex128]
     shares: FloatArray
+    reach: FloatArray | None = None
 
 
 def independent_parts(*matrices: FloatArray, zero: float = COUPLING_ZERO) -> list[NDArray[np.int64]]:
@@ -132,36 +144,73 @@ def _kinetic_shares(phi: NDArray[np.complex128], M: FloatArray) -> FloatArray:
     return e / np.where(total > 0.0, total, 1.0)
 
 
-def _localise(phi: NDArray[np.complex128], M: FloatArray, part_index: NDArray[np.int64]) -> NDArray[np.complex128]:
-    """A basis of span(phi) (equal eigenvalues) whose vectors are localised on parts: the
-    eigenvectors of the operator W (part index + 1 on the diagonal) in the M inner product."""
+def _localise(phi: NDArray[np.complex128], M: FloatArray, part_index: NDArray[np.int64]
+              ) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+    """A basis phi c of span(phi) (equal eigenvalues) whose vectors are localised on parts: the
+    eigenvectors of the operator W (part index + 1 on the diagonal) in the M inner product;
+    returns (phi c, c)."""
     B = phi.conj().T @ M @ phi
     A = phi.conj().T @ ((part_index + 1.0)[:, None] * (M @ phi))
     B, A = 0.5 * (B + B.conj().T), 0.5 * (A + A.conj().T)
     w = np.linalg.eigvalsh(B)
     if w[0] <= 1e-10 * w[-1]:  # (nearly) dependent vectors: a defective eigenvalue; keep as is
-        return phi
+        return phi, np.eye(phi.shape[1], dtype=complex)
     _, c = la.eigh(A, B)
-    return phi @ c
+    return phi @ c, c
+
+
+def _first_order(M: FloatArray, K: FloatArray, D: FloatArray
+                 ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
+    """The first-order pencil (A, B) of M q'' + D q' + K q = 0 and the Cholesky factor L of M.
+
+    M positive definite (every coordinate carries mass, as the builder makes it): the standard
+    problem (B None) in mass-normalised coordinates p = L^T q, A = [[0, I], [-L^-1 K L^-T,
+    -L^-1 D L^-T]], which LAPACK balances: its left eigenvectors are accurate to round-off of the
+    mode's own scale (on a train with 2e9 N/m contacts the generalised pencil's left vectors carry
+    1e-12 of noise, the standard form's 1e-16). Otherwise the generalised pencil
+    [[0, I], [-K, -D]] x = lambda [[I, 0], [0, M]] x (infinite eigenvalues of a singular M dropped
+    later) and L None."""
+    n = M.shape[0]
+    eye, zero = np.eye(n), np.zeros((n, n))
+    try:
+        L = np.linalg.cholesky(M)
+    except np.linalg.LinAlgError:
+        return np.block([[zero, eye], [-K, -D]]), np.block([[eye, zero], [zero, M]]), None
+    Li = la.solve_triangular(L, eye, lower=True)
+    return np.block([[zero, eye], [-(Li @ K @ Li.T), -(Li @ D @ Li.T)]]), None, L
 
 
 def _part_modes(
-    M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64]
-) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-    """Eigenvalues (Im >= 0, finite) and displacement eigenvectors of one independent part."""
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64],
+    inputs: Sequence[FloatArray] | None = None,
+) -> tuple[NDArray[np.complex128], NDArray[np.complex128], FloatArray | None]:
+    """Eigenvalues (Im >= 0, finite), displacement eigenvectors of one independent part and (with
+    ``inputs``) each mode's reach by each group of inputs (:func:`_reach`; inside a degenerate set
+    the left vectors are rotated with the right ones, Y^H B X = I on the set before and after)."""
     n = M.shape[0]
-    eye, zero = np.eye(n), np.zeros((n, n))
-    A = np.block([[zero, eye], [-K, -D]])
-    B = np.block([[eye, zero], [zero, M]])
-    lam, vec = la.eig(A, B)
+    A, B, L = _first_order(M, K, D)
+    if inputs is not None:
+        lam, vl, vec = la.eig(A, B, left=True, right=True)
+    else:
+        lam, vec = la.eig(A, B)
+        vl = None
+    # a double real eigenvalue of two equal, independent motions (the two bogies' overdamped pitch)
+    # may come as a pair lambda +- i 1e-14 |lambda|: two real modes (a critically damped single
+    # motion's double root splits by sqrt(eps) and stays one pair, as before)
+    lam = np.where(np.abs(lam.imag) <= REAL_SNAP * np.abs(lam), lam.real + 0j, lam)
     keep = np.isfinite(lam) & (lam.imag >= 0.0)
-    lam, phi = lam[keep], vec[:n, keep]
+    lam, x = lam[keep], vec[:, keep]
+    y = None if vl is None else vl[:, keep]
+    if L is not None:  # back to the coordinates q (both halves of x)
+        x = np.vstack([la.solve_triangular(L.T, x[:n], lower=False), la.solve_triangular(L.T, x[n:], lower=False)])
     # a rigid mode's displacement part carries it; an oscillating mode's phi = x[:n] as well
-    norms = np.linalg.norm(phi, axis=0)
-    phi = phi / np.where(norms > 0.0, norms, 1.0)
+    norms = np.linalg.norm(x[:n], axis=0)
+    x = x / np.where(norms > 0.0, norms, 1.0)
     # degenerate sets: rotate to localised vectors
     order = np.argsort(np.abs(lam))
-    lam, phi = lam[order], phi[:, order]
+    lam, x = lam[order], x[:, order]
+    y = None if y is None else y[:, order]
+    Bq = np.block([[np.eye(n), np.zeros((n, n))], [np.zeros((n, n)), M]])
     i = 0
     while i < lam.size:
         j = i + 1
@@ -169,32 +218,72 @@ def _part_modes(
         while j < lam.size and abs(lam[j] - lam[i]) <= DEGENERATE_RTOL * scale:
             j += 1
         if j - i > 1:
-            phi[:, i:j] = _localise(phi[:, i:j], M, part_index)
+            _, c = _localise(x[:n, i:j], M, part_index)
+            if y is not None:  # y in the pencil's coordinates: x there is [L^T q; L^T q'] (or q)
+                xs = x[:, i:j] if L is None else np.vstack([L.T @ x[:n, i:j], L.T @ x[n:, i:j]])
+                G = y[:, i:j].conj().T @ (xs if B is None else Bq @ xs)
+                try:
+                    y[:, i:j] = y[:, i:j] @ np.linalg.inv(G).conj().T @ np.linalg.inv(c).conj().T
+                except np.linalg.LinAlgError:  # a defective set: keep the vectors eig gave
+                    pass
+            x[:, i:j] = x[:, i:j] @ c
         i = j
-    return lam, phi
+    reach = None if y is None or inputs is None else _reach(y[n:], L, inputs)
+    return lam, x[:n], reach
+
+
+def _reach(y_v: NDArray[np.complex128], L: FloatArray | None, inputs: Sequence[FloatArray]) -> FloatArray:
+    """(n_modes, n_groups): the largest over a group's columns f of the cosine between f and the
+    velocity half y_v of a mode's left eigenvector, both in mass-normalised coordinates (y_v as
+    :func:`_first_order` gives it there; f -> L^-1 f; their product, the modal input, is that of
+    the original coordinates). Mass normalisation puts translations and rotations on one (energy)
+    scale. Without L (singular M): in the original coordinates."""
+    yt = y_v / np.where(np.linalg.norm(y_v, axis=0) > 0.0, np.linalg.norm(y_v, axis=0), 1.0)
+    out = np.zeros((y_v.shape[1], len(inputs)))
+    for g, F in enumerate(inputs):
+        Ft = F if L is None else la.solve_triangular(L, F, lower=True)
+        fn = np.linalg.norm(Ft, axis=0)
+        keep = fn > 0.0
+        if keep.any():
+            out[:, g] = np.abs(yt.conj().T @ (Ft[:, keep] / fn[keep])).max(axis=1)
+    return out
 
 
 def damped_modes(
-    M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None
+    M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None,
+    inputs: Sequence[FloatArray] | None = None,
 ) -> Eigenmodes:
     """Damped modes of M q'' + D q' + K q = 0 (module docstring): each independent part solved
     on its own, conjugate pairs once, degenerate sets localised on the parts given by
     ``part_index`` (an integer per coordinate naming its body; default: every coordinate its own).
+    K and D need not be symmetric (creep forces): the eigenproblem is the general one.
+
+    ``inputs``: groups of input force vectors (each (n, k): generalised forces per unit input, e.g.
+    one group per irregularity kind, a column per axle and value or slope). Then ``reach[i, g]`` is
+    the largest over the group's columns f of the cosine between f and the velocity half of mode
+    i's left eigenvector y_i in the first-order form B x' = A x + [0; f] u, in mass-normalised
+    coordinates (:func:`_reach`; y_i^H [0; f] is the mode's modal input: Hautus' test). A mode no input of a group reaches (the wheelsets' antisymmetric
+    longitudinal mode of a symmetric bogie: no input pushes along x, and that mode moves nothing
+    else) has reach zero up to round-off (below :data:`REACH_ZERO`); the coordinates' graph cannot
+    see that when the coordinates are connected (a bogie's pitch moves its axle boxes along x).
     """
     M, K, D = (np.asarray(a, dtype=float) for a in (M, K, D))
     n = M.shape[0]
     if M.shape != (n, n) or K.shape != (n, n) or D.shape != (n, n):
         raise ValueError(f"M, K, D must be square and of one size, got {M.shape}, {K.shape}, {D.shape}")
     pidx = np.arange(n) if part_index is None else np.asarray(part_index, dtype=np.int64)
-    lams, shares = [], []
+    groups = None if inputs is None else [np.asarray(F, dtype=float).reshape(n, -1) for F in inputs]
+    lams, shares, reach = [], [], []
     for idx in independent_parts(M, K, D):
         sub = np.ix_(idx, idx)
-        lam, phi = _part_modes(M[sub], K[sub], D[sub], pidx[idx])
+        lam, phi, r = _part_modes(M[sub], K[sub], D[sub], pidx[idx], None if groups is None else [F[idx] for F in groups])
         s = np.zeros((lam.size, n))
         s[:, idx] = _kinetic_shares(phi, M[sub]).T
         lams.append(lam)
         shares.append(s)
-    return Eigenmodes(np.concatenate(lams), np.vstack(shares))
+        if r is not None:
+            reach.append(r)
+    return Eigenmodes(np.concatenate(lams), np.vstack(shares), np.vstack(reach) if groups is not None else None)
 
 
 # ============================================================================================
@@ -246,7 +335,8 @@ def mode_label(shares: FloatArray, dofs: Sequence[Dof], threshold: float = LABEL
 def mode_kind(shares: FloatArray, dofs: Sequence[Dof], frequency: float) -> str:
     """"rigid" (frequency below :data:`RIGID_FREQUENCY`), else what holds the largest share of
     the energy: "decoupled" (weak-spring coordinates), "bridge", "vehicle" (car bodies, bogies,
-    sprung masses) or "contact" (wheelsets on the stiff wheel-rail contact)."""
+    sprung masses) or "contact" (wheelsets: on the stiff wheel-rail contact, and a creep car's
+    wheelsets in their creep-guided lateral, yaw and longitudinal motion)."""
     if frequency < RIGID_FREQUENCY:
         return "rigid"
     shares = np.asarray(shares, dtype=float)
@@ -280,6 +370,9 @@ class ModeTable:
     shares : (n, n_dof) kinetic-energy shares per coordinate (rows sum to 1)
     dofs : the coordinates' descriptions
     description : what system this is (e.g. which train position)
+    reach : (n, n_groups) how strongly each group of inputs reaches each mode (:func:`damped_modes`),
+        or None when the table was computed without inputs
+    input_groups : the names of the groups (e.g. the irregularity kinds)
     """
 
     eigenvalues: NDArray[np.complex128]
@@ -291,6 +384,8 @@ class ModeTable:
     shares: FloatArray = field(repr=False)
     dofs: tuple[Dof, ...] = field(repr=False)
     description: str = ""
+    reach: FloatArray | None = field(default=None, repr=False)
+    input_groups: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return int(self.frequency.size)
@@ -313,8 +408,21 @@ class ModeTable:
         return ModeTable(
             self.eigenvalues[m], self.frequency[m], self.damped_frequency[m], self.damping_ratio[m],
             tuple(k for k, keep in zip(self.kind, m) if keep), tuple(s for s, keep in zip(self.label, m) if keep),
-            self.shares[m], self.dofs, self.description,
+            self.shares[m], self.dofs, self.description, None if self.reach is None else self.reach[m],
+            self.input_groups,
         )
+
+    def reached(self, groups: Sequence[str] | None = None) -> NDArray[np.bool_]:
+        """Whether an input of the named groups (default: every group) reaches each mode (reach above
+        :data:`REACH_ZERO`); all True for a table computed without inputs."""
+        if self.reach is None:
+            return np.ones(len(self), dtype=bool)
+        names = self.input_groups if groups is None else tuple(groups)
+        unknown = set(names) - set(self.input_groups)
+        if unknown:
+            raise ValueError(f"unknown input group(s) {sorted(unknown)}; the table has {', '.join(self.input_groups)}")
+        cols = [self.input_groups.index(g) for g in names]
+        return (self.reach[:, cols] > REACH_ZERO).any(axis=1) if cols else np.zeros(len(self), dtype=bool)
 
     def in_band(self, f_min: float, f_max: float) -> "ModeTable":
         """Modes with f_min <= undamped frequency <= f_max [Hz]."""
@@ -360,6 +468,7 @@ class ModeTable:
         lines.append(f"{'#':>4} {'f_n [Hz]':>10} {'f_d [Hz]':>10} {'zeta':>9} {'decay [s]':>9} {'kind':<9} label")
         tau = self.decay_time
         over = self.overdamped
+        reached = self.reached()
         for i in range(len(self)):
             z = self.damping_ratio[i]
             zs = ">= 1" if over[i] else ("nan" if not math.isfinite(z) else f"{z:.3g}")
@@ -367,6 +476,7 @@ class ModeTable:
             lines.append(
                 f"{i + 1:>4} {self.frequency[i]:>10.4f} {fd:>10} {zs:>9} "
                 f"{_fmt_time(tau[i]):>9} {self.kind[i]:<9} {self.label[i]}"
+                + ("" if reached[i] else " [no input reaches it here]")
             )
         lines.append("(f_n = |lambda| / 2 pi undamped, f_d = Im lambda / 2 pi damped; decay = 1 / (zeta omega_n); "
                      "zeta >= 1: a real eigenvalue lambda, a non-oscillating motion decaying as exp(lambda t), "
@@ -375,15 +485,19 @@ class ModeTable:
 
 
 def mode_table(
-    M: FloatArray, K: FloatArray, D: FloatArray, dofs: Sequence[Dof], description: str = ""
+    M: FloatArray, K: FloatArray, D: FloatArray, dofs: Sequence[Dof], description: str = "",
+    inputs: Mapping[str, FloatArray] | None = None,
 ) -> ModeTable:
-    """The :class:`ModeTable` of M q'' + D q' + K q = 0 with coordinates described by ``dofs``."""
+    """The :class:`ModeTable` of M q'' + D q' + K q = 0 with coordinates described by ``dofs``;
+    ``inputs`` (group name -> (n, k) input forces, e.g. per irregularity kind) gives each mode its
+    reach (:func:`damped_modes`, :meth:`ModeTable.reached`)."""
     dofs = tuple(dofs)
     if len(dofs) != np.asarray(M).shape[0]:
         raise ValueError(f"{len(dofs)} coordinate descriptions for a system of {np.asarray(M).shape[0]} coordinates")
     keys = {}
     part_index = [keys.setdefault((d.group, d.part), len(keys)) for d in dofs]
-    raw = damped_modes(M, K, D, part_index)
+    groups = tuple(inputs) if inputs is not None else ()
+    raw = damped_modes(M, K, D, part_index, None if inputs is None else [inputs[g] for g in groups])
     lam = raw.eigenvalues
     mod = np.abs(lam)
     freq = mod / (2.0 * math.pi)
@@ -399,6 +513,7 @@ def mode_table(
         kind=tuple(mode_kind(s, dofs, f) for s, f in zip(shares, freq)),
         label=tuple(mode_label(s, dofs) for s in shares),
         shares=shares, dofs=dofs, description=description,
+        reach=None if raw.reach is None else raw.reach[order], input_groups=groups,
     )
 
 
@@ -407,154 +522,3 @@ def nth_frequency(frequencies: Sequence[float], types: Sequence[str], direction:
     ``frequencies`` and ``mode_types``), nan if there are fewer."""
     hits = sorted(float(f) for f, t in zip(frequencies, types) if t == direction)
     return hits[n - 1] if len(hits) >= n else math.nan
-
-
-# ============================================================================================
-# the damping guard
-
-#: a mode warns when its decay time 1 / (zeta omega_n) exceeds this multiple of the run's duration
-DECAY_FRACTION = 1.0
-#: kinds of mode the guard never warns about: weak-spring coordinates no irregularity reaches, and
-#: zero-frequency motions (below every band)
-GUARD_EXEMPT: tuple[str, ...] = ("decoupled", "rigid")
-
-
-@dataclass(frozen=True)
-class RunTimes:
-    """The times of a run that the damping guard compares decay times with [s].
-
-    duration : the whole run (first axle at -lead_in until the last is run_out past the bridge)
-    bridge_entry, bridge_exit : the first axle reaches the bridge, the last axle leaves it
-    """
-
-    duration: float
-    bridge_entry: float
-    bridge_exit: float
-
-    @property
-    def on_bridge(self) -> float:
-        """Time the vehicles spend on the bridge (first axle on until last axle off) [s]."""
-        return self.bridge_exit - self.bridge_entry
-
-
-@dataclass(frozen=True)
-class DampingWarning:
-    """A mode inside the analysed band whose damping is too small for the run.
-
-    mode : its row in the :class:`ModeTable`; label, kind : what moves
-    frequency : undamped natural frequency [Hz]; damping_ratio : zeta
-    decay_time : 1 / (zeta omega_n) [s] (inf if undamped)
-    growth_on_bridge : relative growth of the mode's sigma from the first axle on the bridge to
-        the last axle off it, by the envelope (:func:`envelope_growth`)
-    channels : channel patterns it affects (:meth:`ModeTable.affected_channels`)
-    message : the warning in words, with its consequence
-    """
-
-    mode: int
-    label: str
-    kind: str
-    frequency: float
-    damping_ratio: float
-    decay_time: float
-    growth_on_bridge: float
-    channels: tuple[str, ...]
-    message: str
-
-    def __str__(self) -> str:
-        return self.message
-
-
-def envelope_growth(decay_time: float, t0: float, t1: float) -> float:
-    """sigma(t1) / sigma(t0) - 1 of a mode excited from rest at t = 0 by a stationary broadband
-    input, by the envelope sigma^2(t) = sigma_inf^2 (1 - exp(-2 t / tau)) (Caughey & Stumpf 1961,
-    the oscillating terms of order zeta dropped); tau = inf: sqrt(t1 / t0) - 1 (a random walk)."""
-    if t0 <= 0.0:
-        return math.inf
-    if not math.isfinite(decay_time):
-        return math.sqrt(t1 / t0) - 1.0
-    return math.sqrt(math.expm1(-2.0 * t1 / decay_time) / math.expm1(-2.0 * t0 / decay_time)) - 1.0
-
-
-def damping_warnings(
-    table: ModeTable,
-    band: tuple[float, float],
-    run: RunTimes,
-    *,
-    excited: NDArray[np.bool_] | Sequence[bool] | None = None,
-    fraction: float = DECAY_FRACTION,
-) -> list[DampingWarning]:
-    """Every mode with f_min <= f_n <= f_max whose decay time 1 / (zeta omega_n) is longer than
-    ``fraction`` x the run's duration (kinds in :data:`GUARD_EXEMPT` excepted; with ``excited``, a
-    bool per coordinate, only modes holding most of their energy on excited coordinates).
-
-    Why this criterion. Under a broadband input starting at rest, a mode's response variance rises
-    as sigma^2(t) = sigma_inf^2 (1 - exp(-2 t / tau)) (:func:`envelope_growth`), tau = 1 / (zeta
-    omega_n). With tau longer than the run the response never settles: at the end sigma is below
-    sqrt(1 - e^-2) = 93 % of its settled value and still rising; for tau >> T it is a random walk
-    (variance in proportion to t), so every sigma the mode reaches depends on the run's length (the
-    approach), and the PEM response near the mode is as narrow as 1 / T in frequency, so its peaks
-    depend on the frequency grid. Measured on li_zhu_2011 (batched PEM, 800 frequencies; the ICE
-    bogie yaw modes with test yaw dampers giving tau = 0.25 ... 16 s, and without: 194 s):
-    fitting sigma^2(t) = a + b (1 - exp(-2 t / tau_fit)) to car1.axle1.force_y (t >= 0.6 s) gives
-    tau_fit = 1.02, 1.99, 3.93, 7.69, 14.8, 191 s for tau = 0.995, 1.98, 3.92, 7.68, 14.8, 194 s, and
-    its sigma grows between the first axle on and the last axle off the bridge by 2.0, 10.8, 26.6,
-    42.5, 53.8, 68.1 % (envelope: 1.9, 10.8, 26.9, 43.0, 54.5, 69.0 %); see ``docs/findings.md``
-    section 4. So the decay time says how much a mode's response grows during a run; a run no
-    longer than tau is the point where it has not settled at all. Modes with tau between about a
-    fifth of the run and the run still grow on the bridge (by the envelope), but a well-damped mode
-    of low frequency (ICE car body roll, 0.45 Hz, zeta 0.18, tau 2 s) is slow because of its
-    frequency, not its damping: that is a matter of the approach's length, not of this guard;
-    ``fraction`` < 1 makes the guard stricter (each warning states the envelope's growth).
-
-    Contact modes (wheelsets on the stiff contact, ~150-200 Hz, zeta ~0.5) have tau of a few
-    milliseconds and the weak springs' modes (0.1 Hz, "decoupled") are never excited: neither warns.
-    """
-    f_min, f_max = float(band[0]), float(band[1])
-    tau = table.decay_time
-    limit = fraction * run.duration
-    reached = np.ones(len(table), dtype=bool)
-    if excited is not None:
-        reached = table.shares @ np.asarray(excited, dtype=float) > 0.5
-    out = []
-    for i in range(len(table)):
-        f = float(table.frequency[i])
-        if table.kind[i] in GUARD_EXEMPT or not reached[i] or not (f_min <= f <= f_max) or not tau[i] > limit:
-            continue
-        z = float(table.damping_ratio[i]) + 0.0  # no "-0"
-        channels = table.affected_channels(i)
-        growth = envelope_growth(float(tau[i]), run.bridge_entry, run.bridge_exit)
-        t_text = "infinite (undamped)" if not math.isfinite(tau[i]) else f"{tau[i]:.3g} s"
-        message = (
-            f"lightly damped mode at {f:.4g} Hz ({table.label[i]}): damping ratio {z:.2g}, decay time "
-            f"1 / (zeta omega) = {t_text}, longer than the run ({run.duration:.3g} s): sigma of the channels it "
-            f"moves ({', '.join(channels)}) grows through the whole run instead of settling (by about "
-            f"{100 * growth:.0f} % while the train is on the bridge; it depends on the run's length), and PEM "
-            f"peaks near {f:.4g} Hz depend on the frequency grid (spacing finer than about "
-            f"{1.0 / (4.0 * run.duration):.2g} Hz there)"
-        )
-        out.append(DampingWarning(i, table.label[i], table.kind[i], f, z, float(tau[i]), growth, channels, message))
-    return out
-
-
-def merged_messages(warnings: Sequence[DampingWarning]) -> list[str]:
-    """One line per set of equal modes (same frequency and damping to 4 digits, e.g. the same
-    bogie mode of identical cars), naming every mode's label and the union of their channels."""
-    groups: dict[tuple[str, str], list[DampingWarning]] = {}
-    for w in warnings:
-        groups.setdefault((f"{w.frequency:.4g}", f"{w.damping_ratio:.4g}"), []).append(w)
-    out = []
-    for ws in groups.values():
-        if len(ws) == 1:
-            out.append(ws[0].message)
-            continue
-        w = ws[0]
-        channels = list(dict.fromkeys(c for x in ws for c in x.channels))
-        t_text = "infinite (undamped)" if not math.isfinite(w.decay_time) else f"{w.decay_time:.3g} s"
-        out.append(
-            f"{len(ws)} lightly damped modes at {w.frequency:.4g} Hz ({'; '.join(x.label for x in ws)}): damping "
-            f"ratio {w.damping_ratio:.2g}, decay time 1 / (zeta omega) = {t_text}, longer than the run: sigma of "
-            f"the channels they move ({', '.join(channels)}) grows through the whole run instead of settling (by "
-            f"about {100 * w.growth_on_bridge:.0f} % while the train is on the bridge), and PEM peaks near "
-            f"{w.frequency:.4g} Hz depend on the frequency grid"
-        )
-    return out

@@ -9,15 +9,8 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from tb_exudyn.system.modes import (
-    Dof,
-    RunTimes,
-    damping_warnings,
-    merged_messages,
-    mode_label,
-    mode_table,
-    nth_frequency,
-)
+from tb_exudyn.system.damping_guard import RunTimes, damping_warnings, merged_messages
+from tb_exudyn.system.modes import Dof, mode_label, mode_table, nth_frequency
 
 
 def body(group: str, part: str, component: str, channel: str, **kw) -> Dof:
@@ -226,7 +219,7 @@ def test_envelope_growth_against_the_exact_covariance(zeta):
     the terms oscillating at 2 omega_d, of relative size zeta and 1 / (omega t)."""
     from scipy.linalg import expm
 
-    from tb_exudyn.system.modes import envelope_growth
+    from tb_exudyn.system.damping_guard import envelope_growth
 
     w = 2 * math.pi * 8.0
     A = np.array([[0.0, 1.0], [-w * w, -2 * zeta * w]])
