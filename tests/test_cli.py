@@ -77,8 +77,8 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
                  "--no-progress", "--no-figures"]) == 0
     exudyn_std, batched_std = load_results(out / "pem").std, load_results(tmp_path / "b" / "pem").std
     assert np.allclose(batched_std, exudyn_std, rtol=0, atol=1e-6 * exudyn_std.max())
-    assert main(["run", str(path), "--method", "mc", "--samples", "4", "--seed", "7", "--out", str(out),
-                 "--workers", "1", "--no-progress", "--no-figures"]) == 0
+    assert main(["run", str(path), "--method", "mc", "--engine", "exudyn", "--samples", "4", "--seed", "7",
+                 "--out", str(out), "--workers", "1", "--no-progress", "--no-figures"]) == 0
     assert load_results(out / "mc").n_samples == 4
     capsys.readouterr()
     assert main(["compare", str(out), str(out)]) == 0

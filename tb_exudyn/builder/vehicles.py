@@ -487,8 +487,6 @@ def add_moving_force(mbs: exu.MainSystem, parts: TrainParts, veh: MovingForce, p
     parts.load_names.append(f"{prefix}.axle1.force_z")
 
 
-#: vehicle kinds whose contact has general linear rows (an engine must integrate them: Engine.linear_rows)
-LINEAR_ROW_KINDS: tuple[str, ...] = ("creep_car",)
 
 #: the builder of each vehicle kind (``Vehicle.kind``), one signature:
 #: ``add(mbs, parts, vehicle, prefix, first_axle, x_first)`` with ``prefix`` the channel prefix

@@ -16,6 +16,7 @@ import importlib
 from typing import Any
 
 from ..errors import SettingError
+from ..scenario.model import LINEAR_ROW_KINDS
 
 #: name -> (module, class) of every engine
 ENGINES: dict[str, tuple[str, str]] = {
@@ -41,8 +42,6 @@ def check_engine(name: str, scenario: Any, options: Any = None, *, linearized: b
     on a full-model engine linearises nothing, so ``analysis.linearization`` does not apply there."""
     cls = engine_class(name, where)
     if linearized or not cls.full_model:
-        from ..builder.vehicles import LINEAR_ROW_KINDS  # imports Exudyn: on first use only
-
         others = [(n, engine_class(n)) for n in ENGINES if n != name]
         lin = scenario.analysis.linearization
         rows = any(v.kind in LINEAR_ROW_KINDS for v in scenario.train.vehicles)

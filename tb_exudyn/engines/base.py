@@ -25,7 +25,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..builder import build_model
-from ..builder.vehicles import LINEAR_ROW_KINDS
+from ..scenario.model import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
 from ..results.storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
@@ -47,7 +47,7 @@ class Engine(ABC):
     single_columns : True when columns are separate runs (tasks of one column each); False when it
         integrates many columns at once (a few large tasks)
     linear_rows : True when the engine integrates the coupling's general linear rows (the creep
-        rows of ``creep_car`` vehicles: :data:`~tb_exudyn.builder.vehicles.LINEAR_ROW_KINDS`); an
+        rows of ``creep_car`` vehicles: :data:`~tb_exudyn.scenario.model.LINEAR_ROW_KINDS`); an
         engine without them would leave the wheelsets' lateral guidance out, so it is refused
 
     Parameters

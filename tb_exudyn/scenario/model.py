@@ -289,6 +289,9 @@ class CreepCar(_Replaceable):
 
 
 Vehicle = Union[MovingForce, SprungMass, Car15, CreepCar]
+#: vehicle kinds whose contact has general linear rows (creep forces): an engine must integrate them
+#: (``Engine.linear_rows``)
+LINEAR_ROW_KINDS: tuple[str, ...] = ("creep_car",)
 VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15, CreepCar)}
 
 
