@@ -43,6 +43,7 @@ from scipy.stats import chi2
 
 from ..builder import build_model
 from ..builder.system_modes import damping_guard
+from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import SettingError
 from ..execution import Execution, Task
@@ -100,13 +101,14 @@ def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: 
     reduced at every output time by :class:`SampleReducer` (a linear engine: the responses from rest
     without gravity; the full model: the samples themselves)."""
     plan = engine_plan(engine)
-    offsets = zmean = None
+    offsets = zmean = force_mean = None
     if not engine.full_model:  # responses about the mean: the mean run gives the totals
         det = engine.mean()
         offsets = sample_offsets(plan, det["mean"])
         zmean = mean_rows(plan, det["outputs"], det["time"]).value
+        force_mean = det["outputs"][engine.force_rows]
     reducer = SampleReducer(plan, engine.force_rows, engine.steps.n_outputs, len(indices), keep_samples, offsets,
-                            zmean, engine.fs)
+                            zmean, engine.fs, force_mean)
     return engine.integrate(sampler.columns(seed, indices), reducer)
 
 
@@ -242,11 +244,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
             state["mean"] += delta * (nb / (na + nb))
             state["m2"] += m2_b + delta * delta * (na * nb / (na + nb))
         state["n"] = na + nb
-        force = result["force"]
-        if det is not None and det["force_mean"].shape[0]:
-            force = det["force_mean"][:, :, None] + force
-        if force.shape[0]:
-            min_force[st.start:st.stop] = force.min(axis=(0, 1))
+        min_force[st.start:st.stop] = result["min_force"]  # NaN: a model without vertical wheel forces
         if keep_samples:
             if samples is None:
                 samples = np.empty((n,) + mean_b.shape)
@@ -271,7 +269,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
         **contact_provenance(min_force, lost),
         "damping_warnings": damping,
-        "derived_channels": list(model.derived_catalogue.notes),
+        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
         "extremes": "every sample's minimum and maximum of every channel over the whole record (sample_min, sample_max)",
         **STATISTICS_PROVENANCE,
         **sampler.describe(),

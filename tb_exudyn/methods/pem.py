@@ -36,6 +36,7 @@ from numpy.typing import NDArray
 
 from ..builder import build_model
 from ..builder.system_modes import damping_guard
+from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import ScenarioError
 from ..execution import Execution, Task
@@ -270,7 +271,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {
         "method": "pem",
         "derivatives": plan.derivative_sources(),
-        "derived_channels": list(model.derived_catalogue.notes),
+        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
         "damping_warnings": damping,
         "linearization": scenario.analysis.linearization,
         "seconds": _time.perf_counter() - t0,

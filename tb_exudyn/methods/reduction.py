@@ -497,14 +497,17 @@ def sample_offsets(plan: ReductionPlan, mean: FloatArray) -> FloatArray:
 class SampleReduction:
     """Monte Carlo's reduction of a task's samples (module docstring): per output time the mean and
     the sum of squared deviations (from ``offsets``) of every result channel, per sample its minimum and
-    maximum over the record, the vertical wheel forces and, if asked, the samples.
+    maximum over the record and its smallest vertical wheel force, and, if asked, the samples.
 
     offsets : (n_res, n_t) the mean run's value of each channel (Sperling rows 0), or None (the full
-        model: samples are totals); zmean : the mean run's z rows (n_z, n_t), or None; fs : output rate [Hz]
+        model: samples are totals); zmean : the mean run's z rows (n_z, n_t), or None; fs : output rate
+    [Hz]; force_mean : (n_forces, n_t) the mean run's vertical wheel forces (outputs ``force_rows``), or
+    None: every sample's minimum wheel force over the record is kept (the loss-of-contact guard)
     """
 
     def __init__(self, plan: ReductionPlan, force_rows: IntArray, n_t: int, n_samples: int, keep_samples: bool,
-                 offsets: FloatArray | None, zmean: FloatArray | None, fs: float) -> None:
+                 offsets: FloatArray | None, zmean: FloatArray | None, fs: float,
+                 force_mean: FloatArray | None = None) -> None:
         self.plan, self.n, self.n_t, self.fs = plan, n_samples, n_t, float(fs)
         n_res = len(plan.names)
         self.offsets = np.zeros((n_res, n_t)) if offsets is None else np.asarray(offsets, dtype=float)
@@ -513,7 +516,8 @@ class SampleReduction:
         self.mean, self.m2 = np.zeros((n_res, n_t)), np.zeros((n_res, n_t))
         self.lo = np.full((n_samples, n_res), np.inf)
         self.hi = np.full((n_samples, n_res), -np.inf)
-        self.force = np.zeros((force_rows.size, n_t, n_samples))
+        self.force_mean = np.zeros((force_rows.size, n_t)) if force_mean is None else np.asarray(force_mean, dtype=float)
+        self.min_force = np.full(n_samples, np.inf if force_rows.size else np.nan)
         self.samples = np.zeros((n_samples, n_res, n_t)) if keep_samples else None
         weighted = [k for k in plan.direct if plan.weighting[plan.result_z[k]]]
         self.now = np.array([k for k in plan.direct if k not in set(weighted)], dtype=np.int64)  # formed per time
@@ -555,7 +559,9 @@ class SampleReduction:
             self._moments(self.ratio_idx, i, r - self.offsets[self.ratio_idx, i][:, None], r)
         if self.hist_rows.size:
             self.hist[:, :, i] = Z[self.hist_rows]
-        self.force[:, i, :] = Yx[self.force_rows]
+        if self.force_rows.size:
+            f = Yx[self.force_rows] + self.force_mean[:, i][:, None]
+            np.minimum(self.min_force, f.min(axis=0), out=self.min_force)
 
     def result(self) -> dict[str, np.ndarray]:
         plan = self.plan
@@ -570,7 +576,7 @@ class SampleReduction:
             series = window_series(sperling_index(energy), self.n_t, self.fs, window)  # (n, n_t), NaN tail
             rows = np.array([k])
             self._moments(rows, slice(None), series[None] - self.offsets[k], series[None])
-        out = {"n": np.array(self.n), "mean": self.mean, "m2": self.m2, "force": self.force,
+        out = {"n": np.array(self.n), "mean": self.mean, "m2": self.m2, "min_force": self.min_force,
                "sample_min": self.lo, "sample_max": self.hi}
         if self.samples is not None:
             out["samples"] = self.samples

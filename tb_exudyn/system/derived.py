@@ -334,6 +334,14 @@ def extended_shapes(station_shapes: NDArray[np.float64], catalogue: DerivedCatal
     return np.concatenate((station_shapes, catalogue.shapes), axis=0)
 
 
+def derived_provenance(catalogue: DerivedCatalogue, derived: Sequence[DerivedChannel]) -> dict:
+    """Plain data on a result's derived channels (for its provenance): f_cut, the catalogue's notes and
+    per channel its kind, window [s] (Sperling) and description."""
+    cut = catalogue.cut_frequency if math.isfinite(catalogue.cut_frequency) else None
+    return {"cut_frequency_hz": cut, "notes": list(catalogue.notes),
+            "channels": {d.name: {"kind": d.kind, "window": d.window, "description": d.description} for d in derived}}
+
+
 __all__ = ["DERIVED_KINDS", "DerivedCatalogue", "DerivedChannel", "EN1990_MIN_CUT", "SPERLING_WINDOW",
-           "TWIST_HALF_BASE", "derivative_name", "derived_catalogue", "en1990_cut_frequency", "engine_outputs",
+           "TWIST_HALF_BASE", "derivative_name", "derived_catalogue", "derived_provenance", "en1990_cut_frequency", "engine_outputs",
            "extended_shapes", "select_channels", "station_positions"]

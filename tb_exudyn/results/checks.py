@@ -1,0 +1,557 @@
+"""Code checks of a result: per criterion of the limit files and location, the estimate, the limit, the
+probability of exceeding it in one passage, the verdict and the caveats that apply.
+
+:func:`checks` (also ``RandomResponse.checks``) returns a :class:`ChecksTable` of frozen
+:class:`CheckRow` s, with a text form (:meth:`ChecksTable.text`), plain data for the report
+(:meth:`ChecksTable.as_dicts`) and one line per criterion for a terminal (:func:`verdict_lines`).
+
+What is compared, per statistic of the criterion (tb_exudyn.scenario.limits.STATISTICS):
+
+- ``max_abs``, ``max``, ``min`` (a random process): the probability P that the channel leaves the
+  allowed range at least once in the result's time window (the passage): PEM by Rice's rate and
+  Poisson's first passage (``method``; Vanmarcke's is given alongside), Monte Carlo as the fraction of
+  samples with its Clopper-Pearson interval. Verdict OK when P <= the target probability per passage
+  (Monte Carlo: the interval's upper end), EXCEEDS when above (Monte Carlo: the lower end), else
+  UNDETERMINED. The estimate is the level exceeded with the target probability (PEM: the inverse of
+  the first passage; Monte Carlo: the empirical quantile of the per-sample extremes).
+- ``window_max`` (Sperling): the index's largest window value against the limit (no probability: a
+  windowed index is not a Gaussian process). PEM: the index of the expected energy of each window
+  (tb_exudyn.results.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
+  largest window value of the sample mean, and the fraction of samples whose largest window exceeds.
+- ``sliding_mean_max_abs`` (EN 14363's 2 m sliding mean) and ``rms_window``: NOT EVALUATED (no such
+  channel yet).
+
+The target probability (``probability``) is a choice, not a code value: the clauses state limits on
+peaks without a probability. The default is the per-passage target used in the literature for 100
+train pairs a day over a one-year return period, 2.74e-5 (shared/reference/code_limits.md, [abstract]).
+
+Caveats (:class:`Caveat`; ``changes_verdict`` marks those that could turn the verdict, and a row with
+one says "conditional"): a lightly damped mode whose channel patterns match the location (the
+damping guard, ``provenance["damping_warnings"]``); a grid error above 1 % on the channel
+(:func:`grid_error_of`, reading ``provenance["grid_error"]``); Monte Carlo samples that lost wheel-rail
+contact, or a PEM probability of a wheel load below 0 above the target; a quantity the linear model
+cannot represent (Q/P with the whole axle force on one wheel: an upper bound; a ratio to first order
+when its denominator varies by more than 10 %); Poisson and Vanmarcke disagreeing on the verdict;
+a Sperling window shorter than the criterion's; a limit value not read in its code text ([check]).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+import re
+from dataclasses import asdict, dataclass, field
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..errors import SettingError
+from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
+from ..scenario.registry import model_files
+from . import statistics as st
+
+#: the literature's per-passage target (code_limits.md [abstract]): 100 train pairs a day, 1-year return period
+DEFAULT_TARGET_PROBABILITY = 2.74e-5
+#: grid errors of max sigma above this make a caveat (the grid-error estimate's tolerance)
+GRID_ERROR_TOLERANCE = 0.01
+#: a ratio's denominator varying by more than this (sigma / mean) makes the first order a caveat
+RATIO_CV_TOLERANCE = 0.1
+VERDICTS = ("OK", "EXCEEDS", "UNDETERMINED", "NOT EVALUATED")
+_CAR = re.compile(r"car(\d+)\.axle(\d+)\.")
+
+
+@dataclass(frozen=True)
+class Caveat:
+    """Something that qualifies a verdict.
+
+    kind : 'lightly_damped_mode', 'grid_error', 'loss_of_contact', 'linear_model', 'first_passage',
+        'window', 'frequency_range', 'limit_unverified', 'statistic'
+    text : one line
+    changes_verdict : True when it could turn the verdict (the row is then conditional)
+    """
+
+    kind: str
+    text: str
+    changes_verdict: bool
+
+
+@dataclass(frozen=True)
+class CheckRow:
+    """One criterion at one location (channel).
+
+    criterion : 'limit set/criterion id'; title, clause : the criterion's; channel, unit
+    statistic : the criterion's statistic
+    limit : the limit value for this scenario (speed band, static load), in the channel's unit (nan if
+        it cannot be evaluated); limit_text : where it comes from
+    estimate : the level exceeded with the target probability (random processes) or the index's largest
+        window value (Sperling); estimate_text : what it is
+    peak_3sigma : max over time of |mean| + 3 sigma (the 3-sigma rule, for comparison)
+    probability : the probability of exceeding the limit in one passage (None: not a random process)
+    interval : its confidence interval (Monte Carlo), or None
+    probability_vanmarcke : PEM: the same by Vanmarcke's first passage, or None
+    target : the target probability per passage
+    verdict : 'OK', 'EXCEEDS', 'UNDETERMINED' or 'NOT EVALUATED'
+    grade : for graded limits, the grade of the estimate ('' if none, 'beyond the last grade')
+    caveats : what qualifies the verdict
+    """
+
+    criterion: str
+    title: str
+    clause: str
+    channel: str
+    unit: str
+    statistic: str
+    limit: float
+    limit_text: str
+    estimate: float
+    estimate_text: str
+    peak_3sigma: float
+    probability: float | None
+    interval: tuple[float, float] | None
+    probability_vanmarcke: float | None
+    target: float
+    verdict: str
+    grade: str = ""
+    caveats: tuple[Caveat, ...] = ()
+
+    @property
+    def conditional(self) -> bool:
+        """A caveat could turn the verdict."""
+        return any(c.changes_verdict for c in self.caveats)
+
+    @property
+    def verdict_text(self) -> str:
+        """The verdict, with 'conditional' when a caveat could turn it."""
+        return f"{self.verdict} (conditional)" if self.conditional and self.verdict != "NOT EVALUATED" else self.verdict
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data (JSON-ready)."""
+        d = asdict(self)
+        d["conditional"] = self.conditional
+        d["verdict_text"] = self.verdict_text
+        d["interval"] = None if self.interval is None else list(self.interval)
+        return d
+
+
+@dataclass(frozen=True)
+class ChecksTable:
+    """The checks of one result (module docstring).
+
+    method : the result's method; scenario : its name; speed_kmh : the train speed
+    target : the target probability per passage; first_passage : the PEM first-passage method
+    window : (t_start, t_end) [s] of the passage
+    rows : per criterion and location
+    notes : remarks on the whole table (target, criteria without channels, global caveats)
+    """
+
+    method: str
+    scenario: str
+    speed_kmh: float
+    target: float
+    first_passage: str
+    window: tuple[float, float]
+    rows: tuple[CheckRow, ...]
+    notes: tuple[str, ...] = field(default=())
+
+    def by_criterion(self) -> dict[str, list[CheckRow]]:
+        out: dict[str, list[CheckRow]] = {}
+        for r in self.rows:
+            out.setdefault(r.criterion, []).append(r)
+        return out
+
+    def worst(self) -> list[CheckRow]:
+        """Per criterion the location that decides it (highest probability, else the largest estimate /
+        limit), in table order."""
+        return [max(rows, key=_severity) for rows in self.by_criterion().values()]
+
+    def counts(self) -> dict[str, int]:
+        """Number of rows per verdict."""
+        return {v: sum(r.verdict == v for r in self.rows) for v in VERDICTS}
+
+    def as_dicts(self) -> list[dict[str, Any]]:
+        """One plain dict per row (JSON-ready: the report's table data)."""
+        return [r.as_dict() for r in self.rows]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The whole table as plain data."""
+        return {"method": self.method, "scenario": self.scenario, "speed_kmh": self.speed_kmh, "target": self.target,
+                "first_passage": self.first_passage, "window": list(self.window), "notes": list(self.notes),
+                "rows": self.as_dicts()}
+
+    def text(self, worst_only: bool = False) -> str:
+        """A plain-text table (``worst_only``: one row per criterion); caveats numbered below it."""
+        rows = self.worst() if worst_only else list(self.rows)
+        head = ["criterion", "location", "estimate", "limit", "P(exceed)/passage", "verdict"]
+        caveats: list[str] = []
+        table = []
+        for r in rows:
+            marks = []
+            for c in r.caveats:
+                line = f"[{c.kind}{', could change the verdict' if c.changes_verdict else ''}] {c.text}"
+                if line not in caveats:
+                    caveats.append(line)
+                marks.append(str(caveats.index(line) + 1))
+            p = _fmt_p(r)
+            limit = "-" if not math.isfinite(r.limit) else f"{r.limit:.4g} {r.unit}"
+            est = "-" if not math.isfinite(r.estimate) else f"{r.estimate:.4g}"
+            verdict = r.verdict_text + (f" {r.grade}" if r.grade else "")
+            table.append([r.criterion, r.channel, est, limit, p, verdict + (f" [{','.join(marks)}]" if marks else "")])
+        widths = [max(len(h), *(len(row[i]) for row in table)) if table else len(h) for i, h in enumerate(head)]
+        fmt = "  ".join(f"{{:<{w}}}" for w in widths)
+        lines = [f"checks of {self.scenario} ({self.method}, {self.speed_kmh:g} km/h, passage "
+                 f"{self.window[0]:.3g}-{self.window[1]:.4g} s, target P <= {self.target:.3g} per passage"
+                 + (f", first passage: {self.first_passage}" if self.method == "pem" else "") + ")",
+                 fmt.format(*head)]
+        lines += [fmt.format(*row) for row in table]
+        lines += [f"  [{i + 1}] {c}" for i, c in enumerate(caveats)]
+        lines += [f"note: {n}" for n in self.notes]
+        return "\n".join(lines)
+
+
+def _severity(r: CheckRow) -> tuple[int, float]:
+    rank = {"EXCEEDS": 3, "UNDETERMINED": 2, "OK": 1, "NOT EVALUATED": 0}[r.verdict]
+    if r.probability is not None and math.isfinite(r.probability):
+        return rank, r.probability
+    ratio = r.estimate / r.limit if math.isfinite(r.estimate) and r.limit and math.isfinite(r.limit) else -math.inf
+    return rank, ratio
+
+
+def _fmt_p(r: CheckRow) -> str:
+    if r.probability is None:
+        return "-"
+    text = f"{r.probability:.3g}"
+    if r.interval is not None:
+        text += f" [{r.interval[0]:.2g}, {r.interval[1]:.2g}]"
+    return text
+
+
+# ============================================================================================ hooks
+def grid_error_of(provenance: dict[str, Any], channel: str) -> float | None:
+    """The hook for the frequency grid's error: the relative error of the channel's sigma from
+    ``provenance["grid_error"]`` when present (the grid-error estimate's form: {"channels": {name:
+    {"rel_error_max_sigma": e, "rel_deviation": d, ...}}}, the larger of |e| and d; or a plain
+    {name: error}), else None."""
+    ge = provenance.get("grid_error")
+    if not isinstance(ge, dict):
+        return None
+    table = ge.get("channels", ge)
+    entry = table.get(channel) if isinstance(table, dict) else None
+    if isinstance(entry, (int, float)):
+        return abs(float(entry))
+    if isinstance(entry, dict):
+        vals = [abs(float(entry[k])) for k in ("rel_error_max_sigma", "rel_deviation") if k in entry]
+        return max(vals) if vals else None
+    return None
+
+
+def damping_caveats(provenance: dict[str, Any], channel: str) -> list[Caveat]:
+    """The damping guard's warnings (``provenance["damping_warnings"]``: dicts with 'channels' patterns,
+    'frequency', 'label', 'damping_ratio', 'decay_time', 'growth_on_bridge') whose patterns match the channel."""
+    out = []
+    seen = set()
+    for w in provenance.get("damping_warnings", []) or []:
+        pats = w.get("channels", ()) if isinstance(w, dict) else ()
+        if not any(fnmatch.fnmatchcase(channel, p) for p in pats):
+            continue
+        key = (f"{w.get('frequency', math.nan):.4g}", f"{w.get('damping_ratio', math.nan):.3g}")
+        if key in seen:
+            continue
+        seen.add(key)
+        tau = w.get("decay_time", math.inf)
+        tau_text = "infinite" if not (isinstance(tau, (int, float)) and math.isfinite(tau)) else f"{tau:.3g} s"
+        out.append(Caveat("lightly_damped_mode",
+                          f"lightly damped mode at {w.get('frequency', math.nan):.4g} Hz ({w.get('label', '')}), damping "
+                          f"ratio {w.get('damping_ratio', math.nan):.2g}, decay time {tau_text}: its sigma grows through "
+                          f"the run (about {100 * float(w.get('growth_on_bridge', math.nan)):.0f} % on the bridge) and "
+                          "depends on the run's length and the frequency grid", True))
+    return out
+
+
+# ============================================================================================ loads
+def static_axle_load(result: Any, car: int, axle: int) -> tuple[float | None, str]:
+    """Static load [N] of axle ``axle`` of car ``car`` (1-based) and where it comes from: the mean of the
+    axle's vertical wheel forces at t = 0 (the static equilibrium on the approach) when the result has
+    them, else the vehicle's weight shared by its axles (car15: four; a sprung mass or moving force: one)."""
+    prefix = f"car{car}.axle{axle}"
+    names = [n for n in (f"{prefix}.left.force_z", f"{prefix}.right.force_z", f"{prefix}.force_z")
+             if n in result.channels]
+    if names:
+        value = float(sum(result.mean[result.index(n), 0] for n in names))
+        return value, "the model's static wheel loads (mean at t = 0)"
+    sc = result.scenario
+    if sc is None or car > len(sc.train.vehicles):
+        return None, "no vehicle data"
+    v = sc.train.vehicles[car - 1]
+    g = sc.analysis.gravity
+    if hasattr(v, "force"):
+        return float(v.force), "the moving force"
+    if hasattr(v, "wheel_mass"):
+        return float((v.mass + v.wheel_mass) * g), "the sprung mass's weight"
+    if hasattr(v, "body") and hasattr(v, "bogie") and hasattr(v, "wheelset"):
+        return float((v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass) * g / 4), "the car's weight / 4 axles"
+    return None, f"vehicle kind {getattr(v, 'kind', '?')!r} without a static axle load rule"
+
+
+def _limit(c: Criterion, result: Any, channel: str) -> tuple[float, str]:
+    sc = result.scenario
+    speed = None if sc is None else sc.speed_kmh
+    kind = c.limit.kind
+    if kind == "static_load":
+        m = _CAR.match(channel)
+        if m is None:
+            return math.nan, "no axle in the channel name"
+        axle, source = static_axle_load(result, int(m.group(1)), int(m.group(2)))
+        if axle is None:
+            return math.nan, source
+        value = c.limit_value(static_axle_load=axle, static_wheel_load=axle / 2)
+        return value, f"{c.limit.factor:g} ({c.limit.constant:g} N + {c.limit.coefficient:.4g} x {c.limit.reference} " \
+                      f"{axle if c.limit.reference == 'static_axle_load' else axle / 2:.5g} N, {source})"
+    if kind == "speed_bands":
+        value = c.limit_value(speed_kmh=speed)
+        return value, f"speed band of {speed:g} km/h"
+    if kind == "grades":
+        lim = c.limit
+        assert isinstance(lim, GradedLimit)
+        return c.limit_value(), "grades " + ", ".join(f"{lab} <= {v:g}" for lab, v in zip(lim.labels, lim.values))
+    return c.limit_value(), "fixed"
+
+
+# ============================================================================================ the checks
+def default_limits() -> list[LimitSet]:
+    """Every limit file shipped in models/limits/."""
+    return [load_limits(name) for name in sorted(model_files("limits"))]
+
+
+def _limit_sets(limits: Any) -> list[LimitSet]:
+    if limits is None:
+        return default_limits()
+    items = limits if isinstance(limits, (list, tuple)) else [limits]
+    out = []
+    for item in items:
+        if isinstance(item, LimitSet):
+            out.append(item)
+        elif isinstance(item, str) or hasattr(item, "__fspath__"):
+            out.append(load_limits(item))
+        else:
+            raise SettingError("checks", "limits", type(item).__name__,
+                               "None (every shipped file), a limit file name or path, a LimitSet, or a list of them")
+    return out
+
+
+def _bounds(statistic: str, limit: float) -> tuple[float | None, float | None, str]:
+    if statistic == "max_abs":
+        return -limit, limit, "symmetric"
+    if statistic == "max":
+        return None, limit, "upper"
+    return limit, None, "lower"
+
+
+def _loss_of_contact(result: Any, target: float, method: str) -> list[Caveat]:
+    prov = result.provenance
+    if result.method != "pem":
+        lost = int(prov.get("samples_with_loss_of_contact", 0) or 0)
+        if lost:
+            return [Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact (minimum "
+                           f"wheel force {prov.get('min_wheel_force_N', math.nan):.4g} N): the linear contact pulls the "
+                           "wheel back, so these samples are not physical", True)]
+        return []
+    worst, where = 0.0, ""
+    for name in result.channels:
+        if name.endswith(".force_z") and name.startswith("car"):
+            try:
+                p = result.exceedance_probability(name, lower=0.0, method=method).probability
+            except Exception:  # noqa: BLE001 - a channel without statistics gives no caveat
+                continue
+            if p > worst:
+                worst, where = p, name
+    if worst > target:
+        return [Caveat("loss_of_contact", f"a wheel load falls below 0 (loss of contact) with probability {worst:.2g} "
+                       f"per passage ({where}): the linear contact model cannot lose contact, so results past it are "
+                       "not physical", True)]
+    return []
+
+
+def _ratio_caveat(result: Any, channel: str) -> Caveat | None:
+    """First-order caveat of a ratio: the denominator's sigma / mean, when its channels are in the result."""
+    m = re.match(r"(car\d+\.axle\d+)\.(left|right)?\.?(derailment|unloading)\Z", channel)
+    if m is None:
+        return None
+    base, side, kind = m.group(1), m.group(2), m.group(3)
+    parts = [f"{base}.{side}.force_z"] if kind == "derailment" else [f"{base}.left.force_z", f"{base}.right.force_z"]
+    if not all(p in result.channels for p in parts):
+        return None
+    mean = sum(result.mean[result.index(p)] for p in parts)
+    sigma = np.sqrt(sum(result.std[result.index(p)] ** 2 for p in parts)) if kind == "derailment" else None
+    if sigma is None:  # the sum's sigma needs the covariance: bound it by the sum of sigmas
+        sigma = sum(result.std[result.index(p)] for p in parts)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cv = float(np.nanmax(np.where(np.abs(mean) > 0, sigma / np.abs(mean), np.inf)))
+    if cv <= RATIO_CV_TOLERANCE:
+        return None
+    return Caveat("linear_model", f"the ratio is taken to first order about the means, but its denominator varies by "
+                  f"sigma / mean = {cv:.2g}: second-order terms (about {cv ** 2:.1%} of the ratio's variance) are left out",
+                  True)
+
+
+def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: float, method: str,
+              confidence: float, global_caveats: list[Caveat]) -> CheckRow:
+    i = result.index(channel)
+    unit = result.units[i]
+    limit, limit_text = _limit(c, result, channel)
+    with np.errstate(invalid="ignore"):
+        peak3 = float(np.nanmax(np.abs(result.mean[i]) + 3.0 * result.std[i], initial=-np.inf))
+    caveats = list(damping_caveats(result.provenance, channel))
+    ge = grid_error_of(result.provenance, channel)
+    if ge is not None and ge > GRID_ERROR_TOLERANCE:
+        caveats.append(Caveat("grid_error", f"the frequency grid changes this channel's sigma by {100 * ge:.2g} % "
+                              f"(> {100 * GRID_ERROR_TOLERANCE:g} %)", True))
+    caveats += global_caveats
+    if c.check:
+        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+    base = dict(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=unit,
+                statistic=c.statistic, limit=limit, limit_text=limit_text, peak_3sigma=peak3, target=target)
+    window = (float(result.time[0]), float(result.time[-1]))
+    if c.statistic in ("sliding_mean_max_abs", "rms_window"):
+        return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
+                        probability_vanmarcke=None, verdict="NOT EVALUATED",
+                        caveats=tuple(caveats) + (Caveat("statistic", f"statistic {c.statistic!r} is not evaluated: "
+                                                         "no such channel (EN 14363's sliding mean of the low-passed force "
+                                                         "is not formed yet)", False),))
+    if not math.isfinite(limit):
+        return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
+                        probability_vanmarcke=None, verdict="NOT EVALUATED",
+                        caveats=tuple(caveats) + (Caveat("statistic", f"no limit value: {limit_text}", False),))
+    grade = ""
+    if c.statistic == "window_max":
+        with np.errstate(invalid="ignore"):
+            estimate = float(np.nanmax(result.mean[i], initial=-np.inf))
+        text = ("largest window value of the index of the expected energy" if result.method == "pem"
+                else "largest window value of the samples' mean index")
+        prob = interval = None
+        if result.method != "pem" and result.sample_max is not None:
+            prob, interval = _index_exceedance(result, i, limit, confidence)
+        verdict = "OK" if estimate <= limit else "EXCEEDS"
+        win = _channel_window(result, channel)
+        if win is not None and c.window and win + 1e-9 < c.window:
+            caveats.append(Caveat("window", f"the index is over windows of {win:.3g} s (the run is shorter than the "
+                                  f"criterion's {c.window:g} s): the index depends on the window length", True))
+        if isinstance(c.limit, GradedLimit):
+            grade = c.limit.grade(estimate) or "beyond the last grade"
+        return CheckRow(**base, estimate=estimate, estimate_text=text, probability=prob, interval=interval,
+                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(caveats))
+    lower, upper, kind = _bounds(c.statistic, limit)
+    pv = None
+    if result.method == "pem":
+        ex = result.exceedance_probability(channel, upper=upper, lower=lower, method=method)
+        p = ex.probability
+        other = "vanmarcke" if method == "poisson" else "poisson"
+        pv = result.exceedance_probability(channel, upper=upper, lower=lower, method=other).probability
+        level = result.exceedance_level(channel, target, kind=kind, method=method)
+        estimate, text = level.level, f"level exceeded with probability {target:.3g} per passage ({method})"
+        verdict = "OK" if p <= target else "EXCEEDS"
+        verdict_other = "OK" if pv <= target else "EXCEEDS"
+        if verdict_other != verdict:
+            caveats.append(Caveat("first_passage", f"{other.capitalize()}'s first passage gives P = {pv:.3g}: the "
+                                  f"verdict would be {verdict_other} (Poisson errs high for narrow-band responses)", True))
+        interval = None
+    else:
+        ex = result.exceedance_probability(channel, upper=upper, lower=lower, confidence=confidence)
+        p, interval = ex.probability, ex.interval
+        level = result.exceedance_level(channel, target, kind=kind, confidence=confidence)
+        estimate = level.level
+        text = f"empirical level exceeded with probability {target:.3g} ({ex.n_samples} samples)"
+        if ex.n_samples * target < 10:
+            text += f"; not resolved by {ex.n_samples} samples (fewer than 10 expected beyond it)"
+        assert interval is not None
+        verdict = "OK" if interval[1] <= target else ("EXCEEDS" if interval[0] > target else "UNDETERMINED")
+    if c.quantity == "derailment_coefficient":
+        caveats.append(Caveat("linear_model", "the 15-DOF model has one lateral contact per wheelset: the whole axle "
+                              "force H is put on this wheel, an upper bound of its Q/P", verdict != "OK"))
+    rc = _ratio_caveat(result, channel) if quantity(c.quantity).derived and c.quantity in (
+        "derailment_coefficient", "wheel_unloading") else None
+    if rc is not None:
+        caveats.append(rc)
+    if isinstance(c.limit, GradedLimit):
+        grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
+    return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
+                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(caveats))
+
+
+def _channel_window(result: Any, channel: str) -> float | None:
+    info = result.provenance.get("derived_channels", {})
+    if isinstance(info, dict):
+        entry = info.get("channels", {}).get(channel)
+        if isinstance(entry, dict) and "window" in entry:
+            return float(entry["window"])
+    return None
+
+
+def _index_exceedance(result: Any, i: int, limit: float, confidence: float
+                      ) -> tuple[float, tuple[float, float]]:
+    """Monte Carlo: the fraction of samples whose largest window value exceeds the limit, with its interval."""
+    hi = result.sample_max[:, i]
+    hi = hi[np.isfinite(hi)]
+    k, n = int((hi > limit).sum()), int(hi.size)
+    return k / n, st.binomial_interval(k, n, confidence)
+
+
+def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARGET_PROBABILITY,
+           method: str = "poisson", confidence: float = 0.99) -> ChecksTable:
+    """The checks of a RandomResponse against code limits (module docstring).
+
+    limits : None (every file in models/limits), a limit file's name or path, a LimitSet, or a list of them
+    probability : the target probability of exceeding a limit in one passage (default: the literature's
+        2.74e-5, not a code value)
+    method : PEM first passage, 'poisson' (default: errs on the safe side) or 'vanmarcke'
+    confidence : Monte Carlo intervals' level
+    """
+    if not (isinstance(probability, (int, float)) and 0.0 < probability < 1.0):
+        raise SettingError("checks", "probability", probability, "a target probability per passage in (0, 1)")
+    if method not in st.METHODS:
+        raise SettingError("checks", "method", method, " | ".join(st.METHODS))
+    sets = _limit_sets(limits)
+    global_caveats = _loss_of_contact(result, probability, method)
+    rows: list[CheckRow] = []
+    notes = [f"target probability per passage {probability:.3g}"
+             + (" (the default: the literature's 100 train pairs a day over a 1-year return period, code_limits.md "
+                "[abstract]; not a code value: the clauses give no probability)" if probability == DEFAULT_TARGET_PROBABILITY
+                else " (chosen by the caller)")]
+    if result.method == "pem":
+        notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "
+                     "displacements, pseudo-derivatives otherwise; provenance['derivatives'])")
+    for ls in sets:
+        for c in ls.criteria:
+            names = [n for n in result.channels if quantity(c.quantity).matches(n)]
+            if not names:
+                notes.append(f"{ls.name}/{c.id}: no channel of quantity {c.quantity!r} in this result "
+                             f"(patterns {', '.join(quantity(c.quantity).channels)})")
+                continue
+            for name in names:
+                rows.append(_rows_for(c, ls.name, result, name, probability, method, confidence, global_caveats))
+    sc = result.scenario
+    return ChecksTable(
+        method=result.method, scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
+        target=float(probability), first_passage=method, window=(float(result.time[0]), float(result.time[-1])),
+        rows=tuple(rows), notes=tuple(notes),
+    )
+
+
+def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
+    """Lines for a terminal summary (the CLI): the counts, then per criterion its deciding location."""
+    table = checks(result, limits, **options)
+    counts = table.counts()
+    n_cond = sum(r.conditional for r in table.rows)
+    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
+             + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
+    for r in table.worst():
+        p = "" if r.probability is None else f", P = {_fmt_p(r)}"
+        est = "-" if not math.isfinite(r.estimate) else f"{r.estimate:.4g}"
+        lim = "-" if not math.isfinite(r.limit) else f"{r.limit:.4g}"
+        tags = sorted({c.kind for c in r.caveats if c.changes_verdict})
+        lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim} {r.unit}{p}"
+                     + (f" (caveats: {', '.join(tags)})" if tags else ""))
+    return lines
+
+
+__all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "VERDICTS",
+           "checks", "damping_caveats", "default_limits", "grid_error_of", "static_axle_load", "verdict_lines"]
