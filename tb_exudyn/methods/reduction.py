@@ -116,9 +116,10 @@ class ReductionPlan:
 
 
 def reduction_plan(output_names: Sequence[str], selected: Sequence[tuple[str, str]],
-                   derived: Sequence[DerivedChannel]) -> ReductionPlan:
+                   derived: Sequence[DerivedChannel], *, recorded_derivatives: bool = True) -> ReductionPlan:
     """The plan for an engine whose outputs are ``output_names``; ``selected`` = (name, unit) of the
-    selected channels (the first outputs), ``derived`` the selected derived channels."""
+    selected channels (the first outputs), ``derived`` the selected derived channels.
+    ``recorded_derivatives=False`` takes the pseudo-derivative everywhere (to measure its error)."""
     col = {n: i for i, n in enumerate(output_names)}
     rows: list[tuple[tuple[tuple[str, float], ...], str]] = []
     index: dict[tuple[tuple[tuple[str, float], ...], str], int] = {}
@@ -162,7 +163,7 @@ def reduction_plan(output_names: Sequence[str], selected: Sequence[tuple[str, st
         if z not in needs_d:
             continue
         dnames = [derivative_name(n) for n, _ in terms]
-        if all(dn is not None and dn in col for dn in dnames):
+        if recorded_derivatives and all(dn is not None and dn in col for dn in dnames):
             for (name, c), dn in zip(terms, dnames):
                 Ld[z, col[dn]] += c  # type: ignore[index]
             recorded.append(z)

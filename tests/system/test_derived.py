@@ -132,3 +132,35 @@ def test_engine_outputs_add_inputs_and_recorded_derivatives(setup):
     assert wf[: len(out)] == out and wf[-1] == "car1.axle1.left.force_z"
     with pytest.raises(ScenarioError, match=r"analysis.channels\[1\].*matches no channel"):
         select_channels(channels, cat, ["car1.*", "bridge.span9.*"])
+
+
+@pytest.mark.exudyn
+def test_twist_of_a_run_from_the_rail_displacements():
+    """Problem: scenario 'quick' (ICE motor car over one 32 m span, the track 2.5 m off the girder axis:
+    the eccentric load twists the deck), the deterministic run under gravity.
+
+    Reference: the rails' vertical displacements computed here from the run's bridge modal coordinates
+    q(t) and the bridge's rail shapes at x +- 1.5 m: z_L,R = (z +- b rx)(x) . q, twist = [z_L - z_R](x +
+    1.5) - [z_L - z_R](x - 1.5). The channel is the same linear form of the same numbers: 1e-12 of its
+    largest value (summation order)."""
+    import tb_exudyn as tbx
+    from tb_exudyn.builder import build_model
+    from tb_exudyn.methods import run_deterministic
+
+    sc = tbx.load_scenario("quick")
+    sc = sc.replace(analysis=sc.analysis.replace(channels=("bridge.span1.*.twist_3m",)))
+    model = build_model(sc, warn=False)
+    th = run_deterministic(sc, model=model)
+    rec = model.recording()
+    q = rec.nodes[rec.bridge_node][0]
+    b = sc.track.half_gauge
+    stations = station_positions(model.bridge.station_names, sc.bridge.spans)
+    assert set(th.names) == {f"bridge.{s}.twist_3m" for s in stations}
+    for st, x in stations.items():
+        rs = model.bridge.rail_shapes(np.array([x + 1.5, x - 1.5]))
+        zl, zr = q @ (rs.z + b * rs.rx).T, q @ (rs.z - b * rs.rx).T
+        ref = (zl[:, 0] - zr[:, 0]) - (zl[:, 1] - zr[:, 1])
+        got = th[f"bridge.{st}.twist_3m"]
+        assert np.max(np.abs(ref)) > 0, st
+        assert np.max(np.abs(got - ref)) <= 1e-12 * np.max(np.abs(ref)), st
+        assert th.unit(f"bridge.{st}.twist_3m") == "m"
