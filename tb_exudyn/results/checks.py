@@ -495,9 +495,61 @@ def _index_exceedance(result: Any, i: int, limit: float, confidence: float
     return k / n, st.binomial_interval(k, n, confidence)
 
 
+@dataclass(frozen=True, eq=False)
+class _RunView:
+    """A TimeHistory seen as a result without randomness (sigma 0): one deterministic run."""
+
+    channels: tuple[str, ...]
+    units: tuple[str, ...]
+    mean: np.ndarray
+    std: np.ndarray
+    time: np.ndarray
+    scenario: Any
+    provenance: dict[str, Any]
+    method: str = "deterministic"
+    n_samples: int = 0
+    sample_max: Any = None
+
+    def index(self, channel: str) -> int:
+        return self.channels.index(channel)
+
+
+def _run_view(th: Any) -> _RunView:
+    names = tuple(th.names)
+    values = np.array([th[n] for n in names], dtype=float).reshape(len(names), -1)
+    return _RunView(names, tuple(th.unit(n) for n in names), values, np.zeros_like(values), np.asarray(th.time),
+                    th.scenario, dict(th.provenance))
+
+
+def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target: float) -> CheckRow:
+    """A criterion on one deterministic run: the statistic of the values against the limit."""
+    i = result.index(channel)
+    limit, limit_text = _limit(c, result, channel)
+    v = result.mean[i]
+    with np.errstate(invalid="ignore"):
+        stat = {"max_abs": np.nanmax(np.abs(v), initial=-np.inf), "max": np.nanmax(v, initial=-np.inf),
+                "min": np.nanmin(v, initial=np.inf), "window_max": np.nanmax(v, initial=-np.inf)}.get(c.statistic)
+    caveats = [Caveat("statistic", "one deterministic run: a single sample of the response (no probability)", False)]
+    if c.check:
+        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+    if stat is None or not math.isfinite(limit):
+        verdict, estimate = "NOT EVALUATED", math.nan
+    else:
+        estimate = float(stat)
+        verdict = "OK" if (estimate >= limit if c.statistic == "min" else estimate <= limit) else "EXCEEDS"
+    grade = (c.limit.grade(abs(estimate)) or "beyond the last grade") if isinstance(c.limit, GradedLimit) and \
+        math.isfinite(estimate) else ""
+    return CheckRow(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=result.units[i],
+                    statistic=c.statistic, limit=limit, limit_text=limit_text, estimate=estimate,
+                    estimate_text=f"{c.statistic} of the run", peak_3sigma=float(np.nanmax(np.abs(v), initial=-np.inf)),
+                    probability=None, interval=None, probability_vanmarcke=None, target=target, verdict=verdict,
+                    grade=grade, caveats=tuple(caveats))
+
+
 def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARGET_PROBABILITY,
            method: str = "poisson", confidence: float = 0.99) -> ChecksTable:
-    """The checks of a RandomResponse against code limits (module docstring).
+    """The checks of a RandomResponse (or of one deterministic run, a TimeHistory: its statistic of
+    the values against the limit, no probability) against code limits (module docstring).
 
     limits : None (every file in models/limits), a limit file's name or path, a LimitSet, or a list of them
     probability : the target probability of exceeding a limit in one passage (default: the literature's
@@ -510,27 +562,30 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
     if method not in st.METHODS:
         raise SettingError("checks", "method", method, " | ".join(st.METHODS))
     sets = _limit_sets(limits)
-    global_caveats = _loss_of_contact(result, probability, method)
+    run = None if hasattr(result, "method") else _run_view(result)
+    global_caveats = [] if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
              + (" (the default: the literature's 100 train pairs a day over a 1-year return period, code_limits.md "
                 "[abstract]; not a code value: the clauses give no probability)" if probability == DEFAULT_TARGET_PROBABILITY
                 else " (chosen by the caller)")]
-    if result.method == "pem":
+    if getattr(result, "method", "") == "pem":
         notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "
                      "displacements, pseudo-derivatives otherwise; provenance['derivatives'])")
+    view = run if run is not None else result
     for ls in sets:
         for c in ls.criteria:
-            names = [n for n in result.channels if quantity(c.quantity).matches(n)]
+            names = [n for n in view.channels if quantity(c.quantity).matches(n)]
             if not names:
                 notes.append(f"{ls.name}/{c.id}: no channel of quantity {c.quantity!r} in this result "
                              f"(patterns {', '.join(quantity(c.quantity).channels)})")
                 continue
             for name in names:
-                rows.append(_rows_for(c, ls.name, result, name, probability, method, confidence, global_caveats))
+                rows.append(_run_row(c, ls.name, run, name, probability) if run is not None else
+                            _rows_for(c, ls.name, result, name, probability, method, confidence, global_caveats))
     sc = result.scenario
     return ChecksTable(
-        method=result.method, scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
+        method=getattr(result, "method", "deterministic"), scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
         target=float(probability), first_passage=method, window=(float(result.time[0]), float(result.time[-1])),
         rows=tuple(rows), notes=tuple(notes),
     )

@@ -23,7 +23,7 @@ import numpy as np
 import scipy.io
 
 from ..scenario import scenario_to_toml
-from .random_response import RandomResponse
+from .random_response import OPTIONAL_ARRAYS, RandomResponse
 from ..atomic import write_atomic, write_text_atomic
 from .storage import json_default
 from .time_history import TimeHistory
@@ -32,7 +32,7 @@ Result = Union[RandomResponse, TimeHistory]
 
 #: names of RandomResponse arrays in the .mat file (others keep their attribute name)
 MAT_NAMES = {"mean": "mean_response", "std": "std_response"}
-_OPTIONAL = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples")
+_OPTIONAL = OPTIONAL_ARRAYS
 
 
 def write_csv(path: str | Path, time: np.ndarray, names: Sequence[str], units: Sequence[str],

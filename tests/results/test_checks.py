@@ -153,3 +153,24 @@ def test_exceedance_api_refuses_what_it_cannot_answer(lateral, tmp_path):
     with pytest.raises(ResultsError, match="derivative statistics"):
         load_random_response(tmp_path / "old").exceedance_probability("car1.body.acc_z", upper=0.3)
     assert math.isfinite(p.expected_outcrossings)
+
+
+def test_checks_of_one_deterministic_run(lateral):
+    """A TimeHistory (the mean run) is checked by its statistic of the values: max |value| against
+    the limit, no probability, the row's caveat saying it is one run."""
+    from tb_exudyn.methods import run_deterministic
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        th = run_deterministic(lateral.scenario)
+    table = checks(th)
+    assert table.method == "deterministic" and table.rows
+    for r in table.rows:
+        if r.verdict == "NOT EVALUATED":
+            continue
+        assert r.probability is None and any(c.text.startswith("one deterministic run") for c in r.caveats)
+        v = th[r.channel]
+        if r.statistic == "max_abs":
+            assert r.estimate == float(np.nanmax(np.abs(v)))
+            assert r.verdict == ("OK" if r.estimate <= r.limit else "EXCEEDS")
+    assert verdict_lines(th)[0].startswith("code checks (deterministic")
