@@ -52,7 +52,7 @@ from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
 from .common import MeanTask, fingerprint_identity, merge_provenance
 from .pem import default_slices
-from .reduction import SampleReduction, engine_plan, mean_rows, model_plan, sample_offsets
+from .reduction import REDUCTION_FORMAT, SampleReduction, engine_plan, mean_rows, model_plan, sample_offsets
 from .sampling import POINTS_PER_WAVELENGTH, Discretisation, ProfileSampler
 
 FloatArray = NDArray[np.float64]
@@ -194,7 +194,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
     checkpoint = execution.checkpoint("checkpoint-mc-linear" if linear else "checkpoint-mc", fingerprint_identity(
         scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
-        method_options={"seed": seed, "discretisation": discretisation,
+        method_options={"seed": seed, "discretisation": discretisation, "reduction": REDUCTION_FORMAT,
                         "points_per_wavelength": POINTS_PER_WAVELENGTH}))
     if cls.single_columns:
         blocks = [(k, k + 1) for k in range(n)]

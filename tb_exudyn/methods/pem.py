@@ -48,7 +48,7 @@ from ..system.excitation import KINDS
 from ..track import get_spectrum
 from .common import MeanTask, fingerprint_identity, merge_provenance
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, scenario_grid
-from .reduction import PseudoReduction, ReductionPlan, engine_plan, finish_pem, finish_pem_task, mean_rows, \
+from .reduction import REDUCTION_FORMAT, PseudoReduction, ReductionPlan, engine_plan, finish_pem, finish_pem_task, mean_rows, \
     model_plan, ratio_coefficients
 
 #: precision in which a task's PSD map travels to the parent (sigma^2 is float64 throughout):
@@ -214,7 +214,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     grid, spectra = prepare_sweep(scenario)
     checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd}))
+        method_options={"keep_psd": keep_psd, "reduction": REDUCTION_FORMAT}))
     ptasks = pem_tasks(scenario, grid)
     tasks = [Task("pem-mean", MeanTask())]
     if cls.single_columns:

@@ -68,6 +68,8 @@ FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
 
+#: what a task's result holds (in the checkpoints' fingerprint: checkpoints of another layout are refused)
+REDUCTION_FORMAT = 2
 #: precision of a task's PSD map on its way to the parent (see tb_exudyn.methods.pem.PSD_TRANSPORT)
 PSD_TRANSPORT = np.float32
 
@@ -584,5 +586,5 @@ class SampleReduction:
         return out
 
 
-__all__ = ["MeanRows", "PemStatistics", "PseudoReduction", "RatioCoefficients", "ReductionPlan", "SampleReduction", "engine_plan",
+__all__ = ["MeanRows", "PemStatistics", "REDUCTION_FORMAT", "PseudoReduction", "RatioCoefficients", "ReductionPlan", "SampleReduction", "engine_plan",
            "finish_pem", "finish_pem_task", "mean_rows", "model_plan", "ratio_coefficients", "reduction_plan"]
