@@ -389,8 +389,8 @@ def _ratio_caveat(result: Any, channel: str) -> Caveat | None:
     if cv <= RATIO_CV_TOLERANCE:
         return None
     return Caveat("linear_model", f"the ratio is taken to first order about the means, but its denominator varies by "
-                  f"sigma / mean = {cv:.2g}: second-order terms (about {cv ** 2:.1%} of the ratio's variance) are left out",
-                  True)
+                  f"sigma / mean = {cv:.2g}: the second order raises the ratio's sigma by 1.5 cv^2 (1 + 2 rho^2), up to "
+                  f"{4.5 * cv ** 2:.1%} (rho: correlation of numerator and denominator), more in the tails", True)
 
 
 def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: float, method: str,
