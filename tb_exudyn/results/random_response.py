@@ -27,6 +27,7 @@ import numpy as np
 from ..scenario import Scenario, scenario_from_dict, scenario_to_toml
 from ..errors import ResultsError, SettingError
 from . import statistics as st
+from .checks import checks as _checks
 from .storage import load_json, load_npz, save_json_atomic, save_npz_atomic
 
 FORMAT = "tb_exudyn.random_response/2"
@@ -195,9 +196,7 @@ class RandomResponse:
     def checks(self, limits: Any = None, **options: Any) -> Any:
         """The code checks of this result: a :class:`~tb_exudyn.results.checks.ChecksTable` (see
         :func:`tb_exudyn.results.checks.checks` for ``limits`` and the options)."""
-        from .checks import checks
-
-        return checks(self, limits, **options)
+        return _checks(self, limits, **options)
 
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
