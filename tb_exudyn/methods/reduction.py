@@ -576,7 +576,7 @@ class SampleReduction:
         for k, z, direction, window in plan.sperling:
             acc = self.hist[self.hist_pos[z]] + self.zmean[z]
             _, _, energy = sperling_window_energy(acc, self.fs, direction, window=window)  # type: ignore[arg-type]
-            series = window_series(sperling_index(energy), self.n_t, self.fs, window)  # (n, n_t), NaN tail
+            series = window_series(sperling_index(energy), self.n_t, self.fs, window)  # (n, n_t)
             rows = np.array([k])
             self._moments(rows, slice(None), series[None] - self.offsets[k], series[None])
         out = {"n": np.array(self.n), "mean": self.mean, "m2": self.m2, "min_force": self.min_force,

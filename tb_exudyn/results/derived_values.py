@@ -4,7 +4,7 @@ The definitions are in :mod:`tb_exudyn.system.derived`; this module evaluates th
 sampled at fs [Hz] from t = 0: linear combinations, EN 12299 weightings filtered in time from rest
 (:func:`tb_exudyn.results.comfort.apply_weighting`), exact ratios, and Sperling indices per window
 (:func:`tb_exudyn.results.comfort.sperling_window_energy`), which become a piecewise-constant series
-(:func:`window_series`: each window's value at its samples, NaN after the last whole window).
+(:func:`window_series`: each window's value at its samples, the last window's after it).
 """
 
 from __future__ import annotations
@@ -32,12 +32,15 @@ def combine(terms: Sequence[tuple[str, float]], values: Mapping[str, np.ndarray]
 
 def window_series(values: np.ndarray, n_t: int, fs: float, window: float) -> FloatArray:
     """A per-window index (..., n_w) as a series (..., n_t): window w's value at its samples (the
-    windows of :func:`~tb_exudyn.results.comfort.window_slices`), NaN after the last whole window."""
+    windows of :func:`~tb_exudyn.results.comfort.window_slices`); the samples after the last whole
+    window (shorter than a window, so without an index of their own) hold the last window's value, so
+    the series is finite and its maximum is the largest window value."""
     slices, _ = window_slices(n_t, fs, window, "window_series")
     v = np.asarray(values, dtype=float)
-    out = np.full(v.shape[:-1] + (n_t,), np.nan)
+    out = np.empty(v.shape[:-1] + (n_t,))
     for w, s in enumerate(slices):
         out[..., s] = v[..., w : w + 1]
+    out[..., slices[-1].stop:] = v[..., -1:]
     return out
 
 
