@@ -30,6 +30,8 @@ from ..scenario.model import Scenario, SimpleBeam
 from ..structure import modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
+from ..system import derived as dch
+from ..system.conventions import scenario_steps
 from .bridge_body import add_modal_bridge_body
 from ..system.coupling import WheelRailCoupling
 from ..system.excitation import Excitation, as_excitation
@@ -152,6 +154,8 @@ class TrainBridgeModel:
     mbs : the Exudyn MainSystem (its SystemContainer is kept alive by the model)
     coupling : the wheel-rail coupling (plain numpy; also usable by other integrators)
     channels : every channel of the model; ``selected``: those matching analysis.channels
+    derived_catalogue : the derived channels the model can give (tb_exudyn.system.derived);
+        ``derived``: those matching analysis.channels
     warnings : scenario warnings found while building
     """
 
@@ -194,7 +198,13 @@ class TrainBridgeModel:
             [(b.name, b.node, b.components) for b in parts.bodies],
             self.contact_names, parts.load_names,
         )
-        self.selected = chan.select(self.channels, an.channels, sc.where)
+        steps = scenario_steps(sc)
+        self.derived_catalogue = dch.derived_catalogue(
+            self.channels, dch.station_positions(self.bridge.station_names, sc.bridge.spans), self.bridge,
+            sc.track.half_gauge, steps.n_outputs * steps.h * steps.ratio)
+        self.selected, self.derived = dch.select_channels(self.channels, self.derived_catalogue, an.channels, sc.where)
+        #: the station shapes extended by the derived channels' auxiliary rows (what outputs index)
+        self.output_shapes = dch.extended_shapes(self.bridge.station_shapes, self.derived_catalogue)
         mbs.Assemble()
         self.n_ode2 = mbs.systemData.ODE2Size()
         self._static_cache: dict[tuple[float, bool], NDArray[np.float64]] = {}
@@ -373,6 +383,13 @@ class TrainBridgeModel:
 
     def channel_units(self) -> dict[str, str]:
         return {c.name: c.unit for c in self.channels}
+
+    def output_channels(self, wheel_forces: bool = False) -> list[chan.Channel]:
+        """What an engine of this model outputs (:func:`tb_exudyn.system.derived.engine_outputs`): the
+        selected channels, then the derived channels' inputs and the recorded derivatives, then (with
+        ``wheel_forces``) every vertical wheel force; their bridge rows index ``output_shapes``."""
+        return dch.engine_outputs(self.selected, self.derived, self.channels, self.derived_catalogue,
+                                  wheel_forces=wheel_forces)
 
 
 def build_model(

@@ -72,11 +72,11 @@ class Engine(ABC):
         self.steps = scenario_steps(scenario)
         self.model = build_model(scenario, warn=False)
         model = self.model
-        outputs = list(model.selected)
-        if wheel_forces:
-            outputs += [c for c in model.channels if c.name.endswith(".force_z") and c not in model.selected]
-        self.output_channels = outputs
-        self.outputs: OutputMap = output_map(outputs, model.node_indices, model.bridge.station_shapes)
+        #: the outputs (tb_exudyn.system.derived.engine_outputs): the selected channels first, then the
+        #: derived channels' inputs and the recorded derivatives, then (``wheel_forces``) the wheel forces
+        self.output_channels = model.output_channels(wheel_forces)
+        self.outputs: OutputMap = output_map(self.output_channels, model.node_indices, model.output_shapes)
+        self._mean: dict[str, np.ndarray] | None = None
 
     # ------------------------------------------------------------------ capabilities
     @classmethod
@@ -113,13 +113,18 @@ class Engine(ABC):
         return len(self.model.selected)
 
     @property
+    def fs(self) -> float:
+        """Output rate [Hz] (1 / output step)."""
+        return 1.0 / (self.steps.h * self.steps.ratio)
+
+    @property
     def force_rows(self) -> np.ndarray:
         """Rows (``outputs.names`` order) of the vertical wheel-rail forces."""
         return np.array([i for i, n in enumerate(self.outputs.names) if n.endswith(".force_z")], dtype=np.int64)
 
     def channel_values(self, recording: Any) -> np.ndarray:
         """The outputs (``outputs.names`` order) of an Exudyn recording, (n_outputs, n_t)."""
-        values = evaluate(self.output_channels, recording, self.model.bridge.station_shapes)
+        values = evaluate(self.output_channels, recording, self.model.output_shapes)
         return np.stack([values[n] for n in self.outputs.names])
 
     # ------------------------------------------------------------------ the work
@@ -134,28 +139,36 @@ class Engine(ABC):
 
     def mean(self) -> dict[str, np.ndarray]:
         """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the
-        engine's model, as plain arrays (checkpointable): the selected channels' values, their names
-        and units, the time, the vertical wheel forces of the run (all of them, selected or not),
-        the run's provenance (JSON) and the scenario's warnings."""
+        engine's model, as plain arrays (checkpointable): the selected and derived channels' values
+        ("mean"), their names and units, the time, every engine output of the run ("outputs", in
+        ``outputs.names`` order: what the reducers need to form derived channels about the mean), the
+        vertical wheel forces of the run (all of them, selected or not), the run's provenance (JSON)
+        and the scenario's warnings. Run once per engine: later calls return the same arrays (a
+        linear Monte Carlo worker needs the mean for its samples' extremes and ratios)."""
+        if self._mean is not None:
+            return self._mean
         start = _time.perf_counter()
         model = self.model
         th, _ = run_model(model, None, gravity=True, initial="static")
+        rec = model.recording()
         forces = [c for c in model.channels if c.name.endswith(".force_z")] if self.wheel_forces else []
         if forces:
-            values = evaluate(forces, model.recording(), model.bridge.station_shapes)
+            values = evaluate(forces, rec, model.bridge.station_shapes)
             force_mean = np.stack([values[c.name] for c in forces])
         else:
             force_mean = np.zeros((0, th.time.size))
+        outputs = self.channel_values(rec)
         model.set_gravity(False)  # back to the sweep's state
         model.set_excitation(None)
-        return {
-            "force_mean": force_mean,
+        self._mean = {
+            "force_mean": force_mean, "outputs": outputs,
             "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
             "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
             "provenance": np.array(json.dumps(th.provenance, default=json_default)),
             "warnings": np.array(model.warnings, dtype=str).reshape(-1),
             "seconds": np.array(_time.perf_counter() - start),
         }
+        return self._mean
 
 
 __all__ = ["Engine"]

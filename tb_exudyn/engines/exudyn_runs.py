@@ -38,8 +38,9 @@ from .._version import __version__
 from ..builder.model import TrainBridgeModel
 from ..errors import SettingError, SimulationIncomplete
 from ..execution.threads import single_threaded_blas
+from ..results.derived_values import derived_values
 from ..results.time_history import TimeHistory
-from ..system.channels import Recording
+from ..system.channels import Recording, evaluate
 from ..system.conventions import run_steps
 from ..system.excitation import Excitation, HarmonicExcitation, NoExcitation, ProfileExcitation, as_excitation
 
@@ -194,6 +195,21 @@ def versions() -> dict[str, str]:
     }
 
 
+def model_values(model: TrainBridgeModel, rec: Any) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+    """(values, units) of the model's selected channels, then its selected derived channels
+    (:mod:`tb_exudyn.system.derived`; real time histories: :mod:`tb_exudyn.results.derived_values`), from
+    a recording of a run."""
+    outputs = model.output_channels()
+    raw = evaluate(outputs, rec, model.output_shapes)
+    values = {c.name: raw[c.name] for c in model.selected}
+    units = {c.name: c.unit for c in model.selected}
+    if model.derived:
+        fs = 1.0 / model.scenario.analysis.output_step
+        values.update(derived_values(model.derived, raw, fs))
+        units.update({d.name: d.unit for d in model.derived})
+    return values, units
+
+
 def run_model(
     model: TrainBridgeModel,
     excitation: Excitation | None = None,
@@ -219,8 +235,7 @@ def run_model(
     model.set_gravity(gravity)
     model.reset(initial)  # type: ignore[arg-type]
     rec, info = integrate(model, settings, duration)
-    values = model.channel_values(rec)
-    units = model.channel_units()
+    values, units = model_values(model, rec)
     provenance: dict[str, Any] = {
         "engine": "exudyn",
         "versions": versions(),

@@ -155,8 +155,10 @@ def run_monte_carlo(
         ``out/mc_linear``); the checkpoint does not depend on N, so a larger N with ``resume=True``
         reuses the samples already run
     keep_samples : keep every sample's channels, (N, nc, nt), in ``samples``
-    discretisation : "pem_grid" (the PEM grid's discretised spectrum: comparable with PEM exactly)
-        or "fft" (FFT profiles over the wavelength band, for long tracks)
+    discretisation : "pem_grid" (the PEM grid's discretised spectrum with random phases: comparable
+        with PEM's sigma exactly), "pem_grid_gaussian" (the same spectrum with Gaussian coefficients:
+        an exactly Gaussian process, for comparing exceedance probabilities with PEM's) or "fft" (FFT
+        profiles over the wavelength band, for long tracks)
     engine : "exudyn" (one Exudyn run of the full model per sample: the reference, method
         "monte_carlo") or a linear engine ("batched", "dense": the same samples on the linear model,
         method "monte_carlo_linear")

@@ -36,11 +36,14 @@ class AnalysisSetup:
     grid : the PEM grid (adaptive grids are placed for the modes at t = 0 and with the train
         standing centred on the bridge)
     damping : the damping guard's warnings (:func:`tb_exudyn.builder.system_modes.damping_guard`)
+    model : the built model they come from (in the parent process only: its channels, outputs and
+        derived channels are the workers')
     """
 
     modes: ModeTable
     grid: FrequencyGrid
     damping: tuple[DampingWarning, ...]
+    model: Any = None
 
     def messages(self) -> list[str]:
         """The damping guard's warnings, one line per set of equal modes."""
@@ -72,7 +75,8 @@ def analysis_setup(scenario: Scenario, *, warn: bool = True) -> AnalysisSetup:
         modes = [(float(f), float(z)) for tab in (table, centred)
                  for f, z, kind in zip(tab.frequency, tab.damping_ratio, tab.kind) if kind in ("vehicle", "bridge")]
     grid = scenario_grid(scenario, modes)
-    setup = AnalysisSetup(modes=table, grid=grid, damping=tuple(damping_guard(scenario, table=table, model=model)))
+    setup = AnalysisSetup(modes=table, grid=grid, damping=tuple(damping_guard(scenario, table=table, model=model)),
+                          model=model)
     if warn:
         for message in setup.messages():
             warnings.warn(message, LightlyDampedModeWarning, stacklevel=3)

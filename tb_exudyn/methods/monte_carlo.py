@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.stats import chi2
 
+from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import SettingError
 from ..execution import Execution, Task
@@ -48,6 +49,7 @@ from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
 from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from .pem import default_slices
+from .reduction import REDUCTION_FORMAT, SampleReduction, engine_plan, mean_rows, model_plan, sample_offsets
 from .sampling import POINTS_PER_WAVELENGTH, Discretisation, ProfileSampler
 
 FloatArray = NDArray[np.float64]
@@ -78,33 +80,11 @@ class SampleTask:
     keep_samples: bool
 
 
-class SampleReducer:
-    """At every output time: the mean and the sum of squared deviations of the task's samples over
-    the scenario's channels, the samples' vertical wheel forces and, if asked, the samples."""
-
-    def __init__(self, n_selected: int, force_rows: IntArray, n_t: int, n_samples: int, keep_samples: bool) -> None:
-        self.n_sel, self.n = n_selected, n_samples
-        self.force_rows = force_rows
-        self.mean, self.m2 = np.zeros((n_selected, n_t)), np.zeros((n_selected, n_t))
-        self.force = np.zeros((force_rows.size, n_t, n_samples))
-        self.samples = np.zeros((n_samples, n_selected, n_t)) if keep_samples else None
-
-    def record(self, i: int, Y: NDArray[np.complex128], ext: IntArray) -> None:
-        Yx = Y.view(np.float64)[ext]  # (n_ch, 2 width): the samples in order, channels in map order
-        ys = Yx[: self.n_sel, : self.n]
-        mu = ys.mean(axis=1)
-        d = ys - mu[:, None]
-        self.mean[:, i] = mu
-        self.m2[:, i] = np.einsum("ij,ij->i", d, d)
-        self.force[:, i, :] = Yx[self.force_rows, : self.n]
-        if self.samples is not None:
-            self.samples[:, :, i] = ys.T
-
-    def result(self) -> dict[str, np.ndarray]:
-        out = {"n": np.array(self.n), "mean": self.mean, "m2": self.m2, "force": self.force}
-        if self.samples is not None:
-            out["samples"] = self.samples
-        return out
+class SampleReducer(SampleReduction):
+    """At every output time: the mean and the sum of squared deviations of the task's samples over the
+    result channels (the scenario's channels and its derived channels, :class:`~.reduction.SampleReduction`),
+    every sample's minimum and maximum of every channel, the samples' vertical wheel forces and, if
+    asked, the samples."""
 
 
 def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation, grid: Any
@@ -118,7 +98,15 @@ def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: 
     """Samples ``indices`` of a run seeded with ``seed`` on ``engine`` (built with ``wheel_forces``),
     reduced at every output time by :class:`SampleReducer` (a linear engine: the responses from rest
     without gravity; the full model: the samples themselves)."""
-    reducer = SampleReducer(engine.n_selected, engine.force_rows, engine.steps.n_outputs, len(indices), keep_samples)
+    plan = engine_plan(engine)
+    offsets = zmean = force_mean = None
+    if not engine.full_model:  # responses about the mean: the mean run gives the totals
+        det = engine.mean()
+        offsets = sample_offsets(plan, det["mean"])
+        zmean = mean_rows(plan, det["outputs"], det["time"]).value
+        force_mean = det["outputs"][engine.force_rows]
+    reducer = SampleReducer(plan, engine.force_rows, engine.steps.n_outputs, len(indices), keep_samples, offsets,
+                            zmean, engine.fs, force_mean)
     return engine.integrate(sampler.columns(seed, indices), reducer)
 
 
@@ -128,8 +116,8 @@ def _work(state: tuple[Any, ProfileSampler], task: Task) -> dict[str, np.ndarray
         return engine.mean()
     st: SampleTask = task.data
     result = integrate_samples(engine, sampler, st.seed, range(st.start, st.stop), st.keep_samples)
-    names = engine.outputs.names[: engine.n_selected]
-    units = engine.outputs.units[: engine.n_selected]
+    plan = engine_plan(engine)
+    names, units = plan.names, plan.units
     return {**result, "names": np.array(names, dtype=str), "units": np.array(units, dtype=str),
             "warnings": np.array(engine.model.warnings, dtype=str).reshape(-1),
             "describe": np.array(json.dumps(engine.describe()))}
@@ -206,6 +194,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     checkpoint = execution.checkpoint("checkpoint-mc-linear" if linear else "checkpoint-mc", fingerprint_identity(
         scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
         method_options={"seed": seed, "discretisation": discretisation, "grid": setup.grid.f.tolist(),
+                        "reduction": REDUCTION_FORMAT,
                         "points_per_wavelength": POINTS_PER_WAVELENGTH}))
     if cls.single_columns:
         blocks = [(k, k + 1) for k in range(n)]
@@ -220,11 +209,15 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     state: dict[str, Any] = {"n": 0, "run_times": []}
     min_force = np.full(n, math.nan)
     samples: np.ndarray | None = None
+    model = setup.model
+    plan = model_plan(model, wheel_forces=True)  # the workers' engines have the same outputs
+    extremes = (np.full((n, len(plan.names)), np.nan), np.full((n, len(plan.names)), np.nan))
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         nonlocal samples
         if isinstance(task.data, MeanTask):
             state["det"] = result
+            state["offsets"] = sample_offsets(plan, result["mean"])
             for message in result["warnings"]:
                 warnings.warn(str(message), stacklevel=4)
             return
@@ -238,6 +231,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
                 for message in state["warnings"]:
                     warnings.warn(message, stacklevel=4)
         det = state.get("det")
+        extremes[0][st.start:st.stop] = result["sample_min"]
+        extremes[1][st.start:st.stop] = result["sample_max"]
         if nb != st.stop - st.start or (det is not None and mean_b.shape != det["mean"].shape):
             raise RuntimeError(f"task {task.key}: {nb} samples of shape {mean_b.shape}, expected {st.stop - st.start}")
         na = state["n"]
@@ -248,15 +243,11 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
             state["mean"] += delta * (nb / (na + nb))
             state["m2"] += m2_b + delta * delta * (na * nb / (na + nb))
         state["n"] = na + nb
-        force = result["force"]
-        if det is not None and det["force_mean"].shape[0]:
-            force = det["force_mean"][:, :, None] + force
-        if force.shape[0]:
-            min_force[st.start:st.stop] = force.min(axis=(0, 1))
+        min_force[st.start:st.stop] = result["min_force"]  # NaN: a model without vertical wheel forces
         if keep_samples:
             if samples is None:
                 samples = np.empty((n,) + mean_b.shape)
-            samples[st.start:st.stop] = result["samples"] if det is None else det["mean"][None] + result["samples"]
+            samples[st.start:st.stop] = result["samples"] if det is None else state["offsets"][None] + result["samples"]
         state["describe"] = json.loads(str(result["describe"]))
         if "run_times" in result:
             state["run_times"] += result["run_times"].tolist()
@@ -264,7 +255,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation, setup.grid), work=_work,
                           reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
     det = state.get("det")
-    mean = state["mean"] if det is None else det["mean"] + state["mean"]
+    mean = state["mean"] if det is None else state["offsets"] + state["mean"]
     std, mean_ci, std_ci = sample_statistics(mean, state["m2"], n)
     lost = warn_loss_of_contact(min_force)
     extra: dict[str, Any] = {
@@ -277,6 +268,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
         **contact_provenance(min_force, lost),
         **setup.provenance(),
+        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
+        "extremes": "every sample's minimum and maximum of every channel over the whole record (sample_min, sample_max)",
         **STATISTICS_PROVENANCE,
         **sampler.describe(),
         **stats,
@@ -298,7 +291,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         mean=mean, std=std, band=tuple(float(b) for b in sampler.band),  # type: ignore[arg-type]
         scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=seed)),
         types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
-        min_wheel_force=min_force, samples=samples, provenance=provenance,
+        min_wheel_force=min_force, samples=samples, provenance=provenance, sample_min=extremes[0],
+        sample_max=extremes[1],
     )
     out = execution.output_folder()
     if out is not None:

@@ -33,6 +33,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import ScenarioError
 from ..execution import Execution, Task
@@ -42,7 +43,7 @@ from ..system.columns import HarmonicColumns
 from ..system.conventions import cross_level_scale, spatial_frequency
 from ..system.excitation import KINDS
 from ..track import get_spectrum
-from .common import MeanTask, analysis_setup, fingerprint_identity, mean_of, merge_provenance
+from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, midpoint_grid, refined_variance
 from .grid_error import GridError, grid_error_from_sigma
 
@@ -64,6 +65,8 @@ def grid_error_messages(error: GridError, tolerance: float = GRID_ERROR_TOLERANC
             f"changes by more than {100 * tolerance:g} % when the grid is refined (largest "
             f"{100 * error.rel_error_max_sigma[i]:+.2g} % on {error.channels[i]}; e.g. {', '.join(bad[:3])}); "
             "use analysis.freq_spacing = 'adaptive' or more frequencies (analysis.n_freq)"]
+from .reduction import (REDUCTION_FORMAT, PseudoReduction, ReductionPlan, engine_plan, finish_pem, finish_pem_task,
+                        mean_rows, model_plan, ratio_coefficients)
 
 #: precision in which a task's PSD map travels to the parent (sigma^2 is float64 throughout):
 #: float32's relative rounding of 6e-8 is far below the engines' agreement of 1e-6 and halves the
@@ -146,48 +149,28 @@ def harmonic_columns(ptasks: Sequence[PemTask], scenario: Scenario) -> HarmonicC
     )
 
 
-class PsdReducer:
-    """PEM's reduction at an output time: |y~|^2 summed per type (sigma^2) and, with ``keep_psd``,
-    summed over types and divided by df (the PSD map, gathered in blocks of output times)."""
+class PsdReducer(PseudoReduction):
+    """PEM's reduction at an output time (:class:`~tb_exudyn.methods.reduction.PseudoReduction`): per
+    result channel (the scenario's channels and its derived channels) |y~|^2 summed per type (sigma^2),
+    the PSD map with ``keep_psd`` (summed over types, divided by df), the time derivative's sums for
+    the Rice rate, the ratios' cross sums and the Sperling inputs' weighted power.
 
-    def __init__(self, columns: HarmonicColumns, n_ch: int, n_t: int, n_types: int, keep_psd: bool) -> None:
-        m, n_f = columns.width, columns.freq_index.size
+    columns : the task's columns; f_col : (m,) excitation frequency of each column [Hz]."""
+
+    def __init__(self, columns: HarmonicColumns, plan: ReductionPlan, f_col: NDArray[np.float64], n_t: int,
+                 n_types: int, dt: float, keep_psd: bool) -> None:
         self.columns = columns
-        self.var = np.zeros((n_t, n_types, n_ch))
-        self.psd = np.zeros((n_ch, n_f, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
-        self.per_freq = np.zeros((n_ch, n_f))
-        self.block = np.zeros((n_ch, n_f, PSD_BLOCK), dtype=PSD_TRANSPORT)  # output times gathered before a write
-        self.P2, self.power = np.zeros((n_ch, 2 * m)), np.zeros((n_ch, m))
-        self.type_sum = np.zeros((m, n_types))  # (m, n_types): which type each column is
-        self.type_sum[np.arange(m), columns.type_index] = 1.0
-        self.by_type = np.zeros((n_ch, n_types))
-        self.inv_df = 1.0 / columns.df
-        self.n_t = n_t
-
-    def record(self, i: int, Y: ComplexArray, ext: IntArray) -> None:
-        """Reduce the columns' outputs Y (internal channel order; ``ext``: internal row of each channel)."""
-        P2, power, nty = self.P2, self.power, self.columns.n_types
-        np.multiply(Y.view(np.float64), Y.view(np.float64), out=P2)
-        np.add(P2[:, 0::2], P2[:, 1::2], out=power)  # |y~|^2 (no reductions over short axes: slow)
-        np.matmul(power, self.type_sum, out=self.by_type)
-        self.var[i] = self.by_type[ext].T
-        if self.psd is not None:
-            per_freq = self.per_freq
-            p3 = power.reshape(power.shape[0], -1, nty)
-            per_freq[:] = p3[:, :, 0]
-            for ti in range(1, nty):
-                np.add(per_freq, p3[:, :, ti], out=per_freq)
-            np.multiply(per_freq, self.inv_df, out=per_freq)
-            self.block[:, :, i % PSD_BLOCK] = per_freq[ext]
-            if i % PSD_BLOCK == PSD_BLOCK - 1 or i == self.n_t - 1:  # a strided write per time: 3x slower
-                i0 = i - i % PSD_BLOCK
-                self.psd[:, :, i0:i + 1] = self.block[:, :, : i + 1 - i0]
+        super().__init__(plan, f_col, columns.type_index, n_types, columns.freq_index.size, columns.df, n_t, dt,
+                         keep_psd)
 
     def result(self) -> dict[str, np.ndarray]:
-        out = {"var_t": self.var, "freq_index": self.columns.freq_index}
-        if self.psd is not None:
-            out["psd"] = self.psd
-        return out
+        return {**super().result(), "freq_index": self.columns.freq_index}
+
+
+def column_frequencies(ptasks: Sequence[PemTask], columns: HarmonicColumns) -> NDArray[np.float64]:
+    """(m,) the excitation frequency [Hz] of each of ``columns`` (built from ``ptasks``)."""
+    by = {p.freq_index: p.f for p in ptasks}
+    return np.repeat(np.array([by[int(k)] for k in columns.freq_index]), columns.n_types)
 
 
 # ---------------------------------------------------------------------------------- tasks
@@ -223,7 +206,8 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     data: ColumnTask = task.data
     columns = harmonic_columns(data.columns, engine.scenario)
     n_types = len(engine.scenario.track.irregularities)
-    reducer = PsdReducer(columns, len(engine.outputs.names), engine.steps.n_outputs, n_types, data.keep_psd)
+    reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
+                         engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd)
     result = engine.integrate(columns, reducer)
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
@@ -254,7 +238,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
     checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd, "grid_error": grid_error, "grid": grid.f.tolist()}))
+        method_options={"keep_psd": keep_psd, "grid_error": grid_error, "grid": grid.f.tolist(),
+                        "reduction": REDUCTION_FORMAT}))
     ptasks = pem_tasks(scenario, grid)
     mid = midpoint_grid(grid) if grid_error else None
     mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
@@ -268,24 +253,36 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         if mid_tasks:
             tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     n_types = len(spectra)
+    model = setup.model
+    plan = model_plan(model)  # the workers' engines have the same outputs and derived channels
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         if isinstance(task.data, MeanTask):
             state["mean"] = result
             n_ch, n_t = result["mean"].shape
+            if tuple(str(c) for c in result["names"]) != plan.names:
+                raise RuntimeError(f"task {task.key}: the mean's channels are not the plan's")
+            state["rows"] = rows = mean_rows(plan, result["outputs"], result["time"])
+            state["coef"] = ratio_coefficients(plan, rows) if plan.ratios else None
             state["var"] = np.zeros((n_types, n_ch, n_t))
+            state["sums"] = {k: np.zeros(shape) for k, shape in (
+                ("dvar", (n_t, n_ch)), ("dcov", (n_t, n_ch)), ("lam", (n_t, 2, n_ch)),
+                ("sperling_power", (n_t, len(plan.sperling))))}
             state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None
             if keep_psd:
                 state["psd"].fill(0.0)  # touched once, while the workers still compute
             for message in result["warnings"]:
                 warnings.warn(str(message), stacklevel=4)
             return
+        result = {**result, **finish_pem_task(result, plan, state["coef"])}
         var_t = result["var_t"]
-        if task.data.midpoints:
+        if task.data.midpoints:  # the grid error's sweep: sigma^2 only
             state.setdefault("var_mid", np.zeros_like(state["var"]))
             state["var_mid"] += var_t.transpose(1, 2, 0)
             return
+        for key, total in state["sums"].items():
+            total += result[key]
         var = state["var"]
         if var_t.shape != (var.shape[2], n_types, var.shape[1]):
             raise RuntimeError(f"task {task.key}: result shape {var_t.shape} does not fit the mean's {var.shape[1:]}")
@@ -303,15 +300,19 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     mean = state["mean"]
     channels = tuple(str(c) for c in mean["names"])
     var_by_type = state["var"]
-    std = np.sqrt(var_by_type.sum(axis=0))
+    stats_ = finish_pem(plan, mean["mean"], mean["time"], state["rows"], state["coef"], var_by_type.sum(axis=0),
+                        **state["sums"])
     error = None
     if grid_error:
+        plain = np.sqrt(var_by_type.sum(axis=0))
         refined = np.sqrt(refined_variance(var_by_type.sum(axis=0), state["var_mid"].sum(axis=0)))
-        error = grid_error_from_sigma(mean["time"], channels, std, refined)
+        error = grid_error_from_sigma(mean["time"], channels, plain, refined)
         for message in grid_error_messages(error):
             warnings.warn(message, GridErrorWarning, stacklevel=3)
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {
         "method": "pem",
+        "derivatives": plan.derivative_sources(),
+        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
         "linearization": scenario.analysis.linearization,
         "seconds": _time.perf_counter() - t0,
         "n_frequencies": int(grid.f.size),
@@ -328,9 +329,10 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         grid_error_messages(error) if error is not None else [])
     result = RandomResponse(
         method="pem", time=mean["time"], channels=channels,
-        units=tuple(str(u) for u in mean["units"]), mean=mean_of(mean), std=std,
+        units=tuple(str(u) for u in mean["units"]), mean=stats_.mean, std=stats_.std,
         band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=state["psd"], var_by_type=var_by_type,
-        types=tuple(spectra), provenance=provenance,
+        types=tuple(spectra), provenance=provenance, mean_rate=stats_.mean_rate, std_rate=stats_.std_rate,
+        rho=stats_.rho, bandwidth=stats_.bandwidth,
     )
     out = execution.output_folder()
     if out is not None:
@@ -338,5 +340,5 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     return result
 
 
-__all__ = ["ColumnTask", "PemTask", "PsdReducer", "column_slices", "default_slices", "harmonic_columns",
+__all__ = ["ColumnTask", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices", "harmonic_columns",
            "kind_and_unit", "pem_tasks", "prepare_sweep", "run"]

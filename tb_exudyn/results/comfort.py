@@ -200,6 +200,34 @@ def _band_mask(freq: NDArray[np.float64], band: tuple[float, float] | None, wher
     return (freq >= lo) & (freq <= hi)
 
 
+#: Wz = energy^SPERLING_EXPONENT (module text)
+SPERLING_EXPONENT = 0.15
+
+
+def sperling_power_weights(freq: ArrayLike, direction: Direction = "vertical") -> NDArray[np.float64]:
+    """2 (100 B(f))^2 per frequency: the Sperling energy of a response is the sum of these weights times
+    the response's variance at each frequency (G(f_k) df_k, or |y_k|^2 of a PEM pseudo-response)."""
+    return 2.0 * (100.0 * sperling_weighting(freq, direction)) ** 2
+
+
+def sperling_index(energy: ArrayLike) -> NDArray[np.float64]:
+    """Wz = energy^0.15 from the Sperling energy 2 sum (100 B)^2 G df (negative round-off clipped to 0)."""
+    return np.power(np.maximum(np.asarray(energy, dtype=float), 0.0), SPERLING_EXPONENT)
+
+
+def sperling_energy(freq: ArrayLike, psd: ArrayLike, df: ArrayLike, direction: Direction = "vertical", *,
+                    band: tuple[float, float] | None = None, axis: int = 0) -> NDArray[np.float64]:
+    """The Sperling energy 2 sum_k (100 B(f_k))^2 G_a(f_k) df_k of a one-sided acceleration PSD (arguments
+    as :func:`sperling_from_psd`)."""
+    f = np.asarray(freq, dtype=float)
+    g = np.moveaxis(np.asarray(psd, dtype=float), axis, 0)
+    if g.shape[0] != f.size:
+        raise SettingError("sperling_from_psd", "psd", f"array of shape {np.shape(psd)}",
+                           f"{f.size} frequencies along axis {axis}")
+    w = np.broadcast_to(np.asarray(df, dtype=float), f.shape) * _band_mask(f, band, "sperling_from_psd")
+    return np.tensordot(sperling_power_weights(f, direction) * w, g, axes=(0, 0))
+
+
 def sperling_from_psd(freq: ArrayLike, psd: ArrayLike, df: ArrayLike, direction: Direction = "vertical", *,
                       band: tuple[float, float] | None = None, axis: int = 0) -> NDArray[np.float64]:
     """Wz = [2 sum_k (100 B(f_k))^2 G_a(f_k) df_k]^0.15 of a one-sided acceleration PSD.
@@ -208,15 +236,7 @@ def sperling_from_psd(freq: ArrayLike, psd: ArrayLike, df: ArrayLike, direction:
     psd (n_f, n_t): one index per time); df : quadrature widths [Hz], scalar or (n_f,);
     band : (f_low, f_high) [Hz] to restrict the sum to, or None (all given frequencies).
     """
-    f = np.asarray(freq, dtype=float)
-    g = np.moveaxis(np.asarray(psd, dtype=float), axis, 0)
-    if g.shape[0] != f.size:
-        raise SettingError("sperling_from_psd", "psd", f"array of shape {np.shape(psd)}",
-                           f"{f.size} frequencies along axis {axis}")
-    w = np.broadcast_to(np.asarray(df, dtype=float), f.shape) * _band_mask(f, band, "sperling_from_psd")
-    weight = (100.0 * sperling_weighting(f, direction)) ** 2 * w
-    energy = 2.0 * np.tensordot(weight, g, axes=(0, 0))
-    return np.power(np.maximum(energy, 0.0), 0.15)
+    return sperling_index(sperling_energy(freq, psd, df, direction, band=band, axis=axis))
 
 
 @dataclass(frozen=True)
@@ -251,29 +271,39 @@ def window_slices(n: int, fs: float, window: float, where: str = "window_slices"
     return [slice(i, i + m) for i in range(0, n - m + 1, m)], m / fs
 
 
-def sperling_windows(acc: ArrayLike, fs: float, direction: Direction = "vertical", *, window: float = 5.0,
-                     band: tuple[float, float] | None = None, start_time: float = 0.0) -> WindowedIndex:
-    """Sperling Wz of an acceleration time history [m/s^2] sampled at fs [Hz], per window of ``window`` s
-    (default 5 s, GB/T 5599-2019 per code_limits.md [check]).
-
-    Each window's one-sided periodogram (rectangular window, G_k = 2 |X_k|^2 / (N fs), the Nyquist bin
-    not doubled, the mean bin excluded) enters :func:`sperling_from_psd` with df = fs / N.
-    """
+def sperling_window_energy(acc: ArrayLike, fs: float, direction: Direction = "vertical", *, window: float = 5.0,
+                           band: tuple[float, float] | None = None) -> tuple[list[slice], float, NDArray[np.float64]]:
+    """(windows, window length [s], Sperling energy per window (..., n_w)) of acceleration histories
+    (..., n_t) [m/s^2] at fs [Hz] (time along the last axis): each window's one-sided periodogram
+    (rectangular window, G_k = 2 |X_k|^2 / (N fs), the Nyquist bin not doubled, the mean bin excluded)
+    enters :func:`sperling_energy` with df = fs / N."""
     a = np.asarray(acc, dtype=float)
-    if a.ndim != 1:
-        raise SettingError("sperling_windows", "acc", f"array of shape {a.shape}", "a 1-D time history")
-    slices, length = window_slices(a.size, fs, window, "sperling_windows")
+    if a.ndim < 1:
+        raise SettingError("sperling_windows", "acc", f"array of shape {a.shape}", "time histories (..., n_t)")
+    slices, length = window_slices(a.shape[-1], fs, window, "sperling_windows")
     m = slices[0].stop - slices[0].start
     freq = np.fft.rfftfreq(m, 1.0 / fs)
     scale = np.full(freq.size, 2.0 / (m * fs))
     scale[0] = 0.0
     if m % 2 == 0:
         scale[-1] = 1.0 / (m * fs)
-    blocks = np.stack([a[s] for s in slices])
-    psd = np.abs(np.fft.rfft(blocks, axis=1)) ** 2 * scale
-    values = sperling_from_psd(freq, psd, fs / m, direction, band=band, axis=1)
+    blocks = np.stack([a[..., s] for s in slices], axis=-2)
+    psd = np.abs(np.fft.rfft(blocks, axis=-1)) ** 2 * scale
+    return slices, length, sperling_energy(freq, psd, fs / m, direction, band=band, axis=-1)
+
+
+def sperling_windows(acc: ArrayLike, fs: float, direction: Direction = "vertical", *, window: float = 5.0,
+                     band: tuple[float, float] | None = None, start_time: float = 0.0) -> WindowedIndex:
+    """Sperling Wz of an acceleration time history [m/s^2] sampled at fs [Hz], per window of ``window`` s
+    (default 5 s, GB/T 5599-2019 per code_limits.md [check]); several histories (..., n_t) give
+    values (..., n_w).
+
+    Each window's one-sided periodogram (rectangular window, G_k = 2 |X_k|^2 / (N fs), the Nyquist bin
+    not doubled, the mean bin excluded) enters :func:`sperling_from_psd` with df = fs / N.
+    """
+    slices, length, energy = sperling_window_energy(acc, fs, direction, window=window, band=band)
     start = start_time + np.array([s.start for s in slices]) / fs
-    return WindowedIndex(f"sperling_{direction}", start, length, values)
+    return WindowedIndex(f"sperling_{direction}", start, length, sperling_index(energy))
 
 
 def sperling_windows_from_psd(time: ArrayLike, freq: ArrayLike, df: ArrayLike, psd: ArrayLike,
@@ -304,7 +334,8 @@ def windowed_rms(signal_: ArrayLike, fs: float, *, window: float = 5.0, start_ti
 
 
 __all__ = [
-    "DIRECTIONS", "WEIGHTINGS", "WeightingParameters", "WindowedIndex", "apply_weighting", "default_oversample",
-    "sperling_from_psd", "sperling_weighting", "sperling_windows", "sperling_windows_from_psd", "weighting_response",
+    "DIRECTIONS", "SPERLING_EXPONENT", "WEIGHTINGS", "WeightingParameters", "WindowedIndex", "apply_weighting",
+    "default_oversample", "sperling_energy", "sperling_from_psd", "sperling_index", "sperling_power_weights",
+    "sperling_weighting", "sperling_window_energy", "sperling_windows", "sperling_windows_from_psd", "weighting_response",
     "weighting_sections", "weighting_sos", "window_slices", "windowed_rms",
 ]

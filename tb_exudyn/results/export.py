@@ -50,7 +50,7 @@ from ..atomic import write_atomic, write_text_atomic
 from ..errors import CapabilityError, SettingError
 from ..scenario import scenario_to_toml
 from ..system.labels import channel_label
-from .random_response import RandomResponse
+from .random_response import OPTIONAL_ARRAYS, RandomResponse
 from .storage import json_default
 from .time_history import TimeHistory
 
@@ -61,12 +61,11 @@ NETCDF_ENGINES: tuple[str, ...] = ("h5netcdf", "netcdf4", "scipy")
 
 #: names of RandomResponse arrays in the .mat file (others keep their attribute name)
 MAT_NAMES = {"mean": "mean_response", "std": "std_response"}
-_OPTIONAL = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples")
+_OPTIONAL = OPTIONAL_ARRAYS
 
 
 # ============================================================================================ labelled arrays
 def _labels(names: Sequence[str]) -> list[str]:
-
     return [channel_label(n) for n in names]
 
 

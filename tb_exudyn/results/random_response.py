@@ -5,6 +5,14 @@ time-dependent one-sided PSD S(f, t) per Hz on the analysed band, with
 sigma^2(t) = sum_k S(f_k, t) df_k. For Monte Carlo: sample mean and standard deviation with their
 confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder, written whole or not at
 all and read defensively (:mod:`.storage`).
+
+Exceedance (format 2): a PEM result also holds, per channel and time, the mean's rate, the standard
+deviation of the time derivative and the correlation of the channel with its derivative (from the
+pseudo-responses of both, tb_exudyn.methods.reduction) and Vanmarcke's bandwidth; a Monte Carlo
+result holds every sample's minimum and maximum of every channel over the record.
+:meth:`RandomResponse.exceedance_probability` and :meth:`RandomResponse.exceedance_level` answer from
+them (PEM: Rice's rate, tb_exudyn.results.statistics; Monte Carlo: empirically, with a Clopper-Pearson
+interval), :meth:`RandomResponse.checks` compares the channels with the code limits.
 """
 
 from __future__ import annotations
@@ -15,23 +23,40 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ResultsError, SettingError
 from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
+from . import empirical
+from . import statistics as st
 from .base import ChannelResult, ChannelStatistics
+from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
 from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
 
-FORMAT = "tb_exudyn.random_response/1"
+FORMAT = "tb_exudyn.random_response/2"
+#: formats this version reads (1: before the exceedance arrays)
+READABLE_FORMATS = ("tb_exudyn.random_response/1", FORMAT)
 METHODS = ("pem", "monte_carlo", "monte_carlo_linear")
+#: the optional arrays, in file order
+OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples", "mean_rate", "std_rate",
+                   "rho", "bandwidth", "sample_min", "sample_max")
+#: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
+INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
 #: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples
 ARRAYS = {
-    "time": Member(("nt",)), "mean": Member(("nc", "nt")), "std": Member(("nc", "nt")),
+    "time": Member(("nt",)), "mean": Member(("nc", "nt"), finite=False), "std": Member(("nc", "nt"), finite=False),
     "freq": Member(("nf",)), "df": Member(("nf",)),
     "psd": Member(("nc", "nf", "nt"), required=False), "var_by_type": Member(("ntypes", "nc", "nt"), required=False),
-    "std_ci": Member((2, "nc", "nt"), required=False), "mean_ci": Member((2, "nc", "nt"), required=False),
+    "std_ci": Member((2, "nc", "nt"), required=False, finite=False),
+    "mean_ci": Member((2, "nc", "nt"), required=False, finite=False),
     "min_wheel_force": Member(("ns",), required=False, finite=False),  # NaN: a sample without wheel forces
     "samples": Member(("ns", "nc", "nt"), required=False, finite=False),
+    "mean_rate": Member(("nc", "nt"), required=False, finite=False), "std_rate": Member(("nc", "nt"), required=False),
+    "rho": Member(("nc", "nt"), required=False, finite=False), "bandwidth": Member(("nc", "nt"), required=False,
+                                                                                 finite=False),
+    "sample_min": Member(("ns", "nc"), required=False, finite=False),
+    "sample_max": Member(("ns", "nc"), required=False, finite=False),
 }
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
             "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
@@ -57,6 +82,12 @@ class RandomResponse(ChannelResult):
     n_samples : Monte Carlo sample count (0 for PEM)
     min_wheel_force : (n_samples,) minimum vertical wheel-rail force per sample [N] (Monte Carlo), or None
     samples : (n_samples, nc, nt) the Monte Carlo samples themselves when kept, or None
+    mean_rate, std_rate : (nc, nt) PEM: the mean's time derivative and sigma of the channel's time
+        derivative [unit/s], or None
+    rho : (nc, nt) PEM: correlation of the channel and its time derivative at the same time, or None
+    bandwidth : (nc, nt) PEM: Vanmarcke's delta of the time-dependent PSD, or None
+    sample_min, sample_max : (n_samples, nc) Monte Carlo: every sample's minimum and maximum over the
+        record, or None
     scenario : the scenario it was computed for
     provenance : versions, run time, tasks, workers, seed, engine
     """
@@ -80,6 +111,12 @@ class RandomResponse(ChannelResult):
     min_wheel_force: np.ndarray | None = None
     samples: np.ndarray | None = None
     provenance: dict[str, Any] = field(default_factory=dict)
+    mean_rate: np.ndarray | None = None
+    std_rate: np.ndarray | None = None
+    rho: np.ndarray | None = None
+    bandwidth: np.ndarray | None = None
+    sample_min: np.ndarray | None = None
+    sample_max: np.ndarray | None = None
 
     # ---------------------------------------------------------------- access
     @property
@@ -100,19 +137,92 @@ class RandomResponse(ChannelResult):
         return self.mean - k * self.std, self.mean + k * self.std
 
     def summary_rows(self, k: float = 3.0) -> list[tuple[str, str, float, float, float]]:
-        """Per channel: name, unit, max |mean|, max sigma, max |mean| + k sigma (over time)."""
-        peak = np.max(np.abs(self.mean) + k * self.std, axis=1)
-        return [
-            (c, u, float(np.max(np.abs(m))), float(np.max(s)), float(p))
-            for c, u, m, s, p in zip(self.channels, self.units, self.mean, self.std, peak)
-        ]
+        """Per channel: name, unit, max |mean|, max sigma, max |mean| + k sigma (over time; NaN samples,
+        e.g. after a windowed index's last whole window, are left out)."""
+        with np.errstate(invalid="ignore"):
+            peak = np.nanmax(np.abs(self.mean) + k * self.std, axis=1, initial=-np.inf)
+            mm = np.nanmax(np.abs(self.mean), axis=1, initial=-np.inf)
+            ms = np.nanmax(self.std, axis=1, initial=-np.inf)
+        return [(c, u, float(m), float(s), float(p)) for c, u, m, s, p in zip(self.channels, self.units, mm, ms, peak)]
+
+    # ---------------------------------------------------------------- exceedance
+    @property
+    def is_pem(self) -> bool:
+        return self.method == "pem"
+
+    def _exceedance_channel(self, channel: str, where: str) -> int:
+        i = self.index(channel)
+        if channel.endswith(INDEX_SUFFIXES):
+            raise SettingError(where, "channel", channel, "a channel that is a random process (not a windowed index)",
+                               "a Sperling index is evaluated per window: compare its values, not an exceedance")
+        return i
+
+    def gaussian(self, channel: str) -> st.GaussianResponse:
+        """The per-time Gaussian statistics of a PEM channel and its derivative (:class:`~.statistics.GaussianResponse`)."""
+        where = "RandomResponse.gaussian"
+        i = self._exceedance_channel(channel, where)
+        if not self.is_pem or self.std_rate is None or self.rho is None or self.mean_rate is None:
+            raise ResultsError(f"{where}: {self.method} result without the derivative statistics (a PEM result "
+                               "of format 2 has them)")
+        bw = None if self.bandwidth is None else np.clip(self.bandwidth[i], 0.0, 1.0)
+        return st.GaussianResponse(self.time, self.mean[i], self.mean_rate[i], self.std[i], self.std_rate[i],
+                                   self.rho[i], bw)
+
+    def _extremes(self, channel: str, where: str, window: tuple[float, float] | None
+                  ) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
+        i = self._exceedance_channel(channel, where)
+        if self.sample_min is None or self.sample_max is None:
+            raise ResultsError(f"{where}: Monte Carlo result without per-sample extremes (format 2 results have them)")
+        span = (float(self.time[0]), float(self.time[-1]))
+        if window is not None and (float(window[0]) > span[0] or float(window[1]) < span[1]):
+            raise SettingError(where, "window", window, f"None (a Monte Carlo result keeps each sample's extremes over "
+                               f"its whole record {span[0]:g}-{span[1]:g} s)")
+        lo, hi = self.sample_min[:, i], self.sample_max[:, i]
+        keep = np.isfinite(lo) & np.isfinite(hi)
+        return lo[keep], hi[keep], span
+
+    def exceedance_probability(self, channel: str, upper: float | None = None, lower: float | None = None,
+                               method: str = "poisson", *, window: tuple[float, float] | None = None,
+                               confidence: float = 0.99, initial: bool = True) -> st.Exceedance:
+        """The probability that ``channel`` leaves [lower, upper] at least once in the result's time window
+        (or ``window``, PEM only); either bound may be None, not both.
+
+        PEM: Rice's non-stationary up-crossing rate from the channel's and its derivative's statistics,
+        first passage by ``method`` 'poisson' (out-crossings independent: errs high, on the safe side, for
+        narrow-band responses) or 'vanmarcke' (tb_exudyn.results.statistics gives the formulas and the
+        measured errors). Monte Carlo: the fraction of samples that left the bounds, with its
+        Clopper-Pearson interval at ``confidence`` (``method`` is ignored: 'empirical')."""
+        if self.is_pem:
+            return st.first_passage_probability(self.gaussian(channel), lower=lower, upper=upper, method=method,  # type: ignore[arg-type]
+                                                window=window, initial=initial, channel=channel)
+        lo, hi, span = self._extremes(channel, "RandomResponse.exceedance_probability", window)
+        return empirical.empirical_exceedance_from_extremes(lo, hi, span, lower=lower, upper=upper, confidence=confidence,
+                                                     channel=channel)
+
+    def exceedance_level(self, channel: str, probability: float, kind: str = "symmetric", method: str = "poisson", *,
+                         window: tuple[float, float] | None = None, confidence: float = 0.99,
+                         initial: bool = True) -> st.ExceedanceLevel:
+        """The level ``channel`` exceeds at least once in the window with ``probability``: kind 'symmetric'
+        (|y| > level), 'upper' (y > level) or 'lower' (y < level); PEM by ``method``, Monte Carlo from the
+        per-sample extremes (quantile with an order-statistic interval at ``confidence``)."""
+        if self.is_pem:
+            return st.exceedance_level(self.gaussian(channel), probability, kind=kind, method=method,  # type: ignore[arg-type]
+                                       window=window, initial=initial, channel=channel)
+        lo, hi, span = self._extremes(channel, "RandomResponse.exceedance_level", window)
+        return empirical.empirical_level_from_extremes(lo, hi, span, probability, kind=kind, confidence=confidence,  # type: ignore[arg-type]
+                                                channel=channel)
+
+    def checks(self, limits: Any = None, **options: Any) -> Any:
+        """The code checks of this result: a :class:`~tb_exudyn.results.checks.ChecksTable` (see
+        :func:`tb_exudyn.results.checks.checks` for ``limits`` and the options)."""
+        return _checks(self, limits, **options)
 
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
         (an older result there is replaced; see :func:`.storage.save_result_folder`)."""
         arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
-        for name in ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples"):
+        for name in OPTIONAL_ARRAYS:
             value = getattr(self, name)
             if value is not None:
                 arrays[name] = value
@@ -141,7 +251,7 @@ def load_random_response(folder: str | Path) -> RandomResponse:
     folder = open_result_folder(folder)
     path = folder / "meta.json"
     meta = load_json(path)
-    meta_str(meta, "format", path, choices=(FORMAT,))
+    meta_str(meta, "format", path, choices=READABLE_FORMATS)
     method = meta_str(meta, "method", path, choices=METHODS)
     channels, units = meta_channels(meta, path)
     band = meta_band(meta, "band_hz", path)
@@ -175,4 +285,5 @@ def load_random_response(folder: str | Path) -> RandomResponse:
         min_wheel_force=arrays.get("min_wheel_force"),
         samples=arrays.get("samples"),
         provenance=provenance,
+        **{name: arrays.get(name) for name in OPTIONAL_ARRAYS[6:]},
     )

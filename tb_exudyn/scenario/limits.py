@@ -23,17 +23,21 @@ clause text was not read. No limit lives in Python code.
 Quantities and their channels
 -----------------------------
 Channel names follow tb_exudyn/system/channels.py. Plain quantities are channels the engines already
-produce; derived ones (``derived = True``) are channels the engines must form on the complex
-pseudo-responses (PEM) and on every Monte Carlo sample alike, so that PEM statistics are exact for them.
-The proposed names of the derived channels:
+produce; derived ones (``derived = True``) are formed on the complex pseudo-responses (PEM) and on
+every Monte Carlo sample alike, so that PEM statistics are exact for them: defined in
+tb_exudyn.system.derived (which also has twist stations ``span<k>.start`` / ``.end`` 1.5 m inside the
+span ends, and takes the EN 1990 range as the bridge modes up to f_cut), reduced in
+tb_exudyn.methods.reduction, checked against these files by tb_exudyn.results.checks. The names:
 
 =====================================  ======  ===========================================================
 channel (proposed)                     unit    definition
 =====================================  ======  ===========================================================
-bridge.<station>.acc_z_en1990          m/s^2   deck vertical acceleration keeping only frequencies up to
-                                               max(30 Hz, 1.5 f1, f3) (f1, f3: first and third deck
-                                               frequencies): PEM frequencies and bridge modes above it
-                                               left out (EN 1990 A2.4.4.2.1)
+bridge.<station>.acc_z_en1990          m/s^2   deck vertical acceleration keeping only the bridge modes
+                                               up to max(30 Hz, 1.5 f1, f3) (f1, f3: first and third
+                                               vertical deck frequencies; EN 1990 A2.4.4.2.1 "including
+                                               ... associated mode shapes"): the modes above are left
+                                               out, the kept modes' forced response at any excitation
+                                               frequency stays
 bridge.<station>.twist_3m              m       twist at the station x: [z_L - z_R](x + 1.5 m) -
                                                [z_L - z_R](x - 1.5 m), z_L, z_R the vertical displacement
                                                of the left and right rail on the deck (the deck's z and

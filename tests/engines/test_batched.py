@@ -137,7 +137,12 @@ def test_batched_sprung_mass_over_span_agrees_with_exudyn_engine():
         ref = run_pem(sc, workers=1, progress=False, engine="exudyn")
         got = run_pem(sc, workers=1, progress=False, engine="batched")
     assert got.channels == ref.channels and np.array_equal(got.time, ref.time)
-    assert np.array_equal(got.mean, ref.mean)
+    # the Sperling indices' PEM value includes the random part's power: as close as sigma, not bitwise
+    index = np.array([c.endswith((".sperling_z", ".sperling_y")) for c in ref.channels])
+    assert np.array_equal(got.mean[~index], ref.mean[~index])
+    finite = np.isfinite(ref.mean[index])
+    assert np.array_equal(finite, np.isfinite(got.mean[index]))
+    assert np.max(np.abs(got.mean[index][finite] / ref.mean[index][finite] - 1)) < 1e-6
     assert _relative(got.std, ref.std) < 1e-6
     assert _relative(got.psd, ref.psd) < 1e-6
     assert _relative(got.var_by_type, ref.var_by_type) < 2e-6

@@ -33,7 +33,7 @@ def creep_quick(n_freq: int = 2, channels: tuple[str, ...] = ("*",), **analysis)
     """The quick scenario with the ICE motor creep car at 220 km/h (module docstring)."""
     sc = tbx.load_scenario("quick")
     return sc.replace(speed_kmh=220.0, train=Train(vehicles=(load_vehicle("ice_motor_creep"),)),
-                      analysis=sc.analysis.replace(channels=channels, n_freq=n_freq, **analysis))
+                      analysis=sc.analysis.replace(channels=channels, n_freq=n_freq, **{"freq_spacing": "linear", **analysis}))
 
 
 def _relative(a: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -1,0 +1,447 @@
+"""Code checks of a result: per criterion of the limit files and location, the estimate, the limit, the
+probability of exceeding it in one passage, the verdict and the caveats that apply.
+
+:func:`checks` (also ``RandomResponse.checks``) returns a :class:`ChecksTable` of frozen
+:class:`CheckRow` s, with a text form (:meth:`ChecksTable.text`), plain data for the report
+(:meth:`ChecksTable.as_dicts`) and one line per criterion for a terminal (:func:`verdict_lines`).
+
+What is compared, per statistic of the criterion (tb_exudyn.scenario.limits.STATISTICS):
+
+- ``max_abs``, ``max``, ``min`` (a random process): the probability P that the channel leaves the
+  allowed range at least once in the result's time window (the passage): PEM by Rice's rate and
+  Poisson's first passage (``method``; Vanmarcke's is given alongside), Monte Carlo as the fraction of
+  samples with its Clopper-Pearson interval. Verdict OK when P <= the target probability per passage
+  (Monte Carlo: the interval's upper end), EXCEEDS when above (Monte Carlo: the lower end), else
+  UNDETERMINED. The estimate is the level exceeded with the target probability (PEM: the inverse of
+  the first passage; Monte Carlo: the empirical quantile of the per-sample extremes).
+- ``window_max`` (Sperling): the index's largest window value against the limit (no probability: a
+  windowed index is not a Gaussian process). PEM: the index of the expected energy of each window
+  (tb_exudyn.results.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
+  largest window value of the sample mean, and the fraction of samples whose largest window exceeds.
+- ``sliding_mean_max_abs`` (EN 14363's 2 m sliding mean) and ``rms_window``: NOT EVALUATED (no such
+  channel yet).
+
+The target probability (``probability``) is a choice, not a code value: the clauses state limits on
+peaks without a probability. The default is the per-passage target used in the literature for 100
+train pairs a day over a one-year return period, 2.74e-5 (shared/reference/code_limits.md, [abstract]).
+
+Caveats (:class:`Caveat`; ``changes_verdict`` marks those that could turn the verdict, and a row with
+one says "conditional"): a lightly damped mode whose channel patterns match the location (the
+damping guard, ``provenance["damping_warnings"]``); a grid error above 1 % on the channel
+(:func:`grid_error_of`, reading ``provenance["grid_error"]``); Monte Carlo samples that lost wheel-rail
+contact, or a PEM probability of a wheel load below 0 above the target; a quantity the linear model
+cannot represent (Q/P with the whole axle force on one wheel: an upper bound; a ratio to first order
+when its denominator varies by more than 10 %); Poisson and Vanmarcke disagreeing on the verdict;
+a Sperling window shorter than the criterion's; a limit value not read in its code text ([check]).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import math
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import SettingError
+from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
+from ..scenario.registry import model_files
+from . import statistics as st
+from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability
+from .empirical import binomial_interval
+
+#: the literature's per-passage target (code_limits.md [abstract]): 100 train pairs a day, 1-year return period
+DEFAULT_TARGET_PROBABILITY = 2.74e-5
+#: grid errors of max sigma above this make a caveat (the grid-error estimate's tolerance)
+GRID_ERROR_TOLERANCE = 0.01
+#: a ratio's denominator varying by more than this (sigma / mean) makes the first order a caveat
+RATIO_CV_TOLERANCE = 0.1
+_CAR = re.compile(r"car(\d+)\.axle(\d+)\.")
+
+
+# ============================================================================================ hooks
+def grid_error_of(provenance: dict[str, Any], channel: str) -> float | None:
+    """The hook for the frequency grid's error: the relative error of the channel's sigma from
+    ``provenance["grid_error"]`` when present (the grid-error estimate's form: {"channels": {name:
+    {"rel_error_max_sigma": e, "rel_deviation": d, ...}}}, the larger of |e| and d; or a plain
+    {name: error}), else None."""
+    ge = provenance.get("grid_error")
+    if not isinstance(ge, dict):
+        return None
+    table = ge.get("channels", ge)
+    entry = table.get(channel) if isinstance(table, dict) else None
+    if isinstance(entry, (int, float)):
+        return abs(float(entry))
+    if isinstance(entry, dict):
+        vals = [abs(float(entry[k])) for k in ("rel_error_max_sigma", "rel_deviation") if k in entry]
+        return max(vals) if vals else None
+    return None
+
+
+def damping_caveats(provenance: dict[str, Any], channel: str) -> list[Caveat]:
+    """The damping guard's warnings (``provenance["damping_warnings"]``: dicts with 'channels' patterns,
+    'frequency', 'label', 'damping_ratio', 'decay_time', 'growth_on_bridge') whose patterns match the channel."""
+    out = []
+    seen = set()
+    for w in provenance.get("damping_warnings", []) or []:
+        pats = w.get("channels", ()) if isinstance(w, dict) else ()
+        if not any(fnmatch.fnmatchcase(channel, p) for p in pats):
+            continue
+        key = (f"{w.get('frequency', math.nan):.4g}", f"{w.get('damping_ratio', math.nan):.3g}")
+        if key in seen:
+            continue
+        seen.add(key)
+        tau = w.get("decay_time", math.inf)
+        tau_text = "infinite" if not (isinstance(tau, (int, float)) and math.isfinite(tau)) else f"{tau:.3g} s"
+        out.append(Caveat("lightly_damped_mode",
+                          f"lightly damped mode at {w.get('frequency', math.nan):.4g} Hz ({w.get('label', '')}), damping "
+                          f"ratio {w.get('damping_ratio', math.nan):.2g}, decay time {tau_text}: its sigma grows through "
+                          f"the run (about {100 * float(w.get('growth_on_bridge', math.nan)):.0f} % on the bridge) and "
+                          "depends on the run's length and the frequency grid", True))
+    return out
+
+
+# ============================================================================================ loads
+def static_axle_load(result: Any, car: int, axle: int) -> tuple[float | None, str]:
+    """Static load [N] of axle ``axle`` of car ``car`` (1-based) and where it comes from: the mean of the
+    axle's vertical wheel forces at t = 0 (the static equilibrium on the approach) when the result has
+    them, else the vehicle's weight shared by its axles (car15: four; a sprung mass or moving force: one)."""
+    prefix = f"car{car}.axle{axle}"
+    names = [n for n in (f"{prefix}.left.force_z", f"{prefix}.right.force_z", f"{prefix}.force_z")
+             if n in result.channels]
+    if names:
+        value = float(sum(result.mean[result.index(n), 0] for n in names))
+        return value, "the model's static wheel loads (mean at t = 0)"
+    sc = result.scenario
+    if sc is None or car > len(sc.train.vehicles):
+        return None, "no vehicle data"
+    v = sc.train.vehicles[car - 1]
+    g = sc.analysis.gravity
+    if hasattr(v, "force"):
+        return float(v.force), "the moving force"
+    if hasattr(v, "wheel_mass"):
+        return float((v.mass + v.wheel_mass) * g), "the sprung mass's weight"
+    if hasattr(v, "body") and hasattr(v, "bogie") and hasattr(v, "wheelset"):
+        return float((v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass) * g / 4), "the car's weight / 4 axles"
+    return None, f"vehicle kind {getattr(v, 'kind', '?')!r} without a static axle load rule"
+
+
+def _limit(c: Criterion, result: Any, channel: str) -> tuple[float, str]:
+    sc = result.scenario
+    speed = None if sc is None else sc.speed_kmh
+    kind = c.limit.kind
+    if kind == "static_load":
+        m = _CAR.match(channel)
+        if m is None:
+            return math.nan, "no axle in the channel name"
+        axle, source = static_axle_load(result, int(m.group(1)), int(m.group(2)))
+        if axle is None:
+            return math.nan, source
+        value = c.limit_value(static_axle_load=axle, static_wheel_load=axle / 2)
+        return value, f"{c.limit.factor:g} ({c.limit.constant:g} N + {c.limit.coefficient:.4g} x {c.limit.reference} " \
+                      f"{axle if c.limit.reference == 'static_axle_load' else axle / 2:.5g} N, {source})"
+    if kind == "speed_bands":
+        value = c.limit_value(speed_kmh=speed)
+        return value, f"speed band of {speed:g} km/h"
+    if kind == "grades":
+        lim = c.limit
+        assert isinstance(lim, GradedLimit)
+        return c.limit_value(), "grades " + ", ".join(f"{lab} <= {v:g}" for lab, v in zip(lim.labels, lim.values))
+    return c.limit_value(), "fixed"
+
+
+# ============================================================================================ the checks
+def default_limits() -> list[LimitSet]:
+    """Every limit file shipped in models/limits/."""
+    return [load_limits(name) for name in sorted(model_files("limits"))]
+
+
+def _limit_sets(limits: Any) -> list[LimitSet]:
+    if limits is None:
+        return default_limits()
+    items = limits if isinstance(limits, (list, tuple)) else [limits]
+    out = []
+    for item in items:
+        if isinstance(item, LimitSet):
+            out.append(item)
+        elif isinstance(item, str) or hasattr(item, "__fspath__"):
+            out.append(load_limits(item))
+        else:
+            raise SettingError("checks", "limits", type(item).__name__,
+                               "None (every shipped file), a limit file name or path, a LimitSet, or a list of them")
+    return out
+
+
+def _bounds(statistic: str, limit: float) -> tuple[float | None, float | None, str]:
+    if statistic == "max_abs":
+        return -limit, limit, "symmetric"
+    if statistic == "max":
+        return None, limit, "upper"
+    return limit, None, "lower"
+
+
+def _loss_of_contact(result: Any, target: float, method: str) -> list[Caveat]:
+    prov = result.provenance
+    if result.method != "pem":
+        lost = int(prov.get("samples_with_loss_of_contact", 0) or 0)
+        if lost:
+            return [Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact (minimum "
+                           f"wheel force {prov.get('min_wheel_force_N', math.nan):.4g} N): the linear contact pulls the "
+                           "wheel back, so these samples are not physical", True)]
+        return []
+    worst, where = 0.0, ""
+    for name in result.channels:
+        if name.endswith(".force_z") and name.startswith("car"):
+            try:
+                p = result.exceedance_probability(name, lower=0.0, method=method).probability
+            except Exception:  # noqa: BLE001 - a channel without statistics gives no caveat
+                continue
+            if p > worst:
+                worst, where = p, name
+    if worst > target:
+        return [Caveat("loss_of_contact", f"a wheel load falls below 0 (loss of contact) with probability {worst:.2g} "
+                       f"per passage ({where}): the linear contact model cannot lose contact, so results past it are "
+                       "not physical", True)]
+    return []
+
+
+def _ratio_caveat(result: Any, channel: str) -> Caveat | None:
+    """First-order caveat of a ratio: the denominator's sigma / mean, when its channels are in the result."""
+    m = re.match(r"(car\d+\.axle\d+)\.(left|right)?\.?(derailment|unloading)\Z", channel)
+    if m is None:
+        return None
+    base, side, kind = m.group(1), m.group(2), m.group(3)
+    parts = [f"{base}.{side}.force_z"] if kind == "derailment" else [f"{base}.left.force_z", f"{base}.right.force_z"]
+    if not all(p in result.channels for p in parts):
+        return None
+    mean = sum(result.mean[result.index(p)] for p in parts)
+    sigma = np.sqrt(sum(result.std[result.index(p)] ** 2 for p in parts)) if kind == "derailment" else None
+    if sigma is None:  # the sum's sigma needs the covariance: bound it by the sum of sigmas
+        sigma = sum(result.std[result.index(p)] for p in parts)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cv = float(np.nanmax(np.where(np.abs(mean) > 0, sigma / np.abs(mean), np.inf)))
+    if cv <= RATIO_CV_TOLERANCE:
+        return None
+    return Caveat("linear_model", f"the ratio is taken to first order about the means, but its denominator varies by "
+                  f"sigma / mean = {cv:.2g}: the second order raises the ratio's sigma by 1.5 cv^2 (1 + 2 rho^2), up to "
+                  f"{4.5 * cv ** 2:.1%} (rho: correlation of numerator and denominator), more in the tails", True)
+
+
+def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: float, method: str,
+              confidence: float, global_caveats: list[Caveat]) -> CheckRow:
+    i = result.index(channel)
+    unit = result.units[i]
+    limit, limit_text = _limit(c, result, channel)
+    with np.errstate(invalid="ignore"):
+        peak3 = float(np.nanmax(np.abs(result.mean[i]) + 3.0 * result.std[i], initial=-np.inf))
+    caveats = list(damping_caveats(result.provenance, channel))
+    ge = grid_error_of(result.provenance, channel)
+    if ge is not None and ge > GRID_ERROR_TOLERANCE:
+        caveats.append(Caveat("grid_error", f"the frequency grid changes this channel's sigma by {100 * ge:.2g} % "
+                              f"(> {100 * GRID_ERROR_TOLERANCE:g} %)", True))
+    caveats += global_caveats
+    if c.check:
+        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+    base = dict(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=unit,
+                statistic=c.statistic, limit=limit, limit_text=limit_text, peak_3sigma=peak3, target=target)
+    if c.statistic in ("sliding_mean_max_abs", "rms_window"):
+        return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
+                        probability_vanmarcke=None, verdict="NOT EVALUATED",
+                        caveats=tuple(caveats) + (Caveat("statistic", f"statistic {c.statistic!r} is not evaluated: "
+                                                         "no such channel (EN 14363's sliding mean of the low-passed force "
+                                                         "is not formed yet)", False),))
+    if not math.isfinite(limit):
+        return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
+                        probability_vanmarcke=None, verdict="NOT EVALUATED",
+                        caveats=tuple(caveats) + (Caveat("statistic", f"no limit value: {limit_text}", False),))
+    grade = ""
+    if c.statistic == "window_max":
+        with np.errstate(invalid="ignore"):
+            estimate = float(np.nanmax(result.mean[i], initial=-np.inf))
+        text = ("largest window value of the index of the expected energy" if result.method == "pem"
+                else "largest window value of the samples' mean index")
+        prob = interval = None
+        if result.method != "pem" and result.sample_max is not None:
+            prob, interval = _index_exceedance(result, i, limit, confidence)
+        verdict = "OK" if estimate <= limit else "EXCEEDS"
+        win = _channel_window(result, channel)
+        if win is not None and c.window and win + 1e-9 < c.window:
+            caveats.append(Caveat("window", f"the index is over windows of {win:.3g} s (the run is shorter than the "
+                                  f"criterion's {c.window:g} s): the index depends on the window length", True))
+        if isinstance(c.limit, GradedLimit):
+            grade = c.limit.grade(estimate) or "beyond the last grade"
+        return CheckRow(**base, estimate=estimate, estimate_text=text, probability=prob, interval=interval,
+                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(caveats))
+    lower, upper, kind = _bounds(c.statistic, limit)
+    pv = None
+    if result.method == "pem":
+        ex = result.exceedance_probability(channel, upper=upper, lower=lower, method=method)
+        p = ex.probability
+        other = "vanmarcke" if method == "poisson" else "poisson"
+        pv = result.exceedance_probability(channel, upper=upper, lower=lower, method=other).probability
+        level = result.exceedance_level(channel, target, kind=kind, method=method)
+        estimate, text = level.level, f"level exceeded with probability {target:.3g} per passage ({method})"
+        verdict = "OK" if p <= target else "EXCEEDS"
+        verdict_other = "OK" if pv <= target else "EXCEEDS"
+        if verdict_other != verdict:
+            caveats.append(Caveat("first_passage", f"{other.capitalize()}'s first passage gives P = {pv:.3g}: the "
+                                  f"verdict would be {verdict_other} (Poisson errs high for narrow-band responses)", True))
+        interval = None
+    else:
+        ex = result.exceedance_probability(channel, upper=upper, lower=lower, confidence=confidence)
+        p, interval = ex.probability, ex.interval
+        level = result.exceedance_level(channel, target, kind=kind, confidence=confidence)
+        estimate = level.level
+        text = f"empirical level exceeded with probability {target:.3g} ({ex.n_samples} samples)"
+        if ex.n_samples * target < 10:
+            text += f"; not resolved by {ex.n_samples} samples (fewer than 10 expected beyond it)"
+        assert interval is not None
+        verdict = "OK" if interval[1] <= target else ("EXCEEDS" if interval[0] > target else "UNDETERMINED")
+    if c.quantity == "derailment_coefficient":
+        caveats.append(Caveat("linear_model", "the 15-DOF model has one lateral contact per wheelset: the whole axle "
+                              "force H is put on this wheel, an upper bound of its Q/P", verdict != "OK"))
+    rc = _ratio_caveat(result, channel) if quantity(c.quantity).derived and c.quantity in (
+        "derailment_coefficient", "wheel_unloading") else None
+    if rc is not None:
+        caveats.append(rc)
+    if isinstance(c.limit, GradedLimit):
+        grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
+    return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
+                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(caveats))
+
+
+def _channel_window(result: Any, channel: str) -> float | None:
+    info = result.provenance.get("derived_channels", {})
+    if isinstance(info, dict):
+        entry = info.get("channels", {}).get(channel)
+        if isinstance(entry, dict) and "window" in entry:
+            return float(entry["window"])
+    return None
+
+
+def _index_exceedance(result: Any, i: int, limit: float, confidence: float
+                      ) -> tuple[float, tuple[float, float]]:
+    """Monte Carlo: the fraction of samples whose largest window value exceeds the limit, with its interval."""
+    hi = result.sample_max[:, i]
+    hi = hi[np.isfinite(hi)]
+    k, n = int((hi > limit).sum()), int(hi.size)
+    return k / n, binomial_interval(k, n, confidence)
+
+
+@dataclass(frozen=True, eq=False)
+class _RunView:
+    """A TimeHistory seen as a result without randomness (sigma 0): one deterministic run."""
+
+    channels: tuple[str, ...]
+    units: tuple[str, ...]
+    mean: np.ndarray
+    std: np.ndarray
+    time: np.ndarray
+    scenario: Any
+    provenance: dict[str, Any]
+    method: str = "deterministic"
+    n_samples: int = 0
+    sample_max: Any = None
+
+    def index(self, channel: str) -> int:
+        return self.channels.index(channel)
+
+
+def _run_view(th: Any) -> _RunView:
+    names = tuple(th.names)
+    values = np.array([th[n] for n in names], dtype=float).reshape(len(names), -1)
+    return _RunView(names, tuple(th.unit(n) for n in names), values, np.zeros_like(values), np.asarray(th.time),
+                    th.scenario, dict(th.provenance))
+
+
+def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target: float) -> CheckRow:
+    """A criterion on one deterministic run: the statistic of the values against the limit."""
+    i = result.index(channel)
+    limit, limit_text = _limit(c, result, channel)
+    v = result.mean[i]
+    with np.errstate(invalid="ignore"):
+        stat = {"max_abs": np.nanmax(np.abs(v), initial=-np.inf), "max": np.nanmax(v, initial=-np.inf),
+                "min": np.nanmin(v, initial=np.inf), "window_max": np.nanmax(v, initial=-np.inf)}.get(c.statistic)
+    caveats = [Caveat("statistic", "one deterministic run: a single sample of the response (no probability)", False)]
+    if c.check:
+        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+    if stat is None or not math.isfinite(limit):
+        verdict, estimate = "NOT EVALUATED", math.nan
+    else:
+        estimate = float(stat)
+        verdict = "OK" if (estimate >= limit if c.statistic == "min" else estimate <= limit) else "EXCEEDS"
+    grade = (c.limit.grade(abs(estimate)) or "beyond the last grade") if isinstance(c.limit, GradedLimit) and \
+        math.isfinite(estimate) else ""
+    return CheckRow(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=result.units[i],
+                    statistic=c.statistic, limit=limit, limit_text=limit_text, estimate=estimate,
+                    estimate_text=f"{c.statistic} of the run", peak_3sigma=float(np.nanmax(np.abs(v), initial=-np.inf)),
+                    probability=None, interval=None, probability_vanmarcke=None, target=target, verdict=verdict,
+                    grade=grade, caveats=tuple(caveats))
+
+
+def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARGET_PROBABILITY,
+           method: str = "poisson", confidence: float = 0.99) -> ChecksTable:
+    """The checks of a RandomResponse (or of one deterministic run, a TimeHistory: its statistic of
+    the values against the limit, no probability) against code limits (module docstring).
+
+    limits : None (every file in models/limits), a limit file's name or path, a LimitSet, or a list of them
+    probability : the target probability of exceeding a limit in one passage (default: the literature's
+        2.74e-5, not a code value)
+    method : PEM first passage, 'poisson' (default: errs on the safe side) or 'vanmarcke'
+    confidence : Monte Carlo intervals' level
+    """
+    if not (isinstance(probability, (int, float)) and 0.0 < probability < 1.0):
+        raise SettingError("checks", "probability", probability, "a target probability per passage in (0, 1)")
+    if method not in st.METHODS:
+        raise SettingError("checks", "method", method, " | ".join(st.METHODS))
+    sets = _limit_sets(limits)
+    run = None if hasattr(result, "method") else _run_view(result)
+    global_caveats = [] if run is not None else _loss_of_contact(result, probability, method)
+    rows: list[CheckRow] = []
+    notes = [f"target probability per passage {probability:.3g}"
+             + (" (the default: the literature's 100 train pairs a day over a 1-year return period, code_limits.md "
+                "[abstract]; not a code value: the clauses give no probability)" if probability == DEFAULT_TARGET_PROBABILITY
+                else " (chosen by the caller)")]
+    if getattr(result, "method", "") == "pem":
+        notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "
+                     "displacements, pseudo-derivatives otherwise; provenance['derivatives'])")
+    view = run if run is not None else result
+    for ls in sets:
+        for c in ls.criteria:
+            names = [n for n in view.channels if quantity(c.quantity).matches(n)]
+            if not names:
+                notes.append(f"{ls.name}/{c.id}: no channel of quantity {c.quantity!r} in this result "
+                             f"(patterns {', '.join(quantity(c.quantity).channels)})")
+                continue
+            for name in names:
+                rows.append(_run_row(c, ls.name, run, name, probability) if run is not None else
+                            _rows_for(c, ls.name, result, name, probability, method, confidence, global_caveats))
+    sc = result.scenario
+    return ChecksTable(
+        method=getattr(result, "method", "deterministic"), scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
+        target=float(probability), first_passage=method, window=(float(result.time[0]), float(result.time[-1])),
+        rows=tuple(rows), notes=tuple(notes),
+    )
+
+
+def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
+    """Lines for a terminal summary (the CLI): the counts, then per criterion its deciding location."""
+    table = checks(result, limits, **options)
+    counts = table.counts()
+    n_cond = sum(r.conditional for r in table.rows)
+    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
+             + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
+    for r in table.worst():
+        p = "" if r.probability is None else f", P = {format_probability(r)}"
+        est = "-" if not math.isfinite(r.estimate) else f"{r.estimate:.4g}"
+        lim = "-" if not math.isfinite(r.limit) else f"{r.limit:.4g}"
+        tags = sorted({c.kind for c in r.caveats if c.changes_verdict})
+        lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim} {r.unit}{p}"
+                     + (f" (caveats: {', '.join(tags)})" if tags else ""))
+    return lines
+
+
+__all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "VERDICTS",
+           "checks", "damping_caveats", "default_limits", "grid_error_of", "static_axle_load", "verdict_lines"]

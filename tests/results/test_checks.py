@@ -1,0 +1,176 @@
+"""The checks table (tb_exudyn.results.checks) and the exceedance API of RandomResponse.
+
+Problem of most tests: the reference study's Monte Carlo check shortened (one ICE motor car over one
+32 m span at 220 km/h, 50 m approach, German low vertical, alignment and cross-level, 40 frequencies
+0.5-25 Hz, batched PEM): its bogie yaw modes have no yaw damper (damping ratio 1e-4), which the
+damping guard reports for every car1 channel.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import tomllib
+import warnings
+
+import numpy as np
+import pytest
+
+import tb_exudyn as tbx
+from tb_exudyn.errors import ResultsError, ScenarioError, SettingError
+from tb_exudyn.methods import run_pem
+from tb_exudyn.results import load_random_response
+from tb_exudyn.results.checks import DEFAULT_TARGET_PROBABILITY, checks, grid_error_of, static_axle_load, verdict_lines
+from tb_exudyn.scenario import model_files
+
+pytestmark = pytest.mark.exudyn
+
+
+@pytest.fixture(scope="module")
+def lateral():
+    sc = tbx.load_scenario("li_zhu_2011_mc_check")
+    sc = sc.replace(track=sc.track.replace(lead_in=50.0, run_out=20.0),
+                    analysis=sc.analysis.replace(n_freq=40, freq_min=0.5, freq_max=25.0,
+                                                 channels=("bridge.span1.mid.*", "car1.body.*", "car1.axle1.*")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return run_pem(sc, workers=1, progress=False, engine="batched")
+
+
+def test_lateral_force_verdicts_carry_the_bogie_mode_caveat(lateral):
+    """The damping guard's warning on the bogie yaw mode (8.3 Hz, damping ratio ~1e-4) reaches every
+    row of car 1 as a caveat that can change the verdict (the row is conditional), and no deck row
+    (the guard's patterns are car1.*)."""
+    table = lateral.checks()
+    assert lateral.provenance["damping_warnings"], "the guard must warn on this case"
+    rows = [r for r in table.rows if r.criterion.startswith("running_safety/lateral_force")]
+    assert rows
+    for r in rows:
+        kinds = [c for c in r.caveats if c.kind == "lightly_damped_mode"]
+        assert any("yaw" in c.text and c.changes_verdict for c in kinds), r.caveats
+        assert r.conditional and "conditional" in r.verdict_text or r.verdict == "NOT EVALUATED"
+    for r in table.rows:
+        if r.channel.startswith("bridge."):
+            assert not any(c.kind == "lightly_damped_mode" for c in r.caveats)
+    lines = verdict_lines(lateral)
+    assert lines[0].startswith("code checks (pem, target P <= 2.74e-05")
+    assert any("lateral_force_prudhomme" in ln and "lightly_damped_mode" in ln for ln in lines)
+    assert any("lateral_force_en14363" in ln and "NOT EVALUATED" in ln for ln in lines)
+
+
+def test_limits_from_data_speed_bands_and_static_loads(lateral):
+    """Reference: code_limits.md typed here: Prud'homme H <= 0.85 (10 kN + P/3) with P the static axle
+    load, here the ICE motor car's weight (48000 + 2 x 3200 + 4 x 2400 kg, models/vehicles/ice_motor.toml)
+    x g / 4 = 156.9 kN; the model's static wheel loads at t = 0 (what the check uses) equal it to
+    1e-6 (a symmetric car in static equilibrium on rigid track). The twist limit at 220 km/h is the
+    1.5 mm band."""
+    table = lateral.checks()
+    row = next(r for r in table.rows if r.criterion == "running_safety/lateral_force_prudhomme")
+    ice = tbx.scenario.load_vehicle("ice_motor")
+    p_st = (ice.body.mass + 2 * ice.bogie.mass + 4 * ice.wheelset.mass) * lateral.scenario.analysis.gravity / 4
+    load, source = static_axle_load(lateral, 1, 1)
+    assert abs(load / p_st - 1) < 1e-6 and "t = 0" in source
+    assert abs(row.limit / (0.85 * (10e3 + p_st / 3)) - 1) < 1e-6
+    twist = next(r for r in table.rows if r.criterion == "en1990_deck/deck_twist_3m")
+    assert twist.limit == 1.5e-3 and "220" in twist.limit_text
+
+
+def test_verdict_follows_probability_and_never_hides_a_changing_caveat(lateral):
+    """Verdicts: OK iff P <= target (PEM); a Poisson/Vanmarcke disagreement, a grid error above 1 %
+    (the hook reads provenance['grid_error'] in the grid-error estimate's form) and a Monte Carlo loss
+    of contact are caveats that make the row conditional."""
+    for target in (DEFAULT_TARGET_PROBABILITY, 0.2):
+        table = checks(lateral, probability=target)
+        for r in table.rows:
+            if r.probability is not None and r.verdict != "NOT EVALUATED":
+                assert r.verdict == ("OK" if r.probability <= target else "EXCEEDS")
+            assert r.conditional == any(c.changes_verdict for c in r.caveats)
+    ch = "bridge.span1.mid.acc_z_en1990"
+    prov = dict(lateral.provenance)
+    prov["grid_error"] = {"method": "test", "channels": {ch: {"rel_error_max_sigma": -0.03, "rel_deviation": 0.01,
+                                                              "time_of_deviation_s": 1.0}}}
+    assert grid_error_of(prov, ch) == 0.03 and grid_error_of(prov, "car1.body.acc_z") is None
+    with_error = dataclasses.replace(lateral, provenance=prov)
+    rows = [r for r in checks(with_error).rows if r.channel == ch]
+    assert rows and all(any(c.kind == "grid_error" and c.changes_verdict for c in r.caveats) for r in rows)
+    assert all(r.conditional for r in rows)
+
+
+def test_checks_table_text_and_plain_data(lateral):
+    table = lateral.checks()
+    data = json.loads(json.dumps(table.to_dict()))
+    assert data["target"] == DEFAULT_TARGET_PROBABILITY and len(data["rows"]) == len(table.rows)
+    first = data["rows"][0]
+    assert {"criterion", "channel", "estimate", "limit", "probability", "verdict", "caveats", "conditional"} <= set(first)
+    text = table.text(worst_only=True)
+    assert text.splitlines()[0].startswith("checks of li_zhu_2011_mc_check (pem, 220 km/h")
+    assert "target probability per passage 2.74e-05" in text
+    counts = table.counts()
+    assert sum(counts.values()) == len(table.rows)
+
+
+def test_bad_limit_file_is_a_one_line_error(lateral, tmp_path):
+    """A limit file with an unknown quantity (or a missing clause) gives the loader's one-line
+    ScenarioError naming the file and the key, before any check."""
+    data = tomllib.loads(model_files("limits")["ride_comfort"].read_text(encoding="utf-8"))
+    data["criteria"][0]["quantity"] = "body_jerk"
+    bad = tmp_path / "bad.toml"
+    lines = [f'name = "bad"', f'description = "d"', f'source = "s"']
+    c = data["criteria"][0]
+    lines += ["[[criteria]]"] + [f"{k} = {json.dumps(v)}" for k, v in c.items() if k != "limit"]
+    lines += ["[criteria.limit]"] + [f"{k} = {json.dumps(v)}" for k, v in c["limit"].items()]
+    bad.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(ScenarioError) as err:
+        checks(lateral, limits=bad)
+    message = str(err.value)
+    assert "bad.toml" in message and "criteria[0].quantity" in message and "\n" not in message
+    with pytest.raises(SettingError, match="probability"):
+        checks(lateral, probability=0.0)
+
+
+def test_exceedance_api_refuses_what_it_cannot_answer(lateral, tmp_path):
+    with pytest.raises(SettingError, match="windowed index"):
+        lateral.exceedance_probability("car1.body.sperling_z", upper=2.0)
+    p = lateral.exceedance_probability("car1.body.acc_z", upper=0.3, lower=-0.3)
+    pv = lateral.exceedance_probability("car1.body.acc_z", upper=0.3, lower=-0.3, method="vanmarcke")
+    assert 0 < pv.probability <= p.probability < 1 and p.method == "poisson"
+    lev = lateral.exceedance_level("car1.body.acc_z", p.probability)
+    assert abs(lev.level - 0.3) < 1e-6
+    # saved and loaded: format 2 keeps the exceedance arrays
+    lateral.save(tmp_path / "pem")
+    back = load_random_response(tmp_path / "pem")
+    for name in ("mean_rate", "std_rate", "rho", "bandwidth"):
+        assert np.array_equal(getattr(back, name), getattr(lateral, name)), name
+    meta = json.loads((tmp_path / "pem" / "meta.json").read_text())
+    assert meta["format"] == "tb_exudyn.random_response/2"
+    # a format-1 result (no derivative statistics) loads, and says why it cannot answer
+    old = dataclasses.replace(lateral, mean_rate=None, std_rate=None, rho=None, bandwidth=None)
+    old.save(tmp_path / "old")
+    meta = json.loads((tmp_path / "old" / "meta.json").read_text())
+    meta["format"] = "tb_exudyn.random_response/1"
+    (tmp_path / "old" / "meta.json").write_text(json.dumps(meta))
+    with pytest.raises(ResultsError, match="derivative statistics"):
+        load_random_response(tmp_path / "old").exceedance_probability("car1.body.acc_z", upper=0.3)
+    assert math.isfinite(p.expected_outcrossings)
+
+
+def test_checks_of_one_deterministic_run(lateral):
+    """A TimeHistory (the mean run) is checked by its statistic of the values: max |value| against
+    the limit, no probability, the row's caveat saying it is one run."""
+    from tb_exudyn.methods import run_deterministic
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        th = run_deterministic(lateral.scenario)
+    table = checks(th)
+    assert table.method == "deterministic" and table.rows
+    for r in table.rows:
+        if r.verdict == "NOT EVALUATED":
+            continue
+        assert r.probability is None and any(c.text.startswith("one deterministic run") for c in r.caveats)
+        v = th[r.channel]
+        if r.statistic == "max_abs":
+            assert r.estimate == float(np.nanmax(np.abs(v)))
+            assert r.verdict == ("OK" if r.estimate <= r.limit else "EXCEEDS")
+    assert verdict_lines(th)[0].startswith("code checks (deterministic")
