@@ -18,6 +18,7 @@ from .errors import SettingError, UserError
 from ._version import __version__
 from .atomic import write_text_atomic
 from .results import find_results
+from .results.checks import verdict_lines
 from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
@@ -124,7 +125,7 @@ def _short_summary(result, table_path, k: float = 3.0) -> str:
     """What a user reads first on the terminal: the warnings (lightly damped modes, grid error,
     loss of contact), the channels whose random part is largest against their mean, and where the
     full table is."""
-    lines = []
+    lines = verdict_lines(result)
     warnings_ = [str(w) for w in result.provenance.get("warnings", [])]
     if warnings_:
         lines.append(f"{len(warnings_)} warning(s) (also in the report):")

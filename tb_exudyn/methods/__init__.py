@@ -90,6 +90,7 @@ def run_pem(
     options: Any = None,
     slices: Any = None,
     grid_error: bool | None = None,
+    psd_channels: Any = "key",
 ) -> RandomResponse:
     """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
 
@@ -102,7 +103,9 @@ def run_pem(
         before any run
     resume : skip tasks already finished in ``out/checkpoint``
     progress : show a progress bar with the time left
-    keep_psd : keep the PSD map (channels x frequencies x output times); sigma is always kept
+    keep_psd : keep PSD maps (channels x frequencies x output times, float32); sigma is always kept
+    psd_channels : whose PSD maps to keep: "key" (default: the channels with code checks and those of
+        the reference study's figures, a short list per component), "all", or glob patterns
     engine : "exudyn" (two Exudyn runs per type and frequency: the reference), "batched" (all
         pseudo-excitations in one integration of the same linear model with Exudyn's
         generalized-alpha step) or "dense" (the same on full matrices: a small reference); the mean
@@ -124,7 +127,7 @@ def run_pem(
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           slices=slices, where="run_pem")
     return pem.run(_with_linearization(scenario, linearization, "run_pem"), engine, execution, options=options,
-                   keep_psd=keep_psd, grid_error=grid_error)
+                   keep_psd=keep_psd, grid_error=grid_error, psd_channels=psd_channels)
 
 
 def run_monte_carlo(

@@ -23,6 +23,7 @@ workers, the executor or a resume (bitwise), and on the slicing only at round-of
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import math
 import time as _time
@@ -42,6 +43,7 @@ from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import HarmonicColumns
 from ..system.conventions import cross_level_scale, spatial_frequency
 from ..system.excitation import KINDS
+from ..system.labels import default_patterns
 from ..track import get_spectrum
 from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, midpoint_grid, refined_variance
@@ -72,6 +74,9 @@ from .reduction import (REDUCTION_FORMAT, PseudoReduction, ReductionPlan, engine
 #: float32's relative rounding of 6e-8 is far below the engines' agreement of 1e-6 and halves the
 #: largest messages (the reference study's map is 420 MB in float64)
 PSD_TRANSPORT = np.float32
+#: precision in which a result keeps its PSD maps (sigma^2 is float64 throughout): float32's relative
+#: rounding of 6e-8 is far below every stated tolerance, and halves the files
+PSD_STORAGE = np.float32
 #: output times written to a task's PSD map at once (contiguous runs of the time axis)
 PSD_BLOCK = 16
 
@@ -224,7 +229,19 @@ def prepare_sweep(scenario: Scenario) -> dict[str, Any]:
     return spectra
 
 
+def psd_rows(names: Sequence[str], psd_channels: str | Sequence[str]) -> list[int]:
+    """Rows of ``names`` whose PSD map a result keeps: "key" (the key channels,
+    :func:`tb_exudyn.system.labels.default_patterns`: those with checks and those of the reference
+    study's figures), "all", or glob patterns."""
+    if psd_channels == "all":
+        return list(range(len(names)))
+    pats = [p for _, group in default_patterns(names) for p in group] if psd_channels == "key" else (
+        [psd_channels] if isinstance(psd_channels, str) else list(psd_channels))
+    return [i for i, n in enumerate(names) if any(fnmatch.fnmatchcase(n, p) for p in pats)]
+
+
 def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True,
+        psd_channels: str | Sequence[str] = "key",
         grid_error: bool | None = None) -> RandomResponse:
     """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`."""
     t0 = _time.perf_counter()
@@ -238,7 +255,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
     checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd, "grid_error": grid_error, "grid": grid.f.tolist(),
+        method_options={"keep_psd": keep_psd, "psd_channels": psd_channels, "grid_error": grid_error, "grid": grid.f.tolist(),
                         "reduction": REDUCTION_FORMAT}))
     ptasks = pem_tasks(scenario, grid)
     mid = midpoint_grid(grid) if grid_error else None
@@ -269,7 +286,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             state["sums"] = {k: np.zeros(shape) for k, shape in (
                 ("dvar", (n_t, n_ch)), ("dcov", (n_t, n_ch)), ("lam", (n_t, 2, n_ch)),
                 ("sperling_power", (n_t, len(plan.sperling))))}
-            state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None
+            state["psd_rows"] = rows_kept = psd_rows(plan.names, psd_channels) if keep_psd else []
+            state["psd"] = np.zeros((len(rows_kept), grid.f.size, n_t), dtype=PSD_STORAGE) if keep_psd else None
             if keep_psd:
                 state["psd"].fill(0.0)  # touched once, while the workers still compute
             for message in result["warnings"]:
@@ -291,9 +309,9 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         if state["psd"] is not None:
             k = result["freq_index"]
             if k.size and np.array_equal(k, np.arange(k[0], k[0] + k.size)):
-                state["psd"][:, k[0]:k[0] + k.size, :] += result["psd"]  # into a view: no temporary
+                state["psd"][:, k[0]:k[0] + k.size, :] += result["psd"][state["psd_rows"]]  # into a view
             else:
-                state["psd"][:, k, :] += result["psd"]
+                state["psd"][:, k, :] += result["psd"][state["psd_rows"]]
 
     stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options), work=_work, reduce=reduce,
                           checkpoint=checkpoint, desc=f"PEM ({engine})")
@@ -331,6 +349,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         method="pem", time=mean["time"], channels=channels,
         units=tuple(str(u) for u in mean["units"]), mean=stats_.mean, std=stats_.std,
         band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=state["psd"], var_by_type=var_by_type,
+        psd_channels=None if state["psd"] is None else tuple(channels[i] for i in state["psd_rows"]),
         types=tuple(spectra), provenance=provenance, mean_rate=stats_.mean_rate, std_rate=stats_.std_rate,
         rho=stats_.rho, bandwidth=stats_.bandwidth,
     )

@@ -197,16 +197,9 @@ def max_sigma_time(resp: RandomResponse, channel: str) -> float:
 
 
 def psd_row(resp: RandomResponse, channel: str) -> int | None:
-    """Row of ``channel`` in ``resp.psd``, or None when the result holds no PSD map for it. A
-    result may keep PSD maps for some channels only (``resp.psd_channels``, when it has that
-    attribute); otherwise ``psd`` rows follow ``channels``."""
-    if resp.psd is None:
-        return None
-    kept = getattr(resp, "psd_channels", None)
-    if kept is None:
-        return resp.index(channel)
-    kept = tuple(kept)
-    return kept.index(channel) if channel in kept else None
+    """Row of ``channel`` in ``resp.psd``, or None when the result holds no PSD map for it
+    (:meth:`~tb_exudyn.results.RandomResponse.psd_row`)."""
+    return resp.psd_row(channel)
 
 
 def has_psd(resp: Result, channel: str) -> bool:

@@ -34,10 +34,12 @@ from .._version import __version__
 from ..atomic import write_text_atomic
 from ..plotting import data as pdata
 from ..plotting.files import draw_jobs, figure_jobs, plot_folder
+from ..errors import UserError
 from ..results import RandomResponse, find_results
+from ..results.checks import checks as run_checks
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
 from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, as_check_entries,
-                      as_mode_entries, code_limit, compare_findings, screening, static_axle_load, summary)
+                      as_mode_entries, check_entries, code_limit, compare_findings, screening, static_axle_load, summary)
 from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_section, findings_section, link, modes_section,
                    provenance_section, result_name, scenario_section, verdicts_section, warnings_section)
 
@@ -72,6 +74,13 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own.
     """
     found = ordered(found)
+    report_warnings = list(warnings)
+    if checks is None:  # the checks of the first random response (the verdicts at the top)
+        first = _first_random(found)
+        try:
+            checks = check_entries(run_checks(first)) if first is not None else None
+        except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
+            report_warnings.append(f"code checks not computed: {exc}")
     check_rows = as_check_entries(checks)
     if modes is None:  # the modal table a random result carries (its analysis set-up)
         carried = [r.provenance["damped_modes"] for _, r in found if r.provenance.get("damped_modes")]
@@ -103,7 +112,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
             f'<p class="meta">{esc("; ".join(what))}. Generated {esc(now)} by tb_exudyn {esc(__version__)}.</p>',
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
             verdicts_section(check_rows, first, k, figure_ids),
-            warnings_section(found, warnings),
+            warnings_section(found, report_warnings),
             findings_section(studies, pem, figure_ids),
             figures_section(found, pictures, names, k, list(comparison)),
             channels_section(found, k, figure_ids),

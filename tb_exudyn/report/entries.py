@@ -12,6 +12,7 @@ from typing import Any, Iterable, Union
 import numpy as np
 
 from ..plotting import data as pdata
+from ..system.labels import channel_label
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Car15, Scenario
 from ..scenario.studies import Study, StudyFinding, StudyQuantity
@@ -80,6 +81,21 @@ def _entries(rows: Iterable[Any] | None, cls: type) -> list | None:
 def as_check_entries(rows: Iterable[Any] | None) -> list[CheckEntry] | None:
     """The verdict rows as :class:`CheckEntry` (None stays None: "not computed")."""
     return _entries(rows, CheckEntry)
+
+
+def check_entries(table: Any) -> list[CheckEntry]:
+    """The report's verdict rows from a checks table (:func:`tb_exudyn.results.checks.checks`): the
+    location that decides each criterion (its worst), with the verdict marked conditional where a
+    caveat could turn it, and every caveat's text."""
+    out = []
+    for r in table.worst():
+        out.append(CheckEntry(
+            criterion=r.title or r.criterion, location=channel_label(r.channel), estimate=float(r.estimate),
+            limit=float(r.limit), unit=r.unit, verdict=r.verdict_text,
+            probability=math.nan if r.probability is None else float(r.probability), clause=r.clause,
+            caveats=tuple(c.text for c in r.caveats), channel=r.channel,
+        ))
+    return out
 
 
 def as_mode_entries(rows: Iterable[Any] | None) -> list[ModeEntry] | None:

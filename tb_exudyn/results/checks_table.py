@@ -168,13 +168,20 @@ def _severity(r: CheckRow) -> tuple[int, float]:
     return rank, ratio
 
 
+#: below this a displayed probability reads "< 1e-09": the Gaussian tail that far out says more about
+#: the model than about the bridge (the value itself stays in the table's data)
+SMALLEST_SHOWN = 1e-9
+
+
 def format_probability(r: CheckRow) -> str:
+    """The probability as the report and the terminal show it (3 digits, "< 1e-09" below
+    SMALLEST_SHOWN, the interval when there is one)."""
     if r.probability is None:
         return "-"
-    text = f"{r.probability:.3g}"
+    text = f"< {SMALLEST_SHOWN:.0e}" if r.probability < SMALLEST_SHOWN else f"{r.probability:.3g}"
     if r.interval is not None:
         text += f" [{r.interval[0]:.2g}, {r.interval[1]:.2g}]"
     return text
 
 
-__all__ = ["Caveat", "CheckRow", "ChecksTable", "VERDICTS"]
+__all__ = ["SMALLEST_SHOWN", "Caveat", "CheckRow", "ChecksTable", "VERDICTS", "format_probability"]

@@ -8,7 +8,7 @@ from pathlib import Path
 from typing import Union
 
 from ..errors import ResultsError
-from .random_response import FORMAT as RANDOM_RESPONSE_FORMAT
+from .random_response import READABLE_FORMATS as RANDOM_RESPONSE_FORMATS
 from .random_response import RandomResponse, load_random_response
 from .metadata import meta_str, open_result_folder
 from .storage import load_json
@@ -16,7 +16,7 @@ from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 
 Result = Union[TimeHistory, RandomResponse]
-FORMATS = (TIME_HISTORY_FORMAT, RANDOM_RESPONSE_FORMAT)
+FORMATS = (TIME_HISTORY_FORMAT, *RANDOM_RESPONSE_FORMATS)
 
 
 def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:

@@ -45,11 +45,10 @@ OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force",
 INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
 #: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples
 ARRAYS = {
-    "time": Member(("nt",)), "mean": Member(("nc", "nt"), finite=False), "std": Member(("nc", "nt"), finite=False),
+    "time": Member(("nt",)), "mean": Member(("nc", "nt")), "std": Member(("nc", "nt")),
     "freq": Member(("nf",)), "df": Member(("nf",)),
-    "psd": Member(("nc", "nf", "nt"), required=False), "var_by_type": Member(("ntypes", "nc", "nt"), required=False),
-    "std_ci": Member((2, "nc", "nt"), required=False, finite=False),
-    "mean_ci": Member((2, "nc", "nt"), required=False, finite=False),
+    "psd": Member(("npsd", "nf", "nt"), required=False), "var_by_type": Member(("ntypes", "nc", "nt"), required=False),
+    "std_ci": Member((2, "nc", "nt"), required=False), "mean_ci": Member((2, "nc", "nt"), required=False),
     "min_wheel_force": Member(("ns",), required=False, finite=False),  # NaN: a sample without wheel forces
     "samples": Member(("ns", "nc", "nt"), required=False, finite=False),
     "mean_rate": Member(("nc", "nt"), required=False, finite=False), "std_rate": Member(("nc", "nt"), required=False),
@@ -59,6 +58,7 @@ ARRAYS = {
     "sample_max": Member(("ns", "nc"), required=False, finite=False),
 }
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
+            "npsd": "the number of psd_channels in meta.json (or of channels)",
             "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
 
 
@@ -88,6 +88,8 @@ class RandomResponse(ChannelResult):
     bandwidth : (nc, nt) PEM: Vanmarcke's delta of the time-dependent PSD, or None
     sample_min, sample_max : (n_samples, nc) Monte Carlo: every sample's minimum and maximum over the
         record, or None
+    psd_channels : the channels whose PSD map is kept, in ``psd``'s row order (None: every channel,
+        rows as ``channels``)
     scenario : the scenario it was computed for
     provenance : versions, run time, tasks, workers, seed, engine
     """
@@ -117,6 +119,7 @@ class RandomResponse(ChannelResult):
     bandwidth: np.ndarray | None = None
     sample_min: np.ndarray | None = None
     sample_max: np.ndarray | None = None
+    psd_channels: tuple[str, ...] | None = None
 
     # ---------------------------------------------------------------- access
     @property
@@ -126,11 +129,21 @@ class RandomResponse(ChannelResult):
     def unit(self, channel: str) -> str:
         return self.units[self.index(channel)]
 
+    def psd_row(self, channel: str) -> int | None:
+        """Row of ``channel`` in ``psd`` (None: its PSD map is not kept)."""
+        if self.psd is None:
+            return None
+        if self.psd_channels is None:
+            return self.index(channel)
+        return self.psd_channels.index(channel) if channel in self.psd_channels else None
+
     def __getitem__(self, channel: str) -> ChannelStatistics:
-        """One channel's statistics by name, e.g. ``pem["car1.body.acc_y"].std``."""
+        """One channel's statistics by name, e.g. ``pem["car1.body.acc_y"].std`` (``psd``: None when
+        its map is not kept)."""
         i = self.index(channel)
+        row = self.psd_row(channel)
         return ChannelStatistics(name=channel, unit=self.units[i], time=self.time, mean=self.mean[i],
-                                 std=self.std[i], freq=self.freq, psd=None if self.psd is None else self.psd[i])
+                                 std=self.std[i], freq=self.freq, psd=None if row is None else self.psd[row])
 
     def bounds(self, k: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
         """mean - k sigma and mean + k sigma, each (nc, nt)."""
@@ -237,6 +250,8 @@ class RandomResponse(ChannelResult):
             "provenance": self.provenance,
             "scenario_toml": scenario_to_toml(self.scenario),
         }
+        if self.psd_channels is not None:
+            meta["psd_channels"] = list(self.psd_channels)
         return save_result_folder(folder, arrays, meta)
 
 
@@ -258,10 +273,15 @@ def load_random_response(folder: str | Path) -> RandomResponse:
     types = meta_str_list(meta, "types", path, check=is_channel_name, rule="spectrum names (e.g. german_low.vertical)",
                           unique=True)
     n_samples = meta_int(meta, "n_samples", path, 0)
+    psd_channels = None
+    if "psd_channels" in meta:
+        psd_channels = meta_str_list(meta, "psd_channels", path, check=lambda c: c in channels,
+                                     rule="names from 'channels'", unique=True)
     provenance = meta_dict(meta, "provenance", path)
     scenario = meta_scenario(meta, path)
     with NpzFile(folder / "arrays.npz") as npz:
-        check_members(npz, ARRAYS, {"nc": len(channels), "ntypes": len(types), "ns": n_samples}, _MEANING)
+        check_members(npz, ARRAYS, {"nc": len(channels), "ntypes": len(types), "ns": n_samples,
+                                    "npsd": len(channels) if psd_channels is None else len(psd_channels)}, _MEANING)
         arrays = npz.read_all()
     check_values(npz.path, arrays, ARRAYS)
     check_increasing(npz.path, arrays, ("time", "freq"))
@@ -285,5 +305,6 @@ def load_random_response(folder: str | Path) -> RandomResponse:
         min_wheel_force=arrays.get("min_wheel_force"),
         samples=arrays.get("samples"),
         provenance=provenance,
+        psd_channels=None if psd_channels is None else tuple(psd_channels),
         **{name: arrays.get(name) for name in OPTIONAL_ARRAYS[6:]},
     )

@@ -174,3 +174,18 @@ def test_checks_of_one_deterministic_run(lateral):
             assert r.estimate == float(np.nanmax(np.abs(v)))
             assert r.verdict == ("OK" if r.estimate <= r.limit else "EXCEEDS")
     assert verdict_lines(th)[0].startswith("code checks (deterministic")
+
+
+def test_shown_probability_has_a_floor_but_the_data_keeps_the_value(lateral):
+    """Problem: one check row's probability set to 1e-30, 1e-9 and 3.14159e-4. Reference: the display
+    rule of tb_exudyn.results.checks_table.format_probability (3 significant digits, "< 1e-09" below
+    SMALLEST_SHOWN: a Gaussian tail that far out describes the model, not the bridge). Exact strings;
+    the plain data keeps the unrounded value."""
+    from tb_exudyn.results.checks_table import SMALLEST_SHOWN, format_probability
+
+    row = next(r for r in lateral.checks().rows if r.probability is not None)
+    tiny = dataclasses.replace(row, probability=1e-30, interval=None)
+    assert format_probability(tiny) == "< 1e-09"
+    assert format_probability(dataclasses.replace(tiny, probability=SMALLEST_SHOWN)) == "1e-09"
+    assert format_probability(dataclasses.replace(tiny, probability=3.14159e-4)) == "0.000314"
+    assert dataclasses.asdict(tiny)["probability"] == 1e-30
