@@ -35,7 +35,10 @@ from numpy.typing import NDArray
 
 from ..engines import check_engine, make_engine
 from ..errors import ScenarioError
-from ..execution import Execution, Task
+from ..execution import Execution, RunFiles, Task
+from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
+                                   check_run_length, column_bytes, describe_counts, model_bytes,
+                                   scenario_where)
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import HarmonicColumns
@@ -91,12 +94,13 @@ def kind_and_unit(spectrum_name: str) -> tuple[str, str]:
 def pem_tasks(scenario: Scenario, grid: FrequencyGrid) -> list[PemTask]:
     """One column per (spectrum, frequency inside the wavelength band), in a fixed order (type-major)."""
     mask = band_mask(grid, scenario)
+    omegas, d_omegas = grid.omega_spatial, grid.d_omega_spatial  # properties: computed once, not per k
     out = []
     for ti, name in enumerate(scenario.track.irregularities):
         s = get_spectrum(name)
         for k in np.flatnonzero(mask):
-            omega, d_omega = grid.omega_spatial[k], grid.d_omega_spatial[k]
-            amp = math.sqrt(float(s.psd(omega)) * d_omega)
+            omega, d_omega = omegas[k], d_omegas[k]
+            amp = math.sqrt(float(s.psd(omega)) * d_omega)  # one by one: bitwise as before (not vectorised)
             out.append(PemTask(ti, name, int(k), float(grid.f[k]), float(grid.df[k]), amp))
     return out
 
@@ -188,9 +192,59 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     return out
 
 
-def _setup(engine: str, scenario: Scenario, options: Any) -> Any:
-    """Build the engine (and its model) once per worker."""
-    return make_engine(engine, scenario, options)
+@dataclass(frozen=True)
+class PemSizing:
+    """What the memory estimate of a sweep needs besides the built model (:func:`pem_memory`)."""
+
+    n_freq: int
+    n_types: int
+    task_freqs: int  # frequencies of the largest task
+    keep_psd: bool
+    workers: int  # worker processes (0: in the main process)
+    output_step: float
+    limit: MemoryLimit
+    where: str
+
+
+def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
+    """The memory of a sweep on a built ``engine`` [bytes]: in the main process the PSD map (float64)
+    and the task results waiting or arriving (a pool: one waiting and one arriving, which is briefly
+    there twice, as the received message and the array); in each worker the largest task's PSD map
+    (float32; a pool sends a copy), its columns' state, the model, the interpreter."""
+    n_ch, n_t = len(engine.outputs.names), engine.steps.n_outputs
+    pool = s.workers > 0
+    n_f = ("analysis.n_freq", s.n_freq)
+    remedy = ("a smaller analysis.n_freq, fewer analysis.channels or a larger analysis.output_step"
+              + (", or keep_psd=False" if s.keep_psd else ""))
+    task_map = 4 * n_ch * s.task_freqs * n_t if s.keep_psd else 0
+    task_var = 8 * n_t * s.n_types * n_ch
+    m = s.task_freqs * s.n_types
+    parent = (
+        Part(f"the PSD map ({describe_counts(channels=n_ch, frequencies=s.n_freq, output_times=n_t)}, float64)",
+             8 * n_ch * s.n_freq * n_t if s.keep_psd else 0, *n_f, remedy),
+        Part("the task results waiting or arriving", 3 * (task_map + task_var) if pool else 0, *n_f, remedy),
+        Part("sigma, mean and the variances per type", 8 * n_ch * n_t * (s.n_types + 6), "analysis.output_step",
+             s.output_step, "a larger analysis.output_step, or fewer analysis.channels"),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    worker = (
+        Part(f"a task's PSD map ({describe_counts(channels=n_ch, frequencies=s.task_freqs, output_times=n_t)}, "
+             "float32" + (", and its copy sent back" if pool else "") + ")",
+             (2 if pool else 1) * task_map + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
+        Part(f"the state of a task's {m} columns", m * column_bytes(engine) + task_var, *n_f, remedy),
+        Part("the model", model_bytes(engine)),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    return MemoryEstimate(parent, worker, s.workers)
+
+
+def _setup(engine: str, scenario: Scenario, options: Any, sizing: PemSizing | None = None) -> Any:
+    """Build the engine (and its model) once per worker; with ``sizing``, refuse (ResourceError) a
+    sweep whose memory estimate exceeds its limit, before any task allocates."""
+    built = make_engine(engine, scenario, options)
+    if sizing is not None:
+        check_memory(pem_memory(sizing, built), sizing.limit, sizing.where)
+    return built
 
 
 def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
@@ -223,11 +277,12 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         ) -> RandomResponse:
     """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`."""
     t0 = _time.perf_counter()
+    check_run_length(scenario)
     cls = check_engine(engine, scenario, options)
     grid, spectra = prepare_sweep(scenario)
-    checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
+    identity = fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd}))
+        method_options={"keep_psd": keep_psd}, spectra=scenario.track.irregularities)
     ptasks = pem_tasks(scenario, grid)
     tasks = [Task("pem-mean", MeanTask())]
     if cls.single_columns:
@@ -236,6 +291,10 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
         tasks += column_slices(ptasks, weights, keep_psd)
     n_types = len(spectra)
+    sizing = PemSizing(
+        n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
+        task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
+        output_step=scenario.analysis.output_step, limit=execution.memory_limit(), where=scenario_where(scenario))
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
@@ -262,8 +321,19 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             else:
                 state["psd"][:, k, :] += result["psd"]
 
-    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options), work=_work, reduce=reduce,
-                          checkpoint=checkpoint, desc=f"PEM ({engine})")
+    with execution.claim(RunFiles("pem", "checkpoint")) as out:
+        checkpoint = execution.checkpoint("checkpoint", identity)
+        stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, sizing), work=_work,
+                              reduce=reduce, checkpoint=checkpoint, desc=f"PEM ({engine})")
+        result = _result(scenario, engine, grid, spectra, ptasks, state, stats, t0)
+        if out is not None:
+            result.save(out / "pem")
+    return result
+
+
+def _result(scenario: Scenario, engine: str, grid: FrequencyGrid, spectra: dict[str, Any], ptasks: list[PemTask],
+            state: dict[str, Any], stats: dict[str, Any], t0: float) -> RandomResponse:
+    """The sweep's RandomResponse from the reduced state."""
     mean = state["mean"]
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {
         "method": "pem",
@@ -276,17 +346,13 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         **stats,
     })
     var_by_type = state["var"]
-    result = RandomResponse(
+    return RandomResponse(
         method="pem", time=mean["time"], channels=tuple(str(c) for c in mean["names"]),
         units=tuple(str(u) for u in mean["units"]), mean=mean_of(mean), std=np.sqrt(var_by_type.sum(axis=0)),
         band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=state["psd"], var_by_type=var_by_type,
         types=tuple(spectra), provenance=provenance,
     )
-    out = execution.output_folder()
-    if out is not None:
-        result.save(out / "pem")
-    return result
 
 
-__all__ = ["ColumnTask", "PemTask", "PsdReducer", "column_slices", "default_slices", "harmonic_columns",
+__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "pem_memory", "column_slices", "default_slices", "harmonic_columns",
            "kind_and_unit", "pem_tasks", "prepare_sweep", "run"]
