@@ -98,6 +98,14 @@ class Execution:
         """What a run may use: ``max_memory``, else the memory available now."""
         return memory_limit(self.max_memory, self.where)  # type: ignore[arg-type]
 
+    def worker_limit(self) -> MemoryLimit | None:
+        """The limit a run's estimate is checked against where its tasks are set up: ``max_memory``,
+        else the memory available now on this machine (in-process and a local pool), else None: an
+        executor's workers (another machine, perhaps) measure their own."""
+        if self.executor is not None and self.max_memory is None:
+            return None
+        return self.memory_limit()
+
     def output_folder(self) -> Path | None:
         """The output folder, created and checked writable (None without one)."""
         return None if self.out is None else check_writable(self.out)

@@ -319,7 +319,12 @@ class Checkpoint:
                 "writes into the output folder, then run again with resume") from None
 
     def save(self, task: Any, result: Mapping[str, Any]) -> None:
-        write_task_file(self.path(task.key), result, self._expected(task.key, task.data))
+        """Write a task's file (replacing a damaged one; a folder in its place is left, with a notice)."""
+        path = self.path(task.key)
+        if path.is_dir() and not path.is_symlink():
+            notice(f"checkpoint file {str(path)!r} not saved: a folder is in its place")
+            return
+        write_task_file(path, result, self._expected(task.key, task.data))
 
 
 __all__ = ["Checkpoint", "TASK_FORMAT", "Unusable", "fingerprint", "read_manifest", "read_task_file", "task_digest",

@@ -45,7 +45,7 @@ from ..engines import check_engine, make_engine
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
-                                   check_run_length, column_bytes, describe_counts, model_bytes,
+                                   check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
                                    scenario_where)
 from ..scenario.model import Analysis
 from ..results.random_response import RandomResponse
@@ -122,7 +122,7 @@ class McSizing:
     profile_bytes: int  # profile storage of one sample
     table_bytes: int  # the sampler's trigonometric table (shared by a worker's tasks)
     workers: int  # worker processes (0: in the main process)
-    limit: MemoryLimit
+    limit: MemoryLimit | None  # None: what the machine running the setup has available
     where: str
 
 
@@ -168,7 +168,7 @@ def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discre
     allocates."""
     built = make_engine(engine, scenario, options, wheel_forces=True)
     if sizing is not None:
-        check_memory(mc_memory(sizing, built), sizing.limit, sizing.where)
+        check_memory(mc_memory(sizing, built), sizing.limit or memory_limit(None, sizing.where), sizing.where)
     return built, ProfileSampler(scenario, discretisation)
 
 
@@ -292,7 +292,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         n_samples=n, task_samples=max(b - a for a, b in blocks), keep_samples=keep_samples,
         profile_bytes=ProfileColumns.profile_bytes(sampler.n_points, n_kinds),
         table_bytes=8 * table if discretisation == "pem_grid" and table <= TRIG_TABLE_MAX else 0,
-        workers=execution.worker_processes(len(tasks)), limit=execution.memory_limit(), where=scenario_where(scenario))
+        workers=execution.worker_processes(len(tasks)), limit=execution.worker_limit(), where=scenario_where(scenario))
     state: dict[str, Any] = {"n": 0, "run_times": []}
     min_force = np.full(n, math.nan)
     samples: np.ndarray | None = None

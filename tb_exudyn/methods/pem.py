@@ -37,7 +37,7 @@ from ..engines import check_engine, make_engine
 from ..errors import ScenarioError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
-                                   check_run_length, column_bytes, describe_counts, model_bytes,
+                                   check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
                                    scenario_where)
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
@@ -202,7 +202,7 @@ class PemSizing:
     keep_psd: bool
     workers: int  # worker processes (0: in the main process)
     output_step: float
-    limit: MemoryLimit
+    limit: MemoryLimit | None  # None: what the machine running the setup has available
     where: str
 
 
@@ -243,7 +243,7 @@ def _setup(engine: str, scenario: Scenario, options: Any, sizing: PemSizing | No
     sweep whose memory estimate exceeds its limit, before any task allocates."""
     built = make_engine(engine, scenario, options)
     if sizing is not None:
-        check_memory(pem_memory(sizing, built), sizing.limit, sizing.where)
+        check_memory(pem_memory(sizing, built), sizing.limit or memory_limit(None, sizing.where), sizing.where)
     return built
 
 
@@ -294,7 +294,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     sizing = PemSizing(
         n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
         task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
-        output_step=scenario.analysis.output_step, limit=execution.memory_limit(), where=scenario_where(scenario))
+        output_step=scenario.analysis.output_step, limit=execution.worker_limit(), where=scenario_where(scenario))
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
