@@ -118,7 +118,8 @@ class Execution:
         if out is None:
             yield None
             return
-        remedy = f"wait for it to end, or use {'another --out' if self.where == 'command line' else 'another out folder'}"
+        other = "another --out" if self.where == "command line" else "another out folder"
+        remedy = f"wait for it to end, or use {other}"
         with folder_lock(out, self.where, remedy):
             prepare_folder(out, files, resume=self.resume, overwrite=self.overwrite, where=self.where)
             yield out

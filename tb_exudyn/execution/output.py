@@ -105,7 +105,8 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
         if files.checkpoint is None:
             return
         checkpoint = folder / files.checkpoint
-        has_checkpoint = os.path.lexists(checkpoint / "manifest.json") or any(h.startswith("the checkpoint") for h in held)
+        has_checkpoint = (os.path.lexists(checkpoint / "manifest.json")
+                          or any(h.startswith("the checkpoint") for h in held))
         if _has_files(folder / files.result) and not has_checkpoint:
             raise OutputFolderError(
                 f"{where}: output folder {str(folder)!r} holds {held[0]} but no checkpoint to resume from: use "

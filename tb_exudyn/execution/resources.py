@@ -33,6 +33,8 @@ from .notices import notice
 #: the most integration steps a run may take: 10 million, 1800 times the reference study's 5570
 #: (a step of the Exudyn engine takes about 0.5 ms: 10 million steps are 80 min for one run)
 MAX_STEPS = 10**7
+#: the most tasks a run may have (each a Python object in the main process, and a file in its checkpoint)
+MAX_TASKS = 10**6
 #: an interpreter with numpy, scipy, tb_exudyn and Exudyn imported (measured 117 MB)
 PROCESS_BYTES = 120 * 10**6
 
@@ -211,7 +213,8 @@ def check_memory(estimate: MemoryEstimate, limit: MemoryLimit, where: str) -> No
         - max(1, estimate.workers) * sum(p.bytes for p in estimate.worker if p.key)
     if fixed >= limit.bytes and limit.key:
         raise ResourceError(format_message(
-            limit.where, limit.key, format_bytes(limit.bytes), f"at least {format_bytes(fixed)} (more for the run itself)",
+            limit.where, limit.key, format_bytes(limit.bytes),
+            f"at least {format_bytes(fixed)} (more for the run itself)",
             f"the run needs about {format_bytes(estimate.total)} of memory, {format_bytes(fixed)} of it for the "
             f"interpreters and models of {max(1, estimate.workers)} process(es) alone, more than {limit.text}"))
     part, _, place = estimate.largest()
@@ -276,6 +279,13 @@ def check_run_length(scenario: Any) -> None:
             "longer than the crossing: the run would go on to a whole output step"))
 
 
+def check_task_count(n_tasks: int, where: str, key: str, value: Any, remedy: str) -> None:
+    """Refuse more than :data:`MAX_TASKS` tasks (ResourceError naming ``key``), before they are made."""
+    if n_tasks > MAX_TASKS:
+        raise ResourceError(format_message(where, key, value, f"at most {MAX_TASKS:.0e} tasks: {remedy}",
+                                           f"{n_tasks:.4g} tasks"))
+
+
 def describe_counts(**counts: int) -> str:
     """'51 channels x 200 frequencies x 558 output times'."""
     return " x ".join(f"{v} {k.replace('_', ' ')}" for k, v in counts.items())
@@ -303,6 +313,7 @@ def column_bytes(engine: Any) -> int:
     return 256 * n + 48 * n_out
 
 
-__all__ = ["MAX_STEPS", "PROCESS_BYTES", "MemoryEstimate", "MemoryLimit", "Part", "available_memory",
-           "cap_workers", "check_memory", "check_run_length", "column_bytes", "describe_counts", "format_bytes",
+__all__ = ["MAX_STEPS", "MAX_TASKS", "PROCESS_BYTES", "MemoryEstimate", "MemoryLimit", "Part", "available_memory",
+           "cap_workers", "check_memory", "check_run_length", "check_task_count", "column_bytes", "describe_counts",
+           "format_bytes",
            "memory_limit", "model_bytes", "parse_memory", "scenario_where"]

@@ -45,8 +45,8 @@ from ..engines import check_engine, make_engine
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
-                                   check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
-                                   scenario_where)
+                                   check_run_length, check_task_count, column_bytes, describe_counts, memory_limit,
+                                   model_bytes, scenario_where)
 from ..scenario.model import Analysis
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
@@ -137,7 +137,8 @@ def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
     pool = s.workers > 0
     nb = s.task_samples
     key = ("n_samples", s.n_samples)
-    remedy = "fewer n_samples (--samples)" + (", or keep_samples=False" if s.keep_samples else "")
+    remedy = ("fewer samples (--samples, n_samples or analysis.n_samples)"
+              + (", or not keeping them (--keep-samples, keep_samples)" if s.keep_samples else ""))
     kept = 8 * n_sel * n_t if s.keep_samples else 0
     task_result = nb * (8 * n_force * n_t + kept) + 16 * n_sel * n_t
     parent = (
@@ -279,6 +280,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
                         "points_per_wavelength": POINTS_PER_WAVELENGTH}, spectra=scenario.track.irregularities)
     n_kinds = len({kind for kind, _ in sampler.kinds})
     if cls.single_columns:
+        check_task_count(n, where, option("n_samples"), n, "fewer samples, or a linear engine ('batched')")
         blocks = [(k, k + 1) for k in range(n)]
         tasks = [Task(f"mc-{a:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
     else:
@@ -361,10 +363,11 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         }
         if linear:
             extra["linearization"] = scenario.analysis.linearization
-            extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response "
-                              "of the model linearised about " + LINEARIZED_ABOUT[scenario.analysis.linearization] +
-                              " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, integrated "
-                              f"by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
+            extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the "
+                              "response of the model linearised about "
+                              + LINEARIZED_ABOUT[scenario.analysis.linearization]
+                              + " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, "
+                              f"integrated by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
             provenance = merge_provenance(det, state["describe"], extra)
         else:
             provenance = {**state["describe"], **extra, "warnings": state["warnings"],
@@ -382,5 +385,5 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
     return result
 
 
-__all__ = ["LossOfContactWarning", "SampleReducer", "integrate_samples", "run", "sample_blocks", "sample_statistics",
-           "warn_loss_of_contact"]
+__all__ = ["LossOfContactWarning", "McSizing", "SampleReducer", "integrate_samples", "mc_memory", "run",
+           "sample_blocks", "sample_statistics", "warn_loss_of_contact"]

@@ -354,5 +354,5 @@ def _result(scenario: Scenario, engine: str, grid: FrequencyGrid, spectra: dict[
     )
 
 
-__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "pem_memory", "column_slices", "default_slices", "harmonic_columns",
-           "kind_and_unit", "pem_tasks", "prepare_sweep", "run"]
+__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_slices", "default_slices", "harmonic_columns",
+           "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "run"]

@@ -42,7 +42,8 @@ def child_peak_bytes_of(args: list[object], timeout: float = 120) -> tuple[subpr
     """Run the command in a child; its completed process and its peak resident memory [bytes]."""
     code = ("import resource, subprocess, sys; p = subprocess.run(sys.argv[1:], capture_output=True, text=True); "
             "sys.stdout.write(p.stdout); sys.stderr.write(p.stderr); "
-            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024, file=sys.stdout); sys.exit(p.returncode)")
+            "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss * 1024, file=sys.stdout); "
+            "sys.exit(p.returncode)")
     proc = subprocess.run([sys.executable, "-c", code, sys.executable, "-m", "tb_exudyn", *map(str, args)],
                           capture_output=True, text=True, env=env(), cwd=ROOT, timeout=timeout)
     return proc, int(proc.stdout.strip().splitlines()[-1])
@@ -52,11 +53,13 @@ def test_a_psd_map_beyond_the_memory_limit_is_refused_before_it_is_allocated(tmp
     """quick with 100 000 frequencies: a PSD map of 51 x 100000 x 213 float64 (8.7 GB) in the main
     process; with --max-memory 2GB refused naming analysis.n_freq and the estimate; the process
     never held more than 600 MB (the interpreter, one model, the task list)."""
-    text = (ROOT / "models" / "scenarios" / "quick.toml").read_text(encoding="utf-8").replace("n_freq = 16", "n_freq = 100000")
+    text = (ROOT / "models" / "scenarios" / "quick.toml").read_text(encoding="utf-8")
+    text = text.replace("n_freq = 16", "n_freq = 100000")
     sc = tmp_path / "big.toml"
     sc.write_text(text, encoding="utf-8")
     proc, peak = child_peak_bytes_of(run_args(sc, tmp_path / "out", "--max-memory", "2GB"))
-    line = assert_one_line_error(proc, "key 'analysis.n_freq' = 100000", "the PSD map", "8.69 GB", "--max-memory of 2 GB")
+    line = assert_one_line_error(proc, "key 'analysis.n_freq' = 100000", "the PSD map", "8.69 GB",
+                                 "--max-memory of 2 GB")
     assert "GB of memory" in line
     assert peak < 600e6, f"the refusal came after {peak / 1e6:.0f} MB were allocated"
 
@@ -93,7 +96,8 @@ def test_the_message_names_the_largest_part_and_fewer_workers_when_workers_hold_
     with pytest.raises(ResourceError) as info:
         check_memory(est, MemoryLimit(1000, "the limit"), "sc.toml")
     text = str(info.value)
-    assert text.startswith("sc.toml: key 'analysis.n_freq' = 400") and "the task's map (5 kB in each of 2 workers)" in text
+    assert text.startswith("sc.toml: key 'analysis.n_freq' = 400")
+    assert "the task's map (5 kB in each of 2 workers)" in text
     assert "fewer workers (2 now)" in text and "\n" not in text
     check_memory(est, MemoryLimit(None, "unknown"), "sc.toml")  # no limit known: nothing refused
 
@@ -134,7 +138,19 @@ sc = sc.replace(analysis=sc.analysis.replace(n_freq=1000))
 run_pem(sc, engine="batched", workers=1, progress=False)
 print(seen["total"], resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
 """
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env(), cwd=ROOT, timeout=300)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env(), cwd=ROOT,
+                          timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
     estimate, peak = map(int, proc.stdout.split())
     assert 0.9 * peak <= estimate <= 1.25 * peak, (estimate / 1e6, peak / 1e6)
+
+
+def test_too_many_tasks_are_refused_before_they_are_made(tmp_path):
+    """The Exudyn engine runs a task per sample: 2 million samples are 2 million task objects (and
+    checkpoint files); refused naming n_samples and the linear engine, before any is made."""
+    from tb_exudyn.methods import run_monte_carlo
+    from tb_exudyn.scenario import load_scenario
+
+    sc = load_scenario(write_scenario(tmp_path / "sc.toml"))
+    with pytest.raises(ResourceError, match=r"key 'n_samples' = 2000000: 2e\+06 tasks .*'batched'"):
+        run_monte_carlo(sc, n_samples=2_000_000, engine="exudyn", workers=1, progress=False)
