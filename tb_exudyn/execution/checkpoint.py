@@ -214,7 +214,15 @@ def write_task_file(path: Path, arrays: Mapping[str, Any], head: Mapping[str, st
             for name, a in arrays.items():
                 with zf.open(f"{name}.npy", "w", force_zip64=True) as member:
                     sink = _Writer(member)
-                    np.lib.format.write_array(sink, a, allow_pickle=False)
+                    if a.flags.c_contiguous:  # the header, then the data in one piece (np.save's bytes)
+                        header = np.lib.format.header_data_from_array_1_0(a)
+                        try:
+                            np.lib.format.write_array_header_1_0(sink, header)
+                        except ValueError:  # a header longer than format 1.0 holds
+                            np.lib.format.write_array_header_2_0(sink, header)
+                        sink.write(a.reshape(-1).view(np.uint8).data)
+                    else:
+                        np.lib.format.write_array(sink, a, allow_pickle=False)
                 entries[name] = {"dtype": a.dtype.str, "shape": list(a.shape), "bytes": sink.n,
                                  "sha256": sink.hash.hexdigest()}
             zf.writestr(META, json.dumps({**head, "arrays": entries}, sort_keys=True))
