@@ -11,10 +11,14 @@ import dataclasses
 import fnmatch
 import math
 import sys
+import warnings
+from contextlib import nullcontext
+from pathlib import Path
 from typing import Sequence
 
 from .engines import ENGINES
 from .errors import SettingError, UserError
+from .execution import folder_lock
 from ._version import __version__
 from .atomic import write_text_atomic
 from .results import find_results
@@ -176,25 +180,40 @@ def _figures():  # noqa: ANN202
     return report.plot_folder, report.write_report
 
 
+def _folder_lock(folder):  # noqa: ANN001, ANN202
+    """The output folder's lock (one run per folder at a time), held over a whole command (none for a
+    folder that does not exist: the command says what is missing)."""
+    if not Path(folder).is_dir():
+        return nullcontext()
+    return folder_lock(folder, "command line", "wait for it to end, or use another --out")
+
+
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(load_scenario(args.scenario), args)
     out = check_writable(args.out)
+    with _folder_lock(out):
+        return _run(args, scenario, out)
+
+
+def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
     methods = _methods()
     print(f"scenario {scenario.name}: {scenario.description}")
+    common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
+              "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
+              "max_memory": args.max_memory, "where": "command line"}
     if args.method == "det":
-        th = methods.run_deterministic(scenario)
-        th.save(out / "det")
+        execution = methods.Execution(out=out, overwrite=args.overwrite, max_memory=args.max_memory,
+                                      where="command line")
+        th = methods.simulate(scenario, "deterministic", execution=execution)
         print(methods.summarize(th))
     elif args.method == "pem":
-        result = methods.run_pem(scenario, workers=args.workers, out=out, resume=args.resume,
-                                 progress=not args.no_progress, engine=args.engine, linearization=args.linearization)
+        result = methods.run_pem(scenario, **common)
         print(f"PEM ({result.provenance['engine']} engine, {len(result.freq)} frequencies): "
               f"{result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
     else:
-        result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed, workers=args.workers,
-                                         out=out, resume=args.resume, progress=not args.no_progress,
-                                         engine=args.engine, linearization=args.linearization)
+        result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed,
+                                         keep_samples=args.keep_samples, **common)
         p = result.provenance
         what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
             else "Monte Carlo"
@@ -236,7 +255,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     plot_folder, _ = _figures()
-    paths = plot_folder(args.folder, channels=args.channels, formats=tuple(args.formats))
+    with _folder_lock(args.folder):
+        paths = plot_folder(args.folder, channels=args.channels, formats=tuple(args.formats))
     for p in paths:
         print(p)
     return EXIT_OK
@@ -244,7 +264,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_report(args: argparse.Namespace) -> int:
     _, write_report = _figures()
-    print(write_report(args.folder, args.html))
+    with _folder_lock(args.folder):
+        print(write_report(args.folder, args.html))
     return EXIT_OK
 
 
@@ -293,7 +314,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
-    p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out")
+    p.add_argument("--resume", action="store_true", help="skip tasks already finished in --out (each checkpoint file "
+                   "is checked first; one that fails is computed again, with a notice naming it)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the result and checkpoint an earlier run of this method left in --out (with its "
+                        "figures and the folder's report); without it or --resume such a folder is refused")
+    p.add_argument("--max-memory", default=None, metavar="SIZE",
+                   help="refuse a run estimated to need more memory than SIZE (e.g. 4GB; default: what this machine "
+                        "has available)")
     p.add_argument("--engine", choices=tuple(ENGINES), default=DEFAULT_ENGINE,
                    help="batched (default): all pseudo-excitations, or all samples, integrated together on the "
                         "model linearised about rest (Monte Carlo results labelled monte_carlo_linear); exudyn: one "
@@ -311,6 +339,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "the Exudyn model with gravity has)")
     p.add_argument("--samples", default=None, help="Monte Carlo samples, >= 2 (default: the scenario's)")
     p.add_argument("--seed", default=None, help="Monte Carlo seed, >= 0 (default: the scenario's)")
+    p.add_argument("--keep-samples", action="store_true",
+                   help="Monte Carlo: keep every sample's channels in the result (N x channels x output times)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
     p.set_defaults(func=_cmd_run)
@@ -384,9 +414,16 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
+def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
+    """Warnings and notices as one line each (no source line)."""
+    print(f"tb-exudyn: warning: {' '.join(str(message).split())}", file=sys.stderr if file is None else file)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    shown = warnings.showwarning
+    warnings.showwarning = _one_line_warning
     try:
         return int(args.func(check_arguments(args)))
     except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
@@ -398,6 +435,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("tb-exudyn: interrupted; finished tasks are kept (run again with --resume)", file=sys.stderr)
         return 130
+    finally:
+        warnings.showwarning = shown
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -4,41 +4,59 @@ PEM frequencies and Monte Carlo samples are independent tasks. A worker builds t
 ``setup`` function, cached per process and per setup key) and then runs many tasks on it. Results
 are reduced in task order whatever order they finish in, so a result never depends on the number
 of workers or on a resume. With a checkpoint folder every finished task is written atomically as
-it arrives; ``resume=True`` reads those back instead of running them again, so an interrupted sweep
-loses at most the tasks in flight.
+it arrives; ``resume=True`` reads those back instead of running them again (each file checked first,
+see :mod:`.checkpoint`; read when its turn to be reduced comes, so they are never all in memory), so
+an interrupted sweep loses at most the tasks in flight.
 
 Executors: ``workers=1`` runs in this process; ``workers=N`` a local process pool (spawned
 processes, numpy/BLAS threads set to 1); any ``concurrent.futures.Executor`` may be passed instead
 (e.g. a Dask distributed client's ``get_executor()``).
+
+The pool's workers (:func:`worker_start`) ignore Ctrl-C (the main process handles it: it stops them
+and re-raises, so one line is printed, not one traceback per worker; SIGINT is blocked while they are
+spawned, so that one arriving during their start-up is dropped too) and end when the main process
+ends, however it ends (Linux: ``prctl(PR_SET_PDEATHSIG, SIGKILL)``; elsewhere a thread that watches
+the parent). A worker that dies (killed, out of memory) ends the run with a
+:class:`~tb_exudyn.errors.ResourceError`; a user error raised in a worker reaches the caller as the
+same exception (every error type is picklable).
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import multiprocessing
 import os
 import re
+import signal
+import sys
 import threading
+import time
 from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager, nullcontext
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Iterator, Sequence
 
 import numpy as np
 from tqdm.auto import tqdm
 
+from ..errors import ResourceError
 from .checkpoint import Checkpoint, fingerprint
 from .threads import single_threaded_workers
 
 _KEY = re.compile(r"^[A-Za-z0-9_.-]+$")
+#: Linux prctl option: the signal a process gets when its parent (thread) ends
+PR_SET_PDEATHSIG = 1
 
 
 @dataclass(frozen=True)
 class Task:
-    """One unit of work: a file-name-safe unique key and plain (picklable) data."""
+    """One unit of work: a file-name-safe unique key and plain (picklable) data, whose ``repr`` says
+    everything the task computes (it is hashed into the task's checkpoint file)."""
 
     key: str
     data: Any
-
-
 
 
 # ------------------------------------------------------------------------------------- worker side
@@ -49,8 +67,66 @@ def _execute(setup: Callable[..., Any], setup_args: tuple, setup_key: str, work:
     """Runs in a worker: build (once per thread and setup key) then do one task."""
     cache = getattr(_LOCAL, "cache", None)
     if cache is None or cache[0] != setup_key:
+        _LOCAL.cache = None  # the old model goes before the new one is built
         _LOCAL.cache = cache = (setup_key, setup(*setup_args))  # one model per thread at a time
     return work(cache[1], task)
+
+
+def _watch_parent(parent: int) -> None:
+    while True:
+        if os.getppid() != parent:
+            os._exit(1)
+        time.sleep(0.5)
+
+
+def worker_start(parent: int) -> None:
+    """A pool worker's initializer: ignore Ctrl-C (the main process handles it) and end when the main
+    process ``parent`` ends (see the module docstring)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # blocked while spawned: now ignored
+    armed = False
+    if sys.platform.startswith("linux"):
+        try:
+            libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+            armed = libc.prctl(PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0) == 0
+        except (OSError, AttributeError):
+            armed = False
+    if os.getppid() != parent:  # the parent ended before the signal was armed
+        os._exit(1)
+    if not armed:
+        threading.Thread(target=_watch_parent, args=(parent,), daemon=True, name="tb_exudyn-parent-watch").start()
+
+
+@contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """SIGINT blocked in this thread within the block (worker processes spawned in it inherit the mask;
+    a Ctrl-C meanwhile is delivered when the block ends)."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _stop_pool(pool: ProcessPoolExecutor) -> None:
+    """End a local pool now: cancel what waits, terminate the workers (their tasks are lost: not
+    finished, so not in the checkpoint)."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in processes:
+        try:
+            p.terminate()
+        except (OSError, AttributeError):
+            pass
+    for p in processes:
+        try:
+            p.join(timeout=5)
+        except (OSError, AttributeError, AssertionError):
+            pass
 
 
 # ------------------------------------------------------------------------------------- helpers
@@ -58,6 +134,13 @@ def _progress(total: int, initial: int, desc: str, enabled: bool):
     if not enabled:
         return None
     return tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True)
+
+
+class _Stored:
+    """A task result that waits in its checkpoint file until its turn to be reduced."""
+
+
+_STORED = _Stored()
 
 
 # ------------------------------------------------------------------------------------- driver
@@ -76,6 +159,8 @@ def run_tasks(
 ) -> dict[str, Any]:
     """Run ``work(setup(*setup_args), task)`` for every task and call ``reduce(i, task, result)`` in
     task order. ``setup`` and ``work`` must be module-level functions (they are sent to workers).
+    ``workers``: processes of a local pool (None: one per core; 1: in this process), used as given
+    (:func:`tb_exudyn.execution.resources.cap_workers` caps them).
 
     Returns run statistics: tasks run, tasks read from the checkpoint, workers, executor kind.
     """
@@ -84,50 +169,51 @@ def run_tasks(
         raise ValueError("task keys must be unique and file-name safe")
     setup_key = fingerprint({"setup": f"{setup.__module__}.{setup.__qualname__}", "args": repr(setup_args)})
     n = len(tasks)
-    results: dict[int, dict[str, np.ndarray]] = {}
+    results: dict[int, Any] = {}
     next_reduce = 0
 
-    def deliver(i: int, result: dict[str, np.ndarray]) -> None:
+    def deliver(i: int, result: Any) -> None:
         nonlocal next_reduce
         results[i] = result
         while next_reduce in results:
-            reduce(next_reduce, tasks[next_reduce], results.pop(next_reduce))
+            arrays = results.pop(next_reduce)
+            if arrays is _STORED:
+                arrays = checkpoint.load(tasks[next_reduce])  # type: ignore[union-attr]
+            reduce(next_reduce, tasks[next_reduce], arrays)
             next_reduce += 1
 
-    todo = []
-    from_checkpoint = 0
-    for i, task in enumerate(tasks):
-        if checkpoint is not None and checkpoint.done(task.key):
-            deliver(i, checkpoint.load(task.key))
-            from_checkpoint += 1
-        else:
-            todo.append(i)
-
+    usable = checkpoint.verify(tasks) if checkpoint is not None else [False] * n
+    todo = [i for i in range(n) if not usable[i]]
+    from_checkpoint = n - len(todo)
     bar = _progress(n, from_checkpoint, desc, progress)
 
     def finished(i: int, result: dict[str, np.ndarray]) -> None:
         if checkpoint is not None:
-            checkpoint.save(tasks[i].key, result)
+            checkpoint.save(tasks[i], result)
         deliver(i, result)
         if bar is not None:
             bar.update(1)
 
-    n_workers = 1 if executor is None and (workers or os.cpu_count() or 1) <= 1 else workers
+    n_workers = workers or os.cpu_count() or 1
     kind = "in-process"
     try:
         if executor is None and n_workers == 1:
-            for i in todo:
-                finished(i, _execute(setup, setup_args, setup_key, work, tasks[i]))
+            for i in range(n):
+                if usable[i]:
+                    deliver(i, _STORED)
+                else:
+                    finished(i, _execute(setup, setup_args, setup_key, work, tasks[i]))
         else:
-            own = executor is None
-            if own:
-                kind = f"process pool ({n_workers or os.cpu_count()} workers)"
+            for i in range(n):  # markers: each file is read when its turn comes
+                if usable[i]:
+                    deliver(i, _STORED)
+            if todo and executor is None:
+                kind = f"process pool ({n_workers} workers)"
                 with single_threaded_workers():
-                    pool: Executor = ProcessPoolExecutor(
-                        max_workers=n_workers or os.cpu_count(), mp_context=multiprocessing.get_context("spawn")
-                    )
+                    pool = ProcessPoolExecutor(max_workers=n_workers, mp_context=multiprocessing.get_context("spawn"),
+                                               initializer=worker_start, initargs=(os.getpid(),))
                     _drain(pool, todo, tasks, setup, setup_args, setup_key, work, finished, own=True)
-            else:
+            elif todo:
                 kind = type(executor).__name__
                 _drain(executor, todo, tasks, setup, setup_args, setup_key, work, finished, own=False)
     finally:
@@ -148,18 +234,29 @@ def _drain(pool: Executor, todo, tasks, setup, setup_args, setup_key, work, fini
     queue = list(todo)
     try:
         while queue or pending:
-            while queue and len(pending) < window:
-                i = queue.pop(0)
-                pending[pool.submit(_execute, setup, setup_args, setup_key, work, tasks[i])] = i
+            with _sigint_blocked() if own else nullcontext():  # a local pool spawns its workers in submit
+                while queue and len(pending) < window:
+                    i = queue.pop(0)
+                    pending[pool.submit(_execute, setup, setup_args, setup_key, work, tasks[i])] = i
             done, _ = wait(pending, return_when=FIRST_COMPLETED)
             for fut in sorted(done, key=lambda f: pending[f]):
                 i = pending.pop(fut)
-                finished(i, fut.result())
+                try:
+                    result = fut.result()
+                except BrokenProcessPool:
+                    raise ResourceError(
+                        "a worker process ended abruptly: killed from outside, by the system for lack of memory (run "
+                        "again with resume and fewer workers: the finished tasks are kept), or it could not start (a "
+                        "script that starts workers must do so under 'if __name__ == \"__main__\":')") from None
+                finished(i, result)
     except BaseException:
         for fut in pending:
             fut.cancel()
         if own:
-            pool.shutdown(wait=False, cancel_futures=True)
+            _stop_pool(pool)  # type: ignore[arg-type]
         raise
     if own:
         pool.shutdown(wait=True)
+
+
+__all__ = ["Task", "run_tasks", "worker_start"]

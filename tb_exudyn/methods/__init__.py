@@ -25,7 +25,8 @@ from ..builder.system_modes import damping_guard, system_modes
 from ..engines import engine_class
 from ..engines.exudyn_runs import SolverSettings
 from ..errors import CapabilityError, SettingError
-from ..execution import Execution
+from ..execution import Execution, RunFiles
+from ..execution.resources import check_run_length
 from ..results.random_response import RandomResponse
 from ..results.time_history import TimeHistory
 from ..scenario import Scenario
@@ -42,10 +43,11 @@ def _deterministic(scenario: Scenario, engine: str, execution: Execution, *, opt
                    excitation: Any = None) -> TimeHistory:
     if engine != "exudyn":
         raise CapabilityError("simulate", "engine", engine, "'exudyn' (the deterministic run is an Exudyn run)")
-    th = run_deterministic(scenario, excitation, settings=options)
-    out = execution.output_folder()
-    if out is not None:
-        th.save(out / "det")
+    check_run_length(scenario)
+    with execution.claim(RunFiles("det")) as out:
+        th = run_deterministic(scenario, excitation, settings=options)
+        if out is not None:
+            th.save(out / "det")
     return th
 
 
@@ -91,6 +93,9 @@ def run_pem(
     slices: Any = None,
     grid_error: bool | None = None,
     psd_channels: Any = "key",
+    overwrite: bool = False,
+    max_memory: int | str | None = None,
+    where: str = "run_pem",
 ) -> RandomResponse:
     """Time-dependent PSD, sigma(t) and mean of every channel by the pseudo-excitation method.
 
@@ -101,7 +106,8 @@ def run_pem(
     executor : any ``concurrent.futures.Executor`` to use instead (e.g. a Dask client's executor)
     out : folder for checkpoints (``out/checkpoint``) and the result (``out/pem``); checked writable
         before any run
-    resume : skip tasks already finished in ``out/checkpoint``
+    resume : skip tasks already finished in ``out/checkpoint`` (each checkpoint file is checked first;
+        one that fails is computed again, with a notice naming it)
     progress : show a progress bar with the time left
     keep_psd : keep PSD maps (channels x frequencies x output times, float32); sigma is always kept
     psd_channels : whose PSD maps to keep: "key" (default: the channels with code checks and those of
@@ -118,6 +124,13 @@ def run_pem(
     grid_error : estimate the frequency grid's error per channel from a sweep on the cell midpoints
         (None: with the engines that integrate all columns at once, where it is cheap); stored in
         ``provenance["grid_error"]`` and warned about above 1 % of a channel's max sigma
+    overwrite : replace the result and checkpoint of an earlier run in ``out`` (without it or
+        ``resume``, a run into a folder holding them is refused: OutputFolderError); a folder another
+        run is using is always refused
+    max_memory : the memory the run may use (bytes, or a text such as "4GB"; None: what this machine
+        has available): a run estimated above it is refused before it starts (ResourceError giving the
+        estimate and the key to change)
+    where : the caller, for messages ("command line" from the ``tb-exudyn`` command)
 
     Returns
     -------
@@ -125,8 +138,8 @@ def run_pem(
     damping guard's and the grid's warnings in ``provenance["warnings"]``).
     """
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
-                          slices=slices, where="run_pem")
-    return pem.run(_with_linearization(scenario, linearization, "run_pem"), engine, execution, options=options,
+                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory)
+    return pem.run(_with_linearization(scenario, linearization, where), engine, execution, options=options,
                    keep_psd=keep_psd, grid_error=grid_error, psd_channels=psd_channels)
 
 
@@ -145,6 +158,9 @@ def run_monte_carlo(
     linearization: str | None = None,
     options: Any = None,
     slices: Any = None,
+    overwrite: bool = False,
+    max_memory: int | str | None = None,
+    where: str = "run_monte_carlo",
 ) -> RandomResponse:
     """Sample mean and standard deviation of every channel over sampled irregularity profiles.
 
@@ -167,7 +183,7 @@ def run_monte_carlo(
         method "monte_carlo_linear")
     linearization : a linear engine's linearization point (overrides ``analysis.linearization``); the
         Exudyn engine runs the full model and takes none
-    options, slices : as :func:`run_pem`
+    options, slices, overwrite, max_memory, where : as :func:`run_pem`
 
     Returns
     -------
@@ -179,15 +195,15 @@ def run_monte_carlo(
     -----
     LossOfContactWarning when a sample's minimum vertical wheel-rail force is <= 0.
     """
-    if linearization is not None and engine_class(engine, "run_monte_carlo").full_model:
-        raise CapabilityError("run_monte_carlo", "linearization", linearization,
+    if linearization is not None and engine_class(engine, where).full_model:
+        raise CapabilityError(where, "--linearization" if where == "command line" else "linearization", linearization,
                               "none with engine 'exudyn' (or a linear engine: 'batched', 'dense')",
                               "the Exudyn Monte Carlo runs the full model, it linearises nothing")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
-                          slices=slices, where="run_monte_carlo")
-    return monte_carlo.run(_with_linearization(scenario, linearization, "run_monte_carlo"), engine, execution, n_samples=n_samples,
-                           seed=seed, keep_samples=keep_samples, discretisation=discretisation,  # type: ignore[arg-type]
-                           options=options)
+                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory)
+    return monte_carlo.run(_with_linearization(scenario, linearization, where), engine, execution,
+                           n_samples=n_samples, seed=seed, keep_samples=keep_samples,
+                           discretisation=discretisation, options=options, where=where)  # type: ignore[arg-type]
 
 
 __all__ = ["DEFAULT_ENGINE", "build_model", "damping_guard", "system_modes", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",

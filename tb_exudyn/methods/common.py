@@ -4,11 +4,14 @@ checkpoint identity, the provenance of a result."""
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import json
 import warnings
 from dataclasses import dataclass
+from functools import lru_cache
 from importlib import metadata
-from typing import Any, Mapping
+from pathlib import Path
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -18,6 +21,7 @@ from ..builder.system_modes import damping_guard, system_modes
 from ..scenario import Scenario
 from ..system.damping_guard import DampingWarning, merged_messages
 from ..system.modes import ModeTable
+from ..track import get_spectrum
 from .grid import FrequencyGrid, scenario_grid
 
 
@@ -100,12 +104,34 @@ def package_versions() -> dict[str, str]:
     return out
 
 
+@lru_cache(maxsize=1)
+def source_digest() -> str:
+    """A hash of tb_exudyn's own source files: a checkpoint made by other code (a development
+    version between releases) is not resumed, though its version number is the same."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode("utf-8") + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def spectra_identity(names: Sequence[str]) -> dict[str, str]:
+    """The spectra a scenario names, each as its full value (``repr`` of the frozen dataclass: every
+    parameter, a table's points), so that a changed spectrum file or formula is another computation."""
+
+    return {name: repr(get_spectrum(name)) for name in names}
+
+
 def fingerprint_identity(scenario_toml: str, *, method: str, engine: str, engine_options: Mapping[str, Any],
-                         method_options: Mapping[str, Any]) -> dict[str, Any]:
-    """Everything that changes a number of a computation: the scenario (as TOML), the method and its
-    options, the engine and its options, the package versions (the checkpoint's fingerprint)."""
+                         method_options: Mapping[str, Any], spectra: Sequence[str] = ()) -> dict[str, Any]:
+    """Everything that changes a number of a computation (the checkpoint's fingerprint): the scenario
+    (resolved TOML: vehicles, bridge, track and analysis inline), the spectra it names (their values),
+    the method and its options, the engine and its options, the package versions and tb_exudyn's
+    source (:func:`source_digest`). Not in it: how the work runs (workers, executor, slices, the
+    output folder), which changes no number."""
     return {"scenario": scenario_toml, "method": method, "engine": engine, "engine_options": dict(engine_options),
-            "method_options": dict(method_options), "versions": package_versions()}
+            "method_options": dict(method_options), "spectra": spectra_identity(spectra),
+            "versions": {**package_versions(), "tb_exudyn_source": source_digest()}}
 
 
 def mean_of(mean: Mapping[str, np.ndarray]) -> np.ndarray:
@@ -125,4 +151,5 @@ def merge_provenance(mean: Mapping[str, np.ndarray], engine: Mapping[str, Any], 
     }
 
 
-__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_setup", "fingerprint_identity", "mean_of", "merge_provenance", "package_versions"]
+__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_setup", "fingerprint_identity", "mean_of",
+           "merge_provenance", "package_versions", "source_digest", "spectra_identity"]

@@ -29,6 +29,7 @@ assumes a linear system and the comparison no longer holds.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import time as _time
@@ -43,14 +44,18 @@ from scipy.stats import chi2
 from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import SettingError
-from ..execution import Execution, Task
+from ..execution import Execution, RunFiles, Task
+from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
+                                   check_run_length, check_task_count, column_bytes, describe_counts, memory_limit,
+                                   model_bytes, scenario_where)
+from ..scenario.model import Analysis
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
 from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from .pem import default_slices
 from .reduction import REDUCTION_FORMAT, SampleReduction, engine_plan, mean_rows, model_plan, sample_offsets
-from .sampling import POINTS_PER_WAVELENGTH, Discretisation, ProfileSampler
+from .sampling import POINTS_PER_WAVELENGTH, TRIG_TABLE_MAX, Discretisation, ProfileSampler
 
 FloatArray = NDArray[np.float64]
 IntArray = NDArray[np.int64]
@@ -87,10 +92,67 @@ class SampleReducer(SampleReduction):
     asked, the samples."""
 
 
-def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation, grid: Any
-           ) -> tuple[Any, ProfileSampler]:
-    """The engine (its model, every wheel force as an output) and the sampler, once per worker."""
-    return make_engine(engine, scenario, options, wheel_forces=True), ProfileSampler(scenario, discretisation, grid)
+@dataclass(frozen=True)
+class McSizing:
+    """What the memory estimate of a Monte Carlo run needs besides the built model (:func:`mc_memory`)."""
+
+    n_samples: int
+    task_samples: int  # samples of the largest task
+    keep_samples: bool
+    profile_bytes: int  # profile storage of one sample
+    table_bytes: int  # the sampler's trigonometric table (shared by a worker's tasks)
+    workers: int  # worker processes (0: in the main process)
+    limit: MemoryLimit | None  # None: what the machine running the setup has available
+    where: str
+
+
+def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
+    """The memory of a Monte Carlo run on a built ``engine`` [bytes]: in the main process the kept
+    samples, the per-sample minimum forces and extremes and the task results waiting or arriving (a pool: one
+    waiting and one arriving, briefly there twice); in each worker the largest task's profiles (the
+    sampled grids, half the columns' values and slopes built from them, while they are built), its
+    reduction (every wheel force at every output
+    time, the samples if kept; a pool sends a copy), its columns' state, the model, the interpreter."""
+    n_sel = len(engine_plan(engine).names)  # the result channels: the scenario's and the derived ones
+    n_t, n_force = engine.steps.n_outputs, int(engine.force_rows.size)
+    pool = s.workers > 0
+    nb = s.task_samples
+    key = ("n_samples", s.n_samples)
+    remedy = ("fewer samples (--samples, n_samples or analysis.n_samples)"
+              + (", or not keeping them (--keep-samples, keep_samples)" if s.keep_samples else ""))
+    kept = 8 * n_sel * n_t if s.keep_samples else 0
+    task_result = nb * (8 * n_force * n_t + kept + 16 * n_sel) + 16 * n_sel * n_t
+    parent = (
+        Part(f"the kept samples ({describe_counts(samples=s.n_samples, channels=n_sel, output_times=n_t)}, float64)",
+             s.n_samples * kept, "keep_samples" if s.keep_samples else "n_samples",
+             s.keep_samples if s.keep_samples else s.n_samples, remedy),
+        Part("the minimum wheel force and every channel's extremes per sample", 8 * s.n_samples * (1 + 2 * n_sel),
+             *key, remedy),
+        Part("the task results waiting or arriving", 3 * task_result if pool else 0, *key, remedy),
+        Part("the statistics", 8 * 8 * n_sel * n_t, "analysis.output_step", engine.scenario.analysis.output_step,
+             "a larger analysis.output_step, or fewer analysis.channels"),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    worker = (
+        Part(f"a task's profiles ({nb} samples)", 3 * nb * s.profile_bytes // 2 + s.table_bytes, *key, remedy),
+        Part(f"a task's reduction ({describe_counts(samples=nb, wheel_forces=n_force, output_times=n_t)})"
+             + (", and its copy sent back" if pool else ""), (2 if pool else 1) * task_result, *key, remedy),
+        Part(f"the state of a task's {(nb + 1) // 2} columns", ((nb + 1) // 2) * column_bytes(engine), *key, remedy),
+        Part("the model", model_bytes(engine)),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    return MemoryEstimate(parent, worker, s.workers)
+
+
+def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation, grid: Any,
+           sizing: McSizing | None = None) -> tuple[Any, ProfileSampler]:
+    """The engine (its model, every wheel force as an output) and the sampler, once per worker; with
+    ``sizing``, refuse (ResourceError) a run whose memory estimate exceeds its limit, before any task
+    allocates."""
+    built = make_engine(engine, scenario, options, wheel_forces=True)
+    if sizing is not None:
+        check_memory(mc_memory(sizing, built), sizing.limit or memory_limit(None, sizing.where), sizing.where)
+    return built, ProfileSampler(scenario, discretisation, grid)
 
 
 def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: Sequence[int],
@@ -169,11 +231,19 @@ def sample_blocks(n: int, weights: Sequence[float], largest: int) -> list[tuple[
     return blocks
 
 
-def whole_number(value: Any, where: str, key: str, low: int) -> int:
-    """``value`` as an int >= ``low``, else a SettingError naming ``key``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise SettingError(where, key, value, f"a whole number >= {low}")
+def whole_number(value: Any, where: str, key: str, low: int, high: float | None = None) -> int:
+    """``value`` as an int in [``low``, ``high``], else a SettingError naming ``key``."""
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
+            or (high is not None and value > high)):
+        raise SettingError(where, key, value, f"a whole number >= {low}" + (f" and <= {high:.0f}" if high else ""))
     return int(value)
+
+
+def analysis_high(name: str) -> float | None:
+    """The upper bound the scenario schema allows for ``analysis.<name>`` (the same bound for the
+    function argument or option that overrides it)."""
+    check = next(f.metadata.get("check") for f in dataclasses.fields(Analysis) if f.name == name)
+    return getattr(check, "high", None)
 
 
 # ---------------------------------------------------------------------------------- the method
@@ -182,30 +252,41 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         options: Any = None, where: str = "run_monte_carlo") -> RandomResponse:
     """Monte Carlo of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_monte_carlo`."""
     t0 = _time.perf_counter()
+    check_run_length(scenario)
     cls = check_engine(engine, scenario, options, linearized=False)
-    n = whole_number(scenario.analysis.n_samples if n_samples is None else n_samples, where, "n_samples", 2)
-    seed = whole_number(scenario.analysis.seed if seed is None else seed, where, "seed", 0)
+    option = (lambda name: {"n_samples": "--samples", "seed": "--seed"}[name]) if where == "command line" else str
+    n = whole_number(scenario.analysis.n_samples if n_samples is None else n_samples, where, option("n_samples"), 2,
+                     analysis_high("n_samples"))
+    seed = whole_number(scenario.analysis.seed if seed is None else seed, where, option("seed"), 0,
+                        analysis_high("seed"))
     setup = analysis_setup(scenario)
     sampler = ProfileSampler(scenario, discretisation, setup.grid)  # every check on spectra and band, before any run
     linear = not cls.full_model
     method = "monte_carlo_linear" if linear else "monte_carlo"
     # the checkpoint does not depend on N: a larger N with resume reuses the samples run
     key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
-    checkpoint = execution.checkpoint("checkpoint-mc-linear" if linear else "checkpoint-mc", fingerprint_identity(
+    identity = fingerprint_identity(
         scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
-        method_options={"seed": seed, "discretisation": discretisation, "grid": setup.grid.f.tolist(),
-                        "reduction": REDUCTION_FORMAT,
-                        "points_per_wavelength": POINTS_PER_WAVELENGTH}))
+        method_options={"seed": seed, "discretisation": discretisation, "keep_samples": keep_samples,
+                        "grid": setup.grid.f.tolist(), "reduction": REDUCTION_FORMAT,
+                        "points_per_wavelength": POINTS_PER_WAVELENGTH}, spectra=scenario.track.irregularities)
+    n_kinds = len({kind for kind, _ in sampler.kinds})
     if cls.single_columns:
+        check_task_count(n, where, option("n_samples"), n, "fewer samples, or a linear engine ('batched')")
         blocks = [(k, k + 1) for k in range(n)]
         tasks = [Task(f"mc-{a:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
     else:
-        n_kinds = len({kind for kind, _ in sampler.kinds})
         largest = max(2, TASK_PROFILE_BYTES // ProfileColumns.profile_bytes(sampler.n_points, n_kinds))
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
         blocks = sample_blocks(n, weights, largest)
         tasks = [Task("mcl-mean", MeanTask())]
         tasks += [Task(f"mcl-{a:07d}-{b - 1:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
+    table = 2 * sampler.n_points * sampler.n_frequencies
+    sizing = McSizing(
+        n_samples=n, task_samples=max(b - a for a, b in blocks), keep_samples=keep_samples,
+        profile_bytes=ProfileColumns.profile_bytes(sampler.n_points, n_kinds),
+        table_bytes=8 * table if discretisation == "pem_grid" and table <= TRIG_TABLE_MAX else 0,
+        workers=execution.worker_processes(len(tasks)), limit=execution.worker_limit(), where=scenario_where(scenario))
     state: dict[str, Any] = {"n": 0, "run_times": []}
     min_force = np.full(n, math.nan)
     samples: np.ndarray | None = None
@@ -252,53 +333,56 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int
         if "run_times" in result:
             state["run_times"] += result["run_times"].tolist()
 
-    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation, setup.grid), work=_work,
-                          reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
-    det = state.get("det")
-    mean = state["mean"] if det is None else state["offsets"] + state["mean"]
-    std, mean_ci, std_ci = sample_statistics(mean, state["m2"], n)
-    lost = warn_loss_of_contact(min_force)
-    extra: dict[str, Any] = {
-        "method": method,
-        "seconds": _time.perf_counter() - t0,
-        "seed": seed,
-        "n_samples": n,
-        "gravity": True,
-        "initial_state": "static",
-        "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
-        **contact_provenance(min_force, lost),
-        **setup.provenance(),
-        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
-        "extremes": "every sample's minimum and maximum of every channel over the whole record (sample_min, sample_max)",
-        **STATISTICS_PROVENANCE,
-        **sampler.describe(),
-        **stats,
-    }
-    if linear:
-        extra["linearization"] = scenario.analysis.linearization
-        extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response "
-                          "of the model linearised about " + LINEARIZED_ABOUT[scenario.analysis.linearization] +
-                          " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, integrated "
-                          f"by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
-        provenance = merge_provenance(det, state["describe"], extra)
-    else:
-        provenance = {**state["describe"], **extra, "warnings": state["warnings"],
-                      "sample_run_time_median_s": float(np.median(state["run_times"]))}
-    provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages()
-    result = RandomResponse(
-        method=method, time=state["time"] if det is None else det["time"],
-        channels=tuple(str(c) for c in state["names"]), units=tuple(str(u) for u in state["units"]),
-        mean=mean, std=std, band=tuple(float(b) for b in sampler.band),  # type: ignore[arg-type]
-        scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=seed)),
-        types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
-        min_wheel_force=min_force, samples=samples, provenance=provenance, sample_min=extremes[0],
-        sample_max=extremes[1],
-    )
-    out = execution.output_folder()
-    if out is not None:
-        result.save(out / ("mc_linear" if linear else "mc"))
+    files = RunFiles("mc_linear" if linear else "mc", "checkpoint-mc-linear" if linear else "checkpoint-mc")
+    with execution.claim(files) as out:
+        checkpoint = execution.checkpoint(files.checkpoint, identity)  # type: ignore[arg-type]
+        stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation, setup.grid,
+                                                               sizing),
+                              work=_work, reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
+        det = state.get("det")
+        mean = state["mean"] if det is None else state["offsets"] + state["mean"]
+        std, mean_ci, std_ci = sample_statistics(mean, state["m2"], n)
+        lost = warn_loss_of_contact(min_force)
+        extra: dict[str, Any] = {
+            "method": method,
+            "seconds": _time.perf_counter() - t0,
+            "seed": seed,
+            "n_samples": n,
+            "gravity": True,
+            "initial_state": "static",
+            "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
+            **contact_provenance(min_force, lost),
+            **setup.provenance(),
+            "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
+            "extremes": "every sample's minimum and maximum of every channel over the whole record (sample_min, sample_max)",
+            **STATISTICS_PROVENANCE,
+            **sampler.describe(),
+            **stats,
+        }
+        if linear:
+            extra["linearization"] = scenario.analysis.linearization
+            extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response "
+                              "of the model linearised about " + LINEARIZED_ABOUT[scenario.analysis.linearization] +
+                              " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, integrated "
+                              f"by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
+            provenance = merge_provenance(det, state["describe"], extra)
+        else:
+            provenance = {**state["describe"], **extra, "warnings": state["warnings"],
+                          "sample_run_time_median_s": float(np.median(state["run_times"]))}
+        provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages()
+        result = RandomResponse(
+            method=method, time=state["time"] if det is None else det["time"],
+            channels=tuple(str(c) for c in state["names"]), units=tuple(str(u) for u in state["units"]),
+            mean=mean, std=std, band=tuple(float(b) for b in sampler.band),  # type: ignore[arg-type]
+            scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=seed)),
+            types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
+            min_wheel_force=min_force, samples=samples, provenance=provenance, sample_min=extremes[0],
+            sample_max=extremes[1],
+        )
+        if out is not None:
+            result.save(out / files.result)
     return result
 
 
-__all__ = ["LossOfContactWarning", "SampleReducer", "integrate_samples", "run", "sample_blocks", "sample_statistics",
-           "warn_loss_of_contact"]
+__all__ = ["LossOfContactWarning", "McSizing", "SampleReducer", "integrate_samples", "mc_memory", "run",
+           "sample_blocks", "sample_statistics", "warn_loss_of_contact"]

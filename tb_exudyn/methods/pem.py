@@ -37,7 +37,10 @@ from numpy.typing import NDArray
 from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
 from ..errors import ScenarioError
-from ..execution import Execution, Task
+from ..execution import Execution, RunFiles, Task
+from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
+                                   check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
+                                   scenario_where)
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import HarmonicColumns
@@ -104,6 +107,8 @@ class ColumnTask:
     columns: tuple[PemTask, ...]
     keep_psd: bool
     midpoints: bool = False
+    #: whose PSD rows the task returns (:func:`psd_rows`): the checkpoint and the pool carry only those
+    psd_channels: str | tuple[str, ...] = "all"
 
 
 def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, str]:
@@ -122,12 +127,13 @@ def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, st
 def pem_tasks(scenario: Scenario, grid: FrequencyGrid) -> list[PemTask]:
     """One column per (spectrum, frequency inside the wavelength band), in a fixed order (type-major)."""
     mask = band_mask(grid, scenario)
+    omegas, d_omegas = grid.omega_spatial, grid.d_omega_spatial  # properties: computed once, not per k
     out = []
     for ti, name in enumerate(scenario.track.irregularities):
         s = get_spectrum(name)
         for k in np.flatnonzero(mask):
-            omega, d_omega = grid.omega_spatial[k], grid.d_omega_spatial[k]
-            amp = math.sqrt(float(s.psd(omega)) * d_omega)
+            omega, d_omega = omegas[k], d_omegas[k]
+            amp = math.sqrt(float(s.psd(omega)) * d_omega)  # one by one: bitwise as before (not vectorised)
             out.append(PemTask(ti, name, int(k), float(grid.f[k]), float(grid.df[k]), amp))
     return out
 
@@ -186,7 +192,7 @@ def default_slices(cores: int) -> list[float]:
 
 
 def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
-                  midpoints: bool = False) -> list[Task]:
+                  midpoints: bool = False, *, psd_channels: str | tuple[str, ...] = "all") -> list[Task]:
     """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
     frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
     freqs = np.array(sorted({p.freq_index for p in ptasks}))
@@ -196,13 +202,66 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     for a, b in zip(edges[:-1], edges[1:]):
         chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints)))
+        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints, psd_channels)))
     return out
 
 
-def _setup(engine: str, scenario: Scenario, options: Any) -> Any:
-    """Build the engine (and its model) once per worker."""
-    return make_engine(engine, scenario, options)
+@dataclass(frozen=True)
+class PemSizing:
+    """What the memory estimate of a sweep needs besides the built model (:func:`pem_memory`)."""
+
+    n_freq: int
+    n_types: int
+    task_freqs: int  # frequencies of the largest task
+    keep_psd: bool
+    workers: int  # worker processes (0: in the main process)
+    output_step: float
+    limit: MemoryLimit | None  # None: what the machine running the setup has available
+    where: str
+    psd_channels: int | None = None  # channels whose PSD map is kept (None: all)
+
+
+def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
+    """The memory of a sweep on a built ``engine`` [bytes]: in the main process the kept PSD map (float32)
+    and the task results waiting or arriving (a pool: one waiting and one arriving, which is briefly
+    there twice, as the received message and the array); in each worker the largest task's PSD map
+    (float32; a pool sends a copy), its columns' state, the model, the interpreter."""
+    n_ch, n_t = len(engine.outputs.names), engine.steps.n_outputs
+    pool = s.workers > 0
+    n_f = ("analysis.n_freq", s.n_freq)
+    remedy = ("a smaller analysis.n_freq, fewer analysis.channels or a larger analysis.output_step"
+              + (", or keep_psd=False" if s.keep_psd else ""))
+    task_map = 4 * n_ch * s.task_freqs * n_t if s.keep_psd else 0
+    task_var = 8 * n_t * s.n_types * n_ch
+    m = s.task_freqs * s.n_types
+    n_kept = n_ch if s.psd_channels is None else s.psd_channels
+    kept_map = 4 * n_kept * s.task_freqs * n_t if s.keep_psd else 0  # what a task returns
+    parent = (
+        Part(f"the PSD map ({describe_counts(channels=n_kept, frequencies=s.n_freq, output_times=n_t)}, float32)",
+             4 * n_kept * s.n_freq * n_t if s.keep_psd else 0, *n_f, remedy),
+        Part("the task results waiting or arriving", 3 * (kept_map + task_var) if pool else 0, *n_f, remedy),
+        Part("sigma, mean and the variances per type", 8 * n_ch * n_t * (s.n_types + 6), "analysis.output_step",
+             s.output_step, "a larger analysis.output_step, or fewer analysis.channels"),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    worker = (
+        Part(f"a task's PSD map ({describe_counts(channels=n_ch, frequencies=s.task_freqs, output_times=n_t)}, "
+             "float32" + (", and the kept rows' copy" if pool or n_kept < n_ch else "") + ")",
+             task_map + (kept_map if pool or n_kept < n_ch else 0) + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
+        Part(f"the state of a task's {m} columns", m * column_bytes(engine) + task_var, *n_f, remedy),
+        Part("the model", model_bytes(engine)),
+        Part("the interpreter and its libraries", PROCESS_BYTES),
+    )
+    return MemoryEstimate(parent, worker, s.workers)
+
+
+def _setup(engine: str, scenario: Scenario, options: Any, sizing: PemSizing | None = None) -> Any:
+    """Build the engine (and its model) once per worker; with ``sizing``, refuse (ResourceError) a
+    sweep whose memory estimate exceeds its limit, before any task allocates."""
+    built = make_engine(engine, scenario, options)
+    if sizing is not None:
+        check_memory(pem_memory(sizing, built), sizing.limit or memory_limit(None, sizing.where), sizing.where)
+    return built
 
 
 def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
@@ -214,6 +273,8 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
                          engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd)
     result = engine.integrate(columns, reducer)
+    if result.get("psd") is not None and data.psd_channels != "all":
+        result["psd"] = np.ascontiguousarray(result["psd"][psd_rows(reducer.plan.names, data.psd_channels)])
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
 
@@ -245,6 +306,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         grid_error: bool | None = None) -> RandomResponse:
     """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`."""
     t0 = _time.perf_counter()
+    check_run_length(scenario)
     cls = check_engine(engine, scenario, options)
     spectra = prepare_sweep(scenario)
     setup = analysis_setup(scenario)
@@ -253,25 +315,33 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     if grid_error is None:  # cheap where the columns are integrated together
         grid_error = not cls.single_columns
     grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
-    checkpoint = execution.checkpoint("checkpoint", fingerprint_identity(
+    psd_spec = psd_channels if isinstance(psd_channels, str) else tuple(psd_channels)
+    identity = fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd, "psd_channels": psd_channels, "grid_error": grid_error, "grid": grid.f.tolist(),
-                        "reduction": REDUCTION_FORMAT}))
+        method_options={"keep_psd": keep_psd, "psd_channels": psd_spec, "grid_error": grid_error, "grid": grid.f.tolist(),
+                        "reduction": REDUCTION_FORMAT}, spectra=scenario.track.irregularities)
     ptasks = pem_tasks(scenario, grid)
     mid = midpoint_grid(grid) if grid_error else None
     mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
     tasks = [Task("pem-mean", MeanTask())]
     if cls.single_columns:
-        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd)) for p in ptasks]
+        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_channels=psd_spec))
+                  for p in ptasks]
         tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
     else:
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
-        tasks += column_slices(ptasks, weights, keep_psd)
+        tasks += column_slices(ptasks, weights, keep_psd, psd_channels=psd_spec)
         if mid_tasks:
             tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     n_types = len(spectra)
     model = setup.model
     plan = model_plan(model)  # the workers' engines have the same outputs and derived channels
+    rows_kept = psd_rows(plan.names, psd_spec) if keep_psd else []
+    sizing = PemSizing(
+        n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
+        task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
+        output_step=scenario.analysis.output_step, limit=execution.worker_limit(), where=scenario_where(scenario),
+        psd_channels=len(rows_kept))
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
@@ -286,7 +356,6 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             state["sums"] = {k: np.zeros(shape) for k, shape in (
                 ("dvar", (n_t, n_ch)), ("dcov", (n_t, n_ch)), ("lam", (n_t, 2, n_ch)),
                 ("sperling_power", (n_t, len(plan.sperling))))}
-            state["psd_rows"] = rows_kept = psd_rows(plan.names, psd_channels) if keep_psd else []
             state["psd"] = np.zeros((len(rows_kept), grid.f.size, n_t), dtype=PSD_STORAGE) if keep_psd else None
             if keep_psd:
                 state["psd"].fill(0.0)  # touched once, while the workers still compute
@@ -307,14 +376,44 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         var += var_t.transpose(1, 2, 0)
         state["describe"] = json.loads(str(result["describe"]))
         if state["psd"] is not None:
-            k = result["freq_index"]
+            k, part = result["freq_index"], result["psd"]
+            if part.shape[0] != len(rows_kept):
+                raise RuntimeError(f"task {task.key}: {part.shape[0]} PSD rows, not the {len(rows_kept)} kept")
             if k.size and np.array_equal(k, np.arange(k[0], k[0] + k.size)):
-                state["psd"][:, k[0]:k[0] + k.size, :] += result["psd"][state["psd_rows"]]  # into a view
+                state["psd"][:, k[0]:k[0] + k.size, :] += part  # into a view: no temporary
             else:
-                state["psd"][:, k, :] += result["psd"][state["psd_rows"]]
+                state["psd"][:, k, :] += part
 
-    stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options), work=_work, reduce=reduce,
-                          checkpoint=checkpoint, desc=f"PEM ({engine})")
+    with execution.claim(RunFiles("pem", "checkpoint")) as out:
+        checkpoint = execution.checkpoint("checkpoint", identity)
+        stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, sizing), work=_work,
+                              reduce=reduce, checkpoint=checkpoint, desc=f"PEM ({engine})")
+        extra = {
+            "method": "pem",
+            "derivatives": plan.derivative_sources(),
+            "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
+            "linearization": scenario.analysis.linearization,
+            "seconds": _time.perf_counter() - t0,
+            "n_frequencies": int(grid.f.size),
+            "n_frequencies_in_band": int(band_mask(grid, scenario).sum()),
+            "quadrature": grid.rule,
+            "columns": len(ptasks),
+            "grid_spacing": scenario.analysis.freq_spacing,
+            **setup.provenance(),
+            **stats,
+        }
+        result = _result(scenario, grid, spectra, plan, state, extra, setup.messages(), grid_error, engine,
+                         [plan.names[i] for i in rows_kept])
+        if out is not None:
+            result.save(out / "pem")
+    return result
+
+
+def _result(scenario: Scenario, grid: FrequencyGrid, spectra: dict[str, Any], plan: ReductionPlan,
+            state: dict[str, Any], extra: dict[str, Any], messages: list[str], grid_error: bool, engine: str,
+            psd_names: list[str]) -> RandomResponse:
+    """The sweep's RandomResponse from the reduced state (``extra``: the method's provenance,
+    ``messages``: the set-up's warnings)."""
     mean = state["mean"]
     channels = tuple(str(c) for c in mean["names"])
     var_by_type = state["var"]
@@ -326,38 +425,23 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         refined = np.sqrt(refined_variance(var_by_type.sum(axis=0), state["var_mid"].sum(axis=0)))
         error = grid_error_from_sigma(mean["time"], channels, plain, refined)
         for message in grid_error_messages(error):
-            warnings.warn(message, GridErrorWarning, stacklevel=3)
+            warnings.warn(message, GridErrorWarning, stacklevel=4)
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {
-        "method": "pem",
-        "derivatives": plan.derivative_sources(),
-        "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
-        "linearization": scenario.analysis.linearization,
-        "seconds": _time.perf_counter() - t0,
-        "n_frequencies": int(grid.f.size),
-        "n_frequencies_in_band": int(band_mask(grid, scenario).sum()),
-        "quadrature": grid.rule,
-        "columns": len(ptasks),
-        "grid_spacing": scenario.analysis.freq_spacing,
+        **extra,
         "grid_error": error.as_dict() if error is not None else
         "not estimated (an engine that runs columns separately: the midpoint sweep would double the runs)",
-        **setup.provenance(),
-        **stats,
     })
-    provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages() + (
+    provenance["warnings"] = list(provenance.get("warnings", [])) + messages + (
         grid_error_messages(error) if error is not None else [])
-    result = RandomResponse(
+    return RandomResponse(
         method="pem", time=mean["time"], channels=channels,
         units=tuple(str(u) for u in mean["units"]), mean=stats_.mean, std=stats_.std,
         band=grid.band, scenario=scenario, freq=grid.f, df=grid.df, psd=state["psd"], var_by_type=var_by_type,
-        psd_channels=None if state["psd"] is None else tuple(channels[i] for i in state["psd_rows"]),
+        psd_channels=None if state["psd"] is None else tuple(psd_names),
         types=tuple(spectra), provenance=provenance, mean_rate=stats_.mean_rate, std_rate=stats_.std_rate,
         rho=stats_.rho, bandwidth=stats_.bandwidth,
     )
-    out = execution.output_folder()
-    if out is not None:
-        result.save(out / "pem")
-    return result
 
 
-__all__ = ["ColumnTask", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices", "harmonic_columns",
-           "kind_and_unit", "pem_tasks", "prepare_sweep", "run"]
+__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices",
+           "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "run"]

@@ -1,0 +1,125 @@
+"""What a run may do to its output folder: refuse another run's files, or clear them when told to.
+
+A run (PEM, Monte Carlo, the deterministic run) owns two entries of its output folder
+(:class:`RunFiles`): its result folder (``pem/``, ``mc/``, ``mc_linear/``, ``det/``) and its checkpoint
+folder (``checkpoint/``, ...). Several runs of different methods share an output folder (``pem/`` and
+``mc/`` side by side, compared by ``tb-exudyn compare DIR DIR``); the folder's comparison figures and its
+report are drawn from all of them.
+
+Without ``resume`` a run refuses a folder whose entries hold another run's files (a result, or a
+checkpoint with finished tasks), unless told to overwrite; with ``overwrite`` it clears that run's
+files: its checkpoint and figures at once, the folder's comparison figures and report (drawn from the
+old result), and its result when the new one is saved (the result folder is replaced as a whole, so a
+run killed before that leaves the old result, complete). Nothing else in the folder is touched. With
+``resume`` a folder whose result has no checkpoint to resume from is refused (nothing to resume:
+overwrite instead). Refusals change nothing.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..errors import OutputFolderError
+
+#: files of an output folder drawn from all its results (tb_exudyn.plotting.files.plot_folder writes
+#: ``figures/<channel>.pem_vs_mc.<format>``, tb_exudyn.report.write_report ``report.html``)
+FOLDER_FIGURES = "figures"
+COMPARISON_FIGURE = ".pem_vs_mc."
+REPORT = "report.html"
+#: a result's own figures (``<result>/figures/``)
+RESULT_FIGURES = "figures"
+
+
+@dataclass(frozen=True)
+class RunFiles:
+    """The entries of an output folder a run writes: its result folder and its checkpoint folder
+    (names inside the output folder; no checkpoint for the deterministic run)."""
+
+    result: str
+    checkpoint: str | None = None
+
+
+def _options(where: str) -> dict[str, str]:
+    """How to name the options in a message: command-line options, or function arguments."""
+    if where == "command line":
+        return {"overwrite": "--overwrite", "resume": "--resume", "out": "another --out"}
+    return {"overwrite": "overwrite=True", "resume": "resume=True", "out": "another out folder"}
+
+
+def _has_files(path: Path) -> bool:
+    if path.is_symlink() or (path.exists() and not path.is_dir()):
+        return True
+    return path.is_dir() and any(path.iterdir())
+
+
+def holdings(folder: Path, files: RunFiles) -> list[str]:
+    """What of ``files`` already holds something in ``folder``: 'result <name>/', 'checkpoint <name>/ (N
+    finished tasks)'. A checkpoint without finished tasks holds nothing."""
+    out = []
+    if _has_files(folder / files.result):
+        out.append(f"the result {files.result}/")
+    if files.checkpoint is not None:
+        tasks = folder / files.checkpoint / "tasks"
+        n = sum(1 for p in tasks.glob("*.npz")) if tasks.is_dir() and not tasks.is_symlink() else 0
+        if n:
+            out.append(f"the checkpoint {files.checkpoint}/ ({n} finished tasks)")
+    return out
+
+
+def _remove(path: Path) -> None:
+    """Remove a file, a symbolic link (not what it points to) or a folder tree."""
+    if path.is_symlink() or path.is_file():
+        path.unlink()
+    elif path.is_dir():
+        shutil.rmtree(path)
+    elif os.path.lexists(path):
+        path.unlink()
+
+
+def clear_run(folder: Path, files: RunFiles) -> None:
+    """Remove the old run's checkpoint and figures, and the folder's comparison figures and report
+    (the result itself is replaced when the new one is saved)."""
+    if files.checkpoint is not None:
+        _remove(folder / files.checkpoint)
+    result = folder / files.result
+    if result.is_dir() and not result.is_symlink():
+        _remove(result / RESULT_FIGURES)
+    figures = folder / FOLDER_FIGURES
+    if figures.is_dir() and not figures.is_symlink():
+        for f in figures.iterdir():
+            if COMPARISON_FIGURE in f.name and (f.is_file() or f.is_symlink()):
+                f.unlink()
+    if os.path.lexists(folder / REPORT):
+        _remove(folder / REPORT)
+
+
+def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
+    """Refuse (OutputFolderError naming the folder, what it holds and the options) or clear, as the
+    module docstring says; call with the folder's lock held."""
+    opt = _options(where)
+    held = holdings(folder, files)
+    if resume:
+        if files.checkpoint is None:
+            return
+        checkpoint = folder / files.checkpoint
+        has_checkpoint = (os.path.lexists(checkpoint / "manifest.json")
+                          or any(h.startswith("the checkpoint") for h in held))
+        if _has_files(folder / files.result) and not has_checkpoint:
+            raise OutputFolderError(
+                f"{where}: output folder {str(folder)!r} holds {held[0]} but no checkpoint to resume from: use "
+                f"{opt['overwrite']} to run again, or {opt['out']}")
+        return
+    if not held:
+        return
+    if not overwrite:
+        cont = f"{opt['resume']} to continue it, " if any(h.startswith("the checkpoint") for h in held) else ""
+        raise OutputFolderError(
+            f"{where}: output folder {str(folder)!r} holds {' and '.join(held)} of an earlier run: use {cont}"
+            f"{opt['overwrite']} to replace it, or {opt['out']}")
+    clear_run(folder, files)
+
+
+__all__ = ["RunFiles", "clear_run", "holdings", "prepare_folder"]
