@@ -140,8 +140,9 @@ def growth_table(pem: RandomResponse) -> str:
         i = pem.index(ch)
         vals = [pem.std[i, int(np.argmin(np.abs(pem.time - t)))] for _, t in events]
         line = f"{ch:<{width}}{pem.unit(ch):<7}" + "".join(f"{v:>17.4g}" for v in vals)
-        if pem.psd is not None:
-            var = pem.psd[i, :, -1] * pem.df
+        row = pem.psd_row(ch) if pem.psd is not None else None
+        if row is not None:
+            var = pem.psd[row, :, -1] * pem.df
             kk = int(np.argmax(var))
             rest = math.sqrt(max(var.sum() - var[kk], 0.0))
             line += (f"   {pem.freq[kk]:.3g} Hz: {var[kk] / var.sum():.1%} of sigma^2 "

@@ -134,6 +134,8 @@ def run_study_pem(sc: Scenario, out: Path | None, workers: int, engine: str | No
                   progress: bool = True, keep_psd: bool = True, executor=None) -> RandomResponse:
     """PEM of ``sc`` on a process pool of ``workers`` (or the given executor); saved to ``out/pem``."""
     kwargs = {"engine": engine} if engine is not None and has_engine_option() else {}
+    if "psd_channels" in inspect.signature(run_pem).parameters:
+        kwargs["psd_channels"] = "all"  # the scenario's channels are already those of the figures
     if executor is not None or workers <= 1:
         return run_pem(sc, workers=1 if executor is None else None, executor=executor, out=out, resume=resume,
                        progress=progress, keep_psd=keep_psd, **kwargs)
@@ -148,6 +150,14 @@ def quiet_quick_warnings() -> None:
 
 
 # ------------------------------------------------------------------------------- what the maps show
+def psd_row(pem: RandomResponse, channel: str) -> int:
+    """Row of ``channel``'s PSD map in ``pem.psd`` (results of older versions keep every channel's)."""
+    row = pem.psd_row(channel) if hasattr(pem, "psd_row") else pem.index(channel)
+    if row is None:
+        raise SystemExit(f"the result keeps no PSD map of {channel} (run with psd_channels='all')")
+    return row
+
+
 def psd_peak(pem: RandomResponse, channel: str, share: float = 0.99) -> dict[str, float]:
     """Where the PSD map of ``channel`` peaks, and the band holding ``share`` of the variance.
 
@@ -156,7 +166,7 @@ def psd_peak(pem: RandomResponse, channel: str, share: float = 0.99) -> dict[str
     time, and max sigma.
     """
     row = pem.index(channel)
-    S = pem.psd[row]
+    S = pem.psd[psd_row(pem, channel)]
     k, j = np.unravel_index(int(np.argmax(S)), S.shape)
     jt = int(np.argmax(pem.std[row]))
     var = S[:, jt] * pem.df
@@ -174,8 +184,8 @@ BANDS = ((0.0, 2.5), (2.5, 5.0), (5.0, 10.0), (10.0, 30.0), (30.0, math.inf))
 
 def band_shares(pem: RandomResponse, channel: str, t: float) -> list[float]:
     """Share of sigma^2 at time ``t`` in each of :data:`BANDS` (by grid frequency)."""
-    row, j = pem.index(channel), int(np.argmin(np.abs(pem.time - t)))
-    var = pem.psd[row, :, j] * pem.df
+    j = int(np.argmin(np.abs(pem.time - t)))
+    var = pem.psd[psd_row(pem, channel), :, j] * pem.df
     total = var.sum()
     return [float(var[(pem.freq >= lo) & (pem.freq < hi)].sum() / total) if total > 0 else 0.0 for lo, hi in BANDS]
 

@@ -200,14 +200,15 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     print(f"scenario {scenario.name}: {scenario.description}")
     common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
               "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
-              "max_memory": args.max_memory, "where": "command line"}
+              "max_memory": args.max_memory, "keep_checkpoint": args.keep_checkpoint, "where": "command line"}
     if args.method == "det":
         execution = methods.Execution(out=out, overwrite=args.overwrite, max_memory=args.max_memory,
                                       where="command line")
         th = methods.simulate(scenario, "deterministic", execution=execution)
         print(methods.summarize(th))
     elif args.method == "pem":
-        result = methods.run_pem(scenario, **common)
+        psd = args.psd_channels or ["key"]
+        result = methods.run_pem(scenario, psd_channels=psd[0] if psd in (["key"], ["all"]) else psd, **common)
         print(f"PEM ({result.provenance['engine']} engine, {len(result.freq)} frequencies): "
               f"{result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
@@ -255,8 +256,9 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     plot_folder, _ = _figures()
+    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
-        paths = plot_folder(args.folder, channels=args.channels, formats=tuple(args.formats))
+        paths = plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
     for p in paths:
         print(p)
     return EXIT_OK
@@ -264,8 +266,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_report(args: argparse.Namespace) -> int:
     _, write_report = _figures()
+    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
-        print(write_report(args.folder, args.html))
+        print(write_report(args.folder, args.html, found=found))
     return EXIT_OK
 
 
@@ -319,6 +322,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="replace the result and checkpoint an earlier run of this method left in --out (with its "
                         "figures and the folder's report); without it or --resume such a folder is refused")
+    p.add_argument("--keep-checkpoint", dest="keep_checkpoint", action="store_true",
+                   help="keep --out/checkpoint* after the result is saved (default: removed then; kept after an "
+                        "interrupted run, for --resume)")
     p.add_argument("--max-memory", default=None, metavar="SIZE",
                    help="refuse a run estimated to need more memory than SIZE (e.g. 4GB; default: what this machine "
                         "has available)")
@@ -333,6 +339,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
     p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
                    help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
+    p.add_argument("--psd-channels", dest="psd_channels", nargs="+", default=None, metavar="PATTERN",
+                   help="PEM: whose PSD maps to keep: key (default: the checked channels, those of the reference "
+                        "study's figures, a short list per component), all, or glob patterns; sigma and the mean "
+                        "are kept for every channel")
     p.add_argument("--linearization", choices=("rest", "static"), default=None,
                    help="batched engine: linearise about rest (default; PEM's model, as the Exudyn PEM engine) or "
                         "about the static equilibrium under gravity (adds the suspension preload's stiffness, which "

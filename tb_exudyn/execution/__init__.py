@@ -24,7 +24,7 @@ from ..results.storage import check_writable
 from .checkpoint import Checkpoint, fingerprint
 from .lock import folder_lock
 from .notices import RunNotice, notice
-from .output import RunFiles, prepare_folder
+from .output import RunFiles, prepare_folder, remove_entry
 from .resources import MemoryLimit, cap_workers, memory_limit, parse_memory
 from .tasks import Task, run_tasks
 from .threads import single_threaded_blas, single_threaded_workers
@@ -50,6 +50,8 @@ class Execution:
         one per core and a half one); a result depends on them only at round-off, and not on
         ``workers`` or ``executor``; give more for an executor with more workers
     where : what the settings came from, for messages (a function name, or "command line")
+    keep_checkpoint : keep the checkpoint after the result is saved (default: removed then: the result
+        holds everything, and the finished tasks of a large sweep take as much room as its PSD maps)
     """
 
     workers: int | None = None
@@ -61,6 +63,7 @@ class Execution:
     where: str = "Execution"
     overwrite: bool = False
     max_memory: int | str | None = None
+    keep_checkpoint: bool = False
 
     def __post_init__(self) -> None:
         w = self.workers
@@ -113,7 +116,9 @@ class Execution:
     @contextmanager
     def claim(self, files: RunFiles) -> Iterator[Path | None]:
         """The output folder for a run writing ``files``, locked within the block; another run's files
-        refused or (``overwrite``) cleared first (:func:`.output.prepare_folder`). None without one."""
+        refused or (``overwrite``) cleared first (:func:`.output.prepare_folder`). None without one.
+        When the block ends without an error (the result saved), the run's checkpoint is removed unless
+        ``keep_checkpoint``."""
         out = self.output_folder()
         if out is None:
             yield None
@@ -123,6 +128,8 @@ class Execution:
         with folder_lock(out, self.where, remedy):
             prepare_folder(out, files, resume=self.resume, overwrite=self.overwrite, where=self.where)
             yield out
+            if files.checkpoint is not None and not self.keep_checkpoint:
+                remove_entry(out / files.checkpoint)
 
     def checkpoint(self, name: str, identity: Mapping[str, Any]) -> Checkpoint | None:
         """The checkpoint ``out/name`` of the computation ``identity`` (None without an output folder)."""

@@ -69,7 +69,7 @@ def holdings(folder: Path, files: RunFiles) -> list[str]:
     return out
 
 
-def _remove(path: Path) -> None:
+def remove_entry(path: Path) -> None:
     """Remove a file, a symbolic link (not what it points to) or a folder tree."""
     if path.is_symlink() or path.is_file():
         path.unlink()
@@ -83,17 +83,17 @@ def clear_run(folder: Path, files: RunFiles) -> None:
     """Remove the old run's checkpoint and figures, and the folder's comparison figures and report
     (the result itself is replaced when the new one is saved)."""
     if files.checkpoint is not None:
-        _remove(folder / files.checkpoint)
+        remove_entry(folder / files.checkpoint)
     result = folder / files.result
     if result.is_dir() and not result.is_symlink():
-        _remove(result / RESULT_FIGURES)
+        remove_entry(result / RESULT_FIGURES)
     figures = folder / FOLDER_FIGURES
     if figures.is_dir() and not figures.is_symlink():
         for f in figures.iterdir():
             if COMPARISON_FIGURE in f.name and (f.is_file() or f.is_symlink()):
                 f.unlink()
     if os.path.lexists(folder / REPORT):
-        _remove(folder / REPORT)
+        remove_entry(folder / REPORT)
 
 
 def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
@@ -122,4 +122,4 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
     clear_run(folder, files)
 
 
-__all__ = ["RunFiles", "clear_run", "holdings", "prepare_folder"]
+__all__ = ["RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry"]

@@ -59,12 +59,15 @@ METHODS: dict[str, Callable[..., Any]] = {
 }
 
 
-def simulate(scenario: Scenario, method: str, engine: str = DEFAULT_ENGINE, execution: Execution | None = None,
+def simulate(scenario: Scenario, method: str, engine: str | None = None, execution: Execution | None = None,
              **options: Any) -> Any:
     """Run ``method`` ("deterministic", "pem" or "monte_carlo") on ``engine`` ("exudyn", "batched",
-    "dense") under ``execution``; ``options`` are the method's (and ``options=`` the engine's)."""
+    "dense"; None: "exudyn" for the deterministic run, which is one Exudyn run, else DEFAULT_ENGINE)
+    under ``execution``; ``options`` are the method's (and ``options=`` the engine's)."""
     if method not in METHODS:
         raise SettingError("simulate", "method", method, " or ".join(map(repr, METHODS)))
+    if engine is None:
+        engine = "exudyn" if method == "deterministic" else DEFAULT_ENGINE
     if not isinstance(scenario, Scenario):
         raise SettingError("simulate", "scenario", type(scenario).__name__, "a Scenario (tb_exudyn.load_scenario)")
     return METHODS[method](scenario, engine, execution or Execution(where="simulate"), **options)
@@ -94,6 +97,7 @@ def run_pem(
     grid_error: bool | None = None,
     psd_channels: Any = "key",
     overwrite: bool = False,
+    keep_checkpoint: bool = False,
     max_memory: int | str | None = None,
     where: str = "run_pem",
 ) -> RandomResponse:
@@ -127,6 +131,7 @@ def run_pem(
     overwrite : replace the result and checkpoint of an earlier run in ``out`` (without it or
         ``resume``, a run into a folder holding them is refused: OutputFolderError); a folder another
         run is using is always refused
+    keep_checkpoint : keep ``out/checkpoint`` after the result is saved (default: removed then)
     max_memory : the memory the run may use (bytes, or a text such as "4GB"; None: what this machine
         has available): a run estimated above it is refused before it starts (ResourceError giving the
         estimate and the key to change)
@@ -138,7 +143,8 @@ def run_pem(
     damping guard's and the grid's warnings in ``provenance["warnings"]``).
     """
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
-                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory)
+                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory,
+                          keep_checkpoint=keep_checkpoint)
     return pem.run(_with_linearization(scenario, linearization, where), engine, execution, options=options,
                    keep_psd=keep_psd, grid_error=grid_error, psd_channels=psd_channels)
 
@@ -159,6 +165,7 @@ def run_monte_carlo(
     options: Any = None,
     slices: Any = None,
     overwrite: bool = False,
+    keep_checkpoint: bool = False,
     max_memory: int | str | None = None,
     where: str = "run_monte_carlo",
 ) -> RandomResponse:
@@ -183,7 +190,7 @@ def run_monte_carlo(
         method "monte_carlo_linear")
     linearization : a linear engine's linearization point (overrides ``analysis.linearization``); the
         Exudyn engine runs the full model and takes none
-    options, slices, overwrite, max_memory, where : as :func:`run_pem`
+    options, slices, overwrite, keep_checkpoint, max_memory, where : as :func:`run_pem`
 
     Returns
     -------
@@ -200,7 +207,8 @@ def run_monte_carlo(
                               "none with engine 'exudyn' (or a linear engine: 'batched', 'dense')",
                               "the Exudyn Monte Carlo runs the full model, it linearises nothing")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
-                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory)
+                          slices=slices, where=where, overwrite=overwrite, max_memory=max_memory,
+                          keep_checkpoint=keep_checkpoint)
     return monte_carlo.run(_with_linearization(scenario, linearization, where), engine, execution,
                            n_samples=n_samples, seed=seed, keep_samples=keep_samples,
                            discretisation=discretisation, options=options, where=where)  # type: ignore[arg-type]

@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 
 from ..system.derived import derived_provenance
 from ..engines import check_engine, make_engine
-from ..errors import ScenarioError
+from ..errors import ScenarioError, SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
                                    check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
@@ -107,8 +107,6 @@ class ColumnTask:
     columns: tuple[PemTask, ...]
     keep_psd: bool
     midpoints: bool = False
-    #: whose PSD rows the task returns (:func:`psd_rows`): the checkpoint and the pool carry only those
-    psd_channels: str | tuple[str, ...] = "all"
 
 
 def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, str]:
@@ -192,7 +190,7 @@ def default_slices(cores: int) -> list[float]:
 
 
 def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
-                  midpoints: bool = False, *, psd_channels: str | tuple[str, ...] = "all") -> list[Task]:
+                  midpoints: bool = False) -> list[Task]:
     """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
     frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
     freqs = np.array(sorted({p.freq_index for p in ptasks}))
@@ -202,7 +200,7 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     for a, b in zip(edges[:-1], edges[1:]):
         chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints, psd_channels)))
+        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints)))
     return out
 
 
@@ -219,6 +217,7 @@ class PemSizing:
     limit: MemoryLimit | None  # None: what the machine running the setup has available
     where: str
     psd_channels: int | None = None  # channels whose PSD map is kept (None: all)
+    where_option: str = ""  # the caller of the options ("command line": name them as flags)
 
 
 def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
@@ -229,25 +228,25 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
     n_ch, n_t = len(engine.outputs.names), engine.steps.n_outputs
     pool = s.workers > 0
     n_f = ("analysis.n_freq", s.n_freq)
+    psd = "--psd-channels" if s.where_option == "command line" else "psd_channels"
     remedy = ("a smaller analysis.n_freq, fewer analysis.channels or a larger analysis.output_step"
-              + (", or keep_psd=False" if s.keep_psd else ""))
+              + (f", fewer PSD maps ({psd}), or keep_psd=False" if s.keep_psd else ""))
     task_map = 4 * n_ch * s.task_freqs * n_t if s.keep_psd else 0
     task_var = 8 * n_t * s.n_types * n_ch
     m = s.task_freqs * s.n_types
     n_kept = n_ch if s.psd_channels is None else s.psd_channels
-    kept_map = 4 * n_kept * s.task_freqs * n_t if s.keep_psd else 0  # what a task returns
     parent = (
         Part(f"the PSD map ({describe_counts(channels=n_kept, frequencies=s.n_freq, output_times=n_t)}, float32)",
              4 * n_kept * s.n_freq * n_t if s.keep_psd else 0, *n_f, remedy),
-        Part("the task results waiting or arriving", 3 * (kept_map + task_var) if pool else 0, *n_f, remedy),
+        Part("the task results waiting or arriving", 3 * (task_map + task_var) if pool else 0, *n_f, remedy),
         Part("sigma, mean and the variances per type", 8 * n_ch * n_t * (s.n_types + 6), "analysis.output_step",
              s.output_step, "a larger analysis.output_step, or fewer analysis.channels"),
         Part("the interpreter and its libraries", PROCESS_BYTES),
     )
     worker = (
         Part(f"a task's PSD map ({describe_counts(channels=n_ch, frequencies=s.task_freqs, output_times=n_t)}, "
-             "float32" + (", and the kept rows' copy" if pool or n_kept < n_ch else "") + ")",
-             task_map + (kept_map if pool or n_kept < n_ch else 0) + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
+             "float32" + (", and its copy sent back" if pool else "") + ")",
+             (2 if pool else 1) * task_map + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
         Part(f"the state of a task's {m} columns", m * column_bytes(engine) + task_var, *n_f, remedy),
         Part("the model", model_bytes(engine)),
         Part("the interpreter and its libraries", PROCESS_BYTES),
@@ -273,8 +272,6 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
                          engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd)
     result = engine.integrate(columns, reducer)
-    if result.get("psd") is not None and data.psd_channels != "all":
-        result["psd"] = np.ascontiguousarray(result["psd"][psd_rows(reducer.plan.names, data.psd_channels)])
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
 
@@ -301,6 +298,22 @@ def psd_rows(names: Sequence[str], psd_channels: str | Sequence[str]) -> list[in
     return [i for i, n in enumerate(names) if any(fnmatch.fnmatchcase(n, p) for p in pats)]
 
 
+def check_psd_channels(names: Sequence[str] | None, psd_channels: Any, where: str) -> None:
+    """SettingError for a ``psd_channels`` that is not "key", "all" or glob patterns each matching one
+    of the result channels ``names`` (None: the form only); ``where``: the caller (the command line
+    names --psd-channels)."""
+    key = "--psd-channels" if where == "command line" else "psd_channels"
+    allowed = "'key', 'all', or glob patterns of result channels (e.g. 'car1.body.*'; channels.txt lists them)"
+    if psd_channels in ("key", "all"):
+        return
+    pats = [psd_channels] if isinstance(psd_channels, str) else psd_channels
+    if not isinstance(pats, (list, tuple)) or not pats or not all(isinstance(p, str) and p.strip() for p in pats):
+        raise SettingError(where, key, psd_channels, allowed)
+    for p in pats if names is not None else ():
+        if not any(fnmatch.fnmatchcase(n, p) for n in names):
+            raise SettingError(where, key, p, allowed, "matches no channel of this scenario")
+
+
 def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True,
         psd_channels: str | Sequence[str] = "key",
         grid_error: bool | None = None) -> RandomResponse:
@@ -315,7 +328,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     if grid_error is None:  # cheap where the columns are integrated together
         grid_error = not cls.single_columns
     grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
-    psd_spec = psd_channels if isinstance(psd_channels, str) else tuple(psd_channels)
+    psd_spec = tuple(psd_channels) if isinstance(psd_channels, (list, tuple)) else psd_channels
+    check_psd_channels(None, psd_spec, execution.where)  # the form, before anything is built
     identity = fingerprint_identity(
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
         method_options={"keep_psd": keep_psd, "psd_channels": psd_spec, "grid_error": grid_error, "grid": grid.f.tolist(),
@@ -325,23 +339,24 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
     mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
     tasks = [Task("pem-mean", MeanTask())]
     if cls.single_columns:
-        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_channels=psd_spec))
-                  for p in ptasks]
+        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd)) for p in ptasks]
         tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
     else:
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
-        tasks += column_slices(ptasks, weights, keep_psd, psd_channels=psd_spec)
+        tasks += column_slices(ptasks, weights, keep_psd)
         if mid_tasks:
             tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     n_types = len(spectra)
     model = setup.model
     plan = model_plan(model)  # the workers' engines have the same outputs and derived channels
     rows_kept = psd_rows(plan.names, psd_spec) if keep_psd else []
+    if keep_psd:
+        check_psd_channels(plan.names, psd_spec, execution.where)
     sizing = PemSizing(
         n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
         task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
         output_step=scenario.analysis.output_step, limit=execution.worker_limit(), where=scenario_where(scenario),
-        psd_channels=len(rows_kept))
+        psd_channels=len(rows_kept), where_option=execution.where)
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
@@ -362,7 +377,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             for message in result["warnings"]:
                 warnings.warn(str(message), stacklevel=4)
             return
-        result = {**result, **finish_pem_task(result, plan, state["coef"])}
+        result = {**result, **finish_pem_task(result, plan, state["coef"], None if task.data.midpoints else rows_kept)}
         var_t = result["var_t"]
         if task.data.midpoints:  # the grid error's sweep: sigma^2 only
             state.setdefault("var_mid", np.zeros_like(state["var"]))
@@ -376,9 +391,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         var += var_t.transpose(1, 2, 0)
         state["describe"] = json.loads(str(result["describe"]))
         if state["psd"] is not None:
-            k, part = result["freq_index"], result["psd"]
-            if part.shape[0] != len(rows_kept):
-                raise RuntimeError(f"task {task.key}: {part.shape[0]} PSD rows, not the {len(rows_kept)} kept")
+            k, part = result["freq_index"], result["psd"]  # the kept rows (finish_pem_task)
             if k.size and np.array_equal(k, np.arange(k[0], k[0] + k.size)):
                 state["psd"][:, k[0]:k[0] + k.size, :] += part  # into a view: no temporary
             else:

@@ -386,11 +386,12 @@ class PseudoReduction:
         return out
 
 
-def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: RatioCoefficients | None
-                    ) -> dict[str, np.ndarray]:
+def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: RatioCoefficients | None,
+                    psd_rows: Sequence[int] | None = None) -> dict[str, np.ndarray]:
     """A task's raw sums (:class:`PseudoReduction`) as per result channel arrays (n_res rows; Sperling
     rows zero): "var_t" (n_t, n_types, n_res), "dvar", "dcov", "lam" ((n_t, n_res), (n_t, n_res),
-    (n_t, 2, n_res)), "psd" (n_res, n_freq, n_t) when kept, and "sperling_power" (n_t, n_sp).
+    (n_t, 2, n_res)), "psd" (len(psd_rows), n_freq, n_t) when kept: the result rows ``psd_rows``
+    (None: all n_res), in that order, and "sperling_power" (n_t, n_sp).
     ``coef``: the ratios' first-order coefficients (:func:`ratio_coefficients`; None without ratios)."""
     var_z, lam_z = raw["var_z"], raw["lam_z"]
     n_t, n_types, _ = var_z.shape
@@ -409,9 +410,12 @@ def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: Ratio
         dvar[:, direct] = raw["dvar_z"][:, jd]
         dcov[:, direct] = raw["dcov_z"][:, jd]
     psd = None
+    at_row = {int(r): i for i, r in enumerate(range(n_res) if psd_rows is None else psd_rows)}
     if "psd_z" in raw:
-        psd = np.zeros((n_res,) + raw["psd_z"].shape[1:], dtype=PSD_TRANSPORT)
-        psd[direct] = raw["psd_z"][zr]
+        psd = np.zeros((len(at_row),) + raw["psd_z"].shape[1:], dtype=PSD_TRANSPORT)
+        kept = [(at_row[int(r)], int(z)) for r, z in zip(direct, zr) if int(r) in at_row]
+        if kept:
+            psd[[i for i, _ in kept]] = raw["psd_z"][[z for _, z in kept]]
     if plan.ratios:
         assert coef is not None
         a, b, ar, br = (x.T for x in (coef.a, coef.b, coef.a_rate, coef.b_rate))  # (n_t, n_ratio)
@@ -435,8 +439,9 @@ def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: Ratio
         dcov[:, idx] = (a * a * s_nn1 + a * b * s_nd1 + a * ar * s_nn + a * br * s_nd
                         + b * a * s_dn1 + b * b * s_dd1 + b * ar * s_nd + b * br * s_dd)
         if psd is not None and "nd_psd" in raw:
-            at, bt = coef.a[:, None, :], coef.b[:, None, :]  # (n_ratio, 1, n_t)
-            psd[idx] = (at**2 * raw["psd_z"][zn] + bt**2 * raw["psd_z"][zd] + 2 * at * bt * raw["nd_psd"]).astype(PSD_TRANSPORT)
+            for k in (k for k, r in enumerate(idx) if int(r) in at_row):  # one ratio row at a time: no temporaries
+                at, bt = coef.a[k][None, :], coef.b[k][None, :]  # (1, n_t)
+                psd[at_row[int(idx[k])]] = at**2 * raw["psd_z"][zn[k]] + bt**2 * raw["psd_z"][zd[k]] + 2 * at * bt * raw["nd_psd"][k]
     out = {"var_t": var, "lam": lam, "dvar": dvar, "dcov": dcov, "sperling_power": raw["sperling_power"]}
     if psd is not None:
         out["psd"] = psd

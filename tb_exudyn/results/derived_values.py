@@ -9,6 +9,7 @@ sampled at fs [Hz] from t = 0: linear combinations, EN 12299 weightings filtered
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -66,8 +67,14 @@ def derived_value(channel: DerivedChannel, values: Mapping[str, np.ndarray], fs:
 
 def derived_values(channels: Sequence[DerivedChannel], values: Mapping[str, np.ndarray], fs: float
                    ) -> dict[str, FloatArray]:
-    """Name -> values of every derived channel (:func:`derived_value`)."""
-    return {d.name: derived_value(d, values, fs) for d in channels}
+    """Name -> values of every derived channel (:func:`derived_value`). A Sperling window longer than
+    these histories (a run shorter than the crossing, ``run_model(duration=...)``) is the whole record,
+    as the channel catalogue makes it for a crossing shorter than the window."""
+    n_t = max((np.shape(v)[-1] for v in values.values()), default=0)
+    record = n_t / fs
+    return {d.name: derived_value(dataclasses.replace(d, window=record)
+                                  if d.kind == "sperling" and d.window > record else d,
+                                  values, fs) for d in channels}
 
 
 __all__ = ["combine", "derived_value", "derived_values", "sperling_series", "window_series"]

@@ -217,11 +217,12 @@ def test_batched_result_is_the_same_for_workers_checkpoints_and_resume(tmp_path)
                               channels=("bridge.span1.mid.acc_z", "car1.body.acc_z", "car1.axle1.force_z"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ref = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, slices=(1, 1), psd_channels="all")
-        again = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1), psd_channels="all")
+        keep = {"keep_checkpoint": True, "psd_channels": "all"}
+        ref = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, slices=(1, 1), **keep)
+        again = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1), **keep)
         assert again.provenance["tasks_from_checkpoint"] == 5  # the mean, 2 slices and the grid error's 2
         sorted((tmp_path / "checkpoint" / "tasks").glob("*.npz"))[0].unlink()
-        part = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1), psd_channels="all")
+        part = run_pem(sc, engine="batched", workers=1, progress=False, out=tmp_path, resume=True, slices=(1, 1), **keep)
         assert part.provenance["tasks_run"] == 1
         pool = run_pem(sc, engine="batched", workers=2, progress=False, slices=(1, 1), psd_channels="all")
         no_psd = run_pem(sc, engine="batched", workers=1, progress=False, slices=(1, 1), keep_psd=False)

@@ -182,7 +182,7 @@ def test_workers_checkpoints_and_resume_give_the_same_result(scenario, small, tm
     kw = dict(n_samples=6, seed=3, progress=False, keep_samples=True, slices=(1, 1, 1), engine="batched")
     _same(run_monte_carlo(scenario, workers=2, **kw), small)
     out = tmp_path / "run"
-    first = run_monte_carlo(scenario, workers=1, out=out, **kw)
+    first = run_monte_carlo(scenario, workers=1, out=out, keep_checkpoint=True, **kw)
     _same(first, small)
     (out / "checkpoint-mc-linear" / "tasks" / "mcl-0000002-0000003.npz").unlink()
     again = run_monte_carlo(scenario, workers=1, out=out, resume=True, **kw)

@@ -201,11 +201,13 @@ def test_killed_run_resumes_to_the_same_result(scenario, tmp_path):
     proc.wait()
     done = len(list(tasks.glob("*.npz")))
     assert 2 <= done < 8, f"the run should have been stopped part-way ({done} of 8 samples)"
-    resumed = run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, out=out, resume=True, progress=False, engine="exudyn")
+    resumed = run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, out=out, resume=True, progress=False,
+                              engine="exudyn", keep_checkpoint=True)  # kept for the 10 samples below
     assert (resumed.provenance["tasks_from_checkpoint"], resumed.provenance["tasks_run"]) == (done, 8 - done)
     _same(resumed, run_monte_carlo(scenario, n_samples=8, seed=5, workers=1, progress=False, engine="exudyn"), samples=False)
     more = run_monte_carlo(scenario, n_samples=10, seed=5, workers=1, out=out, resume=True, progress=False, engine="exudyn")
     assert more.provenance["tasks_from_checkpoint"] == 8 and more.n_samples == 10
+    assert not (out / "checkpoint-mc").exists()  # removed after the result was saved
     from tb_exudyn.results import load_results
 
     _same(load_results(out / "mc"), more, samples=False)

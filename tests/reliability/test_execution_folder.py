@@ -112,24 +112,35 @@ def test_the_lock_is_reentrant_for_its_thread_and_refuses_another(tmp_path):
 
 # ------------------------------------------------------------------------------------- another run's files
 def test_a_second_run_into_a_used_folder_is_refused_and_changes_nothing(scenarios, tmp_path):
+    """A finished run (its checkpoint removed after the save) and a second one into its folder: one
+    line naming the folder, the result and --overwrite; nothing changed. With the checkpoint kept
+    (--keep-checkpoint) the line offers --resume too."""
     out = tmp_path / "out"
     assert cli(*run_args(scenarios[0], out)).returncode == 0
+    assert not (out / "checkpoint").exists()
     before = snapshot(out)
     proc = cli(*run_args(scenarios[1], out))
-    assert_one_line_error(proc, str(out), "the result pem/", "--overwrite", "--resume")
+    line = assert_one_line_error(proc, str(out), "the result pem/", "--overwrite")
+    assert "--resume" not in line
     assert snapshot(out) == before
+    kept = tmp_path / "kept"
+    assert cli(*run_args(scenarios[0], kept, "--keep-checkpoint")).returncode == 0
+    before = snapshot(kept)
+    proc = cli(*run_args(scenarios[1], kept))
+    assert_one_line_error(proc, str(kept), "the result pem/", "--overwrite", "--resume")
+    assert snapshot(kept) == before
 
 
 def test_a_killed_runs_checkpoint_is_not_deleted_by_a_run_without_resume(scenarios, tmp_path):
     """Before: a run without --resume deleted the finished tasks of an interrupted sweep (data lost)."""
     out = tmp_path / "out"
-    assert cli(*run_args(scenarios[0], out)).returncode == 0
+    assert cli(*run_args(scenarios[0], out, "--keep-checkpoint")).returncode == 0
     os.unlink(out / "pem" / "meta.json")  # as if the sweep had been killed before its result was saved
     os.unlink(out / "pem" / "arrays.npz")
     os.rmdir(out / "pem")
     before = snapshot(out)
     proc = cli(*run_args(scenarios[0], out))
-    assert_one_line_error(proc, str(out), "checkpoint/ (4 finished tasks)", "--resume", "--overwrite")
+    assert_one_line_error(proc, str(out), "checkpoint/ (", " finished tasks)", "--resume", "--overwrite")
     assert snapshot(out) == before
 
 

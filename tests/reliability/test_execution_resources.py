@@ -9,6 +9,7 @@ must come before the allocation it guards: the refusing process stays far below 
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 import warnings
@@ -50,16 +51,21 @@ def child_peak_bytes_of(args: list[object], timeout: float = 120) -> tuple[subpr
 
 
 def test_a_psd_map_beyond_the_memory_limit_is_refused_before_it_is_allocated(tmp_path):
-    """quick with 100 000 frequencies: a PSD map of 51 x 100000 x 213 float64 (8.7 GB) in the main
-    process; with --max-memory 2GB refused naming analysis.n_freq and the estimate; the process
-    never held more than 600 MB (the interpreter, one model, the task list)."""
+    """quick on 100 000 linear frequencies with every channel's PSD map kept (--psd-channels all): a
+    map of 60 result channels x 100000 x 213 output times in float32 (5.1 GB) in the main process;
+    with --max-memory 2GB refused naming analysis.n_freq and the estimate; the process never held
+    more than 600 MB (the interpreter, one model, the task list)."""
     text = (ROOT / "models" / "scenarios" / "quick.toml").read_text(encoding="utf-8")
-    text = text.replace("n_freq = 16", "n_freq = 100000")
+    text = re.sub(r"(?m)^n_freq = .*$", "n_freq = 100000", text)
+    text = re.sub(r"(?m)^freq_spacing = .*$", 'freq_spacing = "linear"', text)
     sc = tmp_path / "big.toml"
     sc.write_text(text, encoding="utf-8")
-    proc, peak = child_peak_bytes_of(run_args(sc, tmp_path / "out", "--max-memory", "2GB"))
-    line = assert_one_line_error(proc, "key 'analysis.n_freq' = 100000", "the PSD map", "8.69 GB",
+    proc, peak = child_peak_bytes_of(run_args(sc, tmp_path / "out", "--max-memory", "2GB", "--psd-channels", "all"))
+    line = assert_one_line_error(proc, "key 'analysis.n_freq' = 100000", "the PSD map", "float32",
                                  "--max-memory of 2 GB")
+    assert re.search(r"the PSD map \(60 channels x 100000 frequencies x 213 output times, float32\) \(5\.11 GB in the "
+                     r"main process\)", line), line
+    assert "--psd-channels" in line
     assert "GB of memory" in line
     assert peak < 600e6, f"the refusal came after {peak / 1e6:.0f} MB were allocated"
 
