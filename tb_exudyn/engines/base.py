@@ -146,4 +146,23 @@ class Engine(ABC):
         }
 
 
-__all__ = ["Engine"]
+def on_linear_system(cls: type, lin: Any, steps: Any, spectral_radius: float, outputs: OutputMap,
+                     options: Any = None) -> Any:
+    """An instance of the linear engine class ``cls`` on a linear system built by hand (no scenario,
+    no Exudyn model): ``lin`` a :class:`~tb_exudyn.system.linear.LinearSystem`, ``steps`` its
+    :class:`~tb_exudyn.system.conventions.RunSteps`, ``outputs`` the channels to integrate. It can
+    ``integrate`` column sources (not ``mean``, which needs the model); for tests of the engines on
+    small systems and couplings the builder does not make."""
+    from .alpha import GeneralizedAlpha
+
+    engine = cls.__new__(cls)
+    engine.scenario, engine.model, engine.wheel_forces = None, None, False
+    engine.options, engine.lin, engine.steps, engine.outputs = options, lin, steps, outputs
+    engine.n_steps, engine.ratio = steps.n_steps, steps.ratio
+    engine.alpha = GeneralizedAlpha(float(spectral_radius), steps.h)
+    engine.output_time = steps.output_times
+    engine.output_channels = []
+    return engine
+
+
+__all__ = ["Engine", "on_linear_system"]
