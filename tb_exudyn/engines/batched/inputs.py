@@ -17,6 +17,7 @@ from numpy.typing import NDArray
 
 from ...system.columns import HarmonicColumns, ProfileColumns, StaticLoadColumns
 from ...system.conventions import harmonic_phase
+from .kernels import in_precision
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -71,8 +72,8 @@ class _HarmonicInputs:
         P0 = np.exp(1j * harmonic_phase(omega, x0, float(coupling.axle_start[0])))
         a = maps.input_value[np.ix_(run.rows, kinds)] * scale
         b = maps.input_slope[np.ix_(run.rows, kinds)] * scale
-        self.Qss = (P0 * (a + 1j * b * omega[None, :])).astype(cdtype)
-        self.Qd = (b * P0).astype(cdtype)
+        self.Qss = in_precision(P0 * (a + 1j * b * omega[None, :]), cdtype)
+        self.Qd = in_precision(b * P0, cdtype)
         self.tmp = np.zeros_like(self.Qss)
 
     def __call__(self, k: int, block: Any, z_all: ComplexArray, out: ComplexArray) -> None:

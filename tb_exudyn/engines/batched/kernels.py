@@ -25,6 +25,19 @@ _AXPY = {np.dtype(np.float64): daxpy, np.dtype(np.float32): saxpy}
 _SCAL = {np.dtype(np.float64): dscal, np.dtype(np.float32): sscal}
 
 
+def in_precision(X: np.ndarray, dtype: Any) -> np.ndarray:
+    """``X`` as a C-contiguous array of ``dtype`` with the entries that would be subnormal in it set
+    to zero: round-off remainders of exact zeros (e.g. 1e-40 in an inverse's block structure)
+    become subnormal in float32, and every product with a subnormal operand takes a slow path in
+    the CPU (about 2x slower gemm on the reference study)."""
+    out = np.ascontiguousarray(X, dtype=dtype)
+    tiny = np.finfo(out.real.dtype).tiny
+    if out.size and np.any((np.abs(out) < tiny) & (out != 0)):
+        out = out.copy() if out is X else out
+        out[np.abs(out) < tiny] = 0
+    return out
+
+
 def _acc(out: FloatArray, a: FloatArray, b: FloatArray, alpha: float = 1.0) -> None:
     """out += alpha a @ b in place: gemm with beta = 1 on the transposed (Fortran-ordered) views, no
     temporary. ``out`` and ``b`` are C-contiguous row blocks, ``a`` is C-contiguous; all of one dtype."""
@@ -88,4 +101,4 @@ def advance_calls(coef: tuple[float, ...], h: float, qp: FloatArray, vp: FloatAr
             (axpy, (dl, vp, n, rho_d)), (scal, (mu_a, ap)), (axpy, (dl, ap, n, mu_d))]
 
 
-__all__ = ["PRECISIONS", "_acc", "_acc_t", "_inv", "advance", "advance_calls", "gemm_call", "run_calls"]
+__all__ = ["PRECISIONS", "in_precision", "_acc", "_acc_t", "_inv", "advance", "advance_calls", "gemm_call", "run_calls"]

@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
 from .inputs import run_inputs
-from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, run_calls
+from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
 from .steps import StepBlock
 
 FloatArray = NDArray[np.float64]
@@ -59,7 +59,7 @@ class _Vehicle:
         Pk, Pd = Ai @ K0[v0:v1, v0:v1], Ai @ D0[v0:v1, v0:v1]
 
         def c(X: FloatArray) -> FloatArray:
-            return np.ascontiguousarray(X, dtype=dtype)
+            return in_precision(X, dtype)
 
         self.blocks = [(b0, b1, c(-Pk[b0 - v0:b1 - v0, b0 - v0:b1 - v0]), c(-Pd[b0 - v0:b1 - v0, b0 - v0:b1 - v0]))
                        for b0, b1 in veh.blocks]
@@ -123,8 +123,8 @@ class _Operators:
         self.a0b = np.diag(A0)[:nb].copy()
         self.pk = np.diag(K0)[:nb] / self.a0b
         self.pd = np.diag(D0)[:nb] / self.a0b
-        self.pk_c = self.pk[:, None].astype(self.dtype)
-        self.pd_c = self.pd[:, None].astype(self.dtype)
+        self.pk_c = in_precision(self.pk[:, None], self.dtype)
+        self.pd_c = in_precision(self.pd[:, None], self.dtype)
         A0inv = np.zeros_like(A0)
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
@@ -189,10 +189,10 @@ class _Operators:
             # the contact matrix of the vehicles on the bridge
             H = H0[R0:R1, R0:R1].copy()
             H[r0 - R0:r1 - R0, r0 - R0:r1 - R0] += Cb[i, r0 - a0:r1 - a0] @ SaS[i, r0 - a0:r1 - a0].T
-            per_step[k] = (i, r0, r1, R0, R1, on_veh, vs, _inv(H).astype(self.dtype, copy=False))
+            per_step[k] = (i, r0, r1, R0, R1, on_veh, vs, in_precision(_inv(H), self.dtype))
         dt = self.dtype
-        self.block = {"per_step": per_step, "a0": a0, "Lq": Lq.astype(dt, copy=False),
-                      "Lv": Lv.astype(dt, copy=False), "SaS": SaS.astype(dt, copy=False), "Cb": Cb}
+        self.block = {"per_step": per_step, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
+                      "SaS": in_precision(SaS, dt), "Cb": Cb}
 
 
 class _Run:
@@ -319,7 +319,9 @@ class _Run:
             g = G[r0:r1]
             gemm(1.0, qb.T, blk["Lq"][i, r0 - a:r1 - a].T, 1.0, g.T, 0, 0, 1)
             gemm(1.0, vb.T, blk["Lv"][i, r0 - a:r1 - a].T, 1.0, g.T, 0, 0, 1)
-            gemm(1.0, G[R0:R1].T, Hinv.T, 0.0, F[R0:R1].T, 0, 0, 1)
+            fr = F[R0:R1]
+            fr.fill(0.0)  # then beta = 1: OpenBLAS takes a slower path for beta = 0 at this size
+            gemm(1.0, G[R0:R1].T, Hinv.T, 1.0, fr.T, 0, 0, 1)
             gemm(-1.0, F[r0:r1].T, blk["SaS"][i, r0 - a:r1 - a].T, 1.0, db.T, 0, 1, 1)
             for j in on:
                 run_calls(self.calls_on[j])
