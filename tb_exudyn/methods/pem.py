@@ -243,9 +243,7 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             state["mean"] = result
             n_ch, n_t = result["mean"].shape
             state["var"] = np.zeros((n_types, n_ch, n_t))
-            state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None
-            if keep_psd:
-                state["psd"].fill(0.0)  # touched once, while the workers still compute
+            state["psd"] = np.zeros((n_ch, grid.f.size, n_t)) if keep_psd else None  # zero pages: touched once, below
             for message in result["warnings"]:
                 warnings.warn(str(message), stacklevel=4)
             return
@@ -257,8 +255,13 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         state["describe"] = json.loads(str(result["describe"]))
         if state["psd"] is not None:
             k = result["freq_index"]
+            whole = len({p.type_index for p in task.data.columns}) == n_types  # every type of its frequencies
             if k.size and np.array_equal(k, np.arange(k[0], k[0] + k.size)):
-                state["psd"][:, k[0]:k[0] + k.size, :] += result["psd"]  # into a view: no temporary
+                view = state["psd"][:, k[0]:k[0] + k.size, :]  # into a view: no temporary
+                if whole:
+                    view[...] = result["psd"]  # the only task of these frequencies: 0 + x, bitwise
+                else:
+                    view += result["psd"]
             else:
                 state["psd"][:, k, :] += result["psd"]
 
