@@ -153,6 +153,40 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from .methods import sweep
+
+    scenario = load_scenario(args.scenario)
+    if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
+        raise SettingError("command line", "speeds-kmh", args.speeds_kmh,
+                           "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
+    if args.speeds_kmh is not None:
+        speeds = sweep.parse_speeds(args.speeds_kmh)
+    else:
+        if not args.line_speed_kmh > 0:
+            raise SettingError("command line", "line-speed-kmh", args.line_speed_kmh, "a speed > 0 km/h")
+        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
+    out = check_writable(args.out)
+    options = None
+    if args.precision != "float64":
+        from .engines.batched import BatchedOptions
+
+        options = BatchedOptions(precision=args.precision)
+    print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
+    result = sweep.run_sweep(scenario, speeds, workers=args.workers, out=out, resume=args.resume,
+                             progress=not args.no_progress, n_freq=args.n_freq, options=options,
+                             channels=args.channels)
+    for row in result.rows():
+        parts = [f"{row['speed_kmh']:7g} km/h"] + [
+            f"{key} {row[f'{key}_max_abs_mean_plus_3sigma']:.4g}" for key, _, _ in result.quantities]
+        print("  ".join(parts))
+    print(f"(max |mean| + 3 sigma per key quantity; {len(speeds)} speeds in {result.provenance['seconds']:.1f} s, "
+          f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
+    print(f"table and figure in {out.resolve()} (speed_sweep.csv, speed_sweep.png); each speed's result in "
+          f"{out.resolve()}/<speed>/pem")
+    return EXIT_OK
+
+
 def _cmd_compare(args: argparse.Namespace) -> int:
     print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
     return EXIT_OK
@@ -214,6 +248,26 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
     p.set_defaults(func=_cmd_run)
+
+    p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
+    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
+                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300)")
+    p.add_argument("--line-speed-kmh", type=float, default=None, metavar="V",
+                   help="EN 1991-2 (6.4.6.2): speeds up to 1.2 x the maximum line speed V, from V/2 in "
+                        "--speed-step-kmh steps (instead of --speeds-kmh)")
+    p.add_argument("--speed-step-kmh", type=float, default=10.0, help="step of --line-speed-kmh (default 10)")
+    p.add_argument("--out", default="sweep", help="output folder (default: ./sweep)")
+    p.add_argument("--workers", type=_positive_int, default=None, help="worker processes (default: all cores)")
+    p.add_argument("--resume", action="store_true", help="reuse finished speeds (and tasks) in --out")
+    p.add_argument("--n-freq", type=_positive_int, default=None,
+                   help="PEM frequencies per speed (default: the scenario's n_freq)")
+    p.add_argument("--channels", nargs="+", default=None,
+                   help="channel patterns of the key quantities (default: deck and car body accelerations, wheel forces)")
+    p.add_argument("--precision", choices=("float64", "float32"), default="float64",
+                   help="float32: about 15 %% faster, sigma within 1e-5 of each channel's largest (docs/speed.md)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
     p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")
