@@ -35,6 +35,7 @@ import fnmatch
 import json
 import math
 import time as _time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
@@ -203,8 +204,13 @@ def _setup() -> None:
 def _work(_: Any, task: Task) -> dict[str, np.ndarray]:
     st: SpeedTask = task.data
     execution = Execution(workers=1, out=st.out, resume=st.resume, progress=False, slices=st.slices, where="run_sweep")
-    result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd)
-    return speed_summary(result)
+    with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
+        warnings.simplefilter("always")
+        result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd)
+    summary = speed_summary(result)
+    summary["warnings"] = np.array(list(dict.fromkeys(f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)"
+                                                      for w in caught)), dtype=str).reshape(-1)
+    return summary
 
 
 def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
@@ -314,6 +320,8 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         summaries[i] = result
+        for message in result.get("warnings", ()):
+            warnings.warn(str(message), stacklevel=4)
 
     stats = execution.run(tasks, setup=_setup, setup_args=(), work=_work, reduce=reduce, checkpoint=checkpoint,
                           desc=f"speed sweep ({engine})")

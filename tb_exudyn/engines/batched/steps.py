@@ -94,7 +94,10 @@ def step_block(coupling: Any, n0: int, n1: int, h: float, shapes: dict[Any, Call
             rs = fn(xs)
             n_m = rs.y.shape[1]
             r = np.zeros((t.size, x.shape[1], len(RAIL_SHAPE_ROWS), n_m))
-            r[on] = np.stack([getattr(rs, name) for name in RAIL_SHAPE_ROWS], axis=1)
+            flat = r.reshape(-1, len(RAIL_SHAPE_ROWS), n_m)
+            where = np.flatnonzero(on.reshape(-1))
+            for j, name in enumerate(RAIL_SHAPE_ROWS):
+                flat[where, j] = getattr(rs, name)
             rails[key] = r
     steady = np.all((w == 1.0) & (dw == 0.0), axis=1)
     zero = ~np.any((w != 0.0) | (dw != 0.0), axis=1)
