@@ -81,8 +81,14 @@ def main(argv: list[str] | None = None) -> int:
         vertical, lateral = (r[f"{ch}_max_abs_mean_plus_3sigma"] for ch in CHANNELS)
         print(f"{r['speed_kmh']:6g} km/h  band {r['f_min_hz']:.3g}-{r['f_max_hz']:.3g} Hz: vertical {vertical:.4g}, "
               f"lateral {lateral:.4g} m/s^2 (max |mean| + 3 sigma); {r['seconds']:.1f} s", flush=True)
-    print(f"{len(speeds)} speeds in {time.perf_counter() - t0:.1f} s; speed_sweep.csv and speed_sweep.png in "
-          f"{Path(args.out).resolve()}")
+    try:
+        from tb_exudyn.plotting import plot_speed_sweep, save_figure
+
+        save_figure(plot_speed_sweep(sweep), Path(args.out) / "speed_sweep.png")
+        figure = " and speed_sweep.png"
+    except ImportError:  # plotting is optional (matplotlib)
+        figure = ""
+    print(f"{len(speeds)} speeds in {time.perf_counter() - t0:.1f} s; speed_sweep.csv{figure} in {Path(args.out).resolve()}")
     return 0
 
 

@@ -182,8 +182,13 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         print("  ".join(parts))
     print(f"(max |mean| + 3 sigma per key quantity; {len(speeds)} speeds in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
-    print(f"table and figure in {out.resolve()} (speed_sweep.csv, speed_sweep.png); each speed's result in "
-          f"{out.resolve()}/<speed>/pem")
+    figure = ""
+    if not args.no_figures:
+        from .plotting import plot_speed_sweep, save_figure
+
+        save_figure(plot_speed_sweep(result), out / "speed_sweep.png")
+        figure = " and speed_sweep.png"
+    print(f"speed_sweep.csv{figure} in {out.resolve()}; each speed's result in {out.resolve()}/<speed>/pem")
     return EXIT_OK
 
 
@@ -267,6 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--precision", choices=("float64", "float32"), default="float64",
                    help="float32: about 15 %% faster, sigma within 1e-5 of each channel's largest (docs/speed.md)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-figures", action="store_true", help="no figure")
     p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")

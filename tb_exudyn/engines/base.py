@@ -30,6 +30,7 @@ from ..results.storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
 from ..system.conventions import scenario_steps
 from ..system.linear import LINEARIZATIONS
+from .alpha import GeneralizedAlpha
 from .exudyn_runs import run_model
 
 
@@ -153,8 +154,6 @@ def on_linear_system(cls: type, lin: Any, steps: Any, spectral_radius: float, ou
     :class:`~tb_exudyn.system.conventions.RunSteps`, ``outputs`` the channels to integrate. It can
     ``integrate`` column sources (not ``mean``, which needs the model); for tests of the engines on
     small systems and couplings the builder does not make."""
-    from .alpha import GeneralizedAlpha
-
     engine = cls.__new__(cls)
     engine.scenario, engine.model, engine.wheel_forces = None, None, False
     engine.options, engine.lin, engine.steps, engine.outputs = options, lin, steps, outputs

@@ -19,7 +19,8 @@ output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`
 ``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
 sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
 
-The table (:func:`sweep_rows`, ``speed_sweep.csv``): one row per speed with, per key quantity, the
+The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output folder; the figure is
+:func:`tb_exudyn.plotting.plot_speed_sweep`): one row per speed with, per key quantity, the
 largest |mean|, sigma and |mean| + 3 sigma over its channels and time, and the channel; the code
 checks' estimates and exceedance probabilities enter through :func:`check_columns` (the hook for
 ``RandomResponse.checks()``, issue 16). :func:`resonance_speeds` gives v = f_n d / i for the
@@ -42,12 +43,16 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..builder.model import channel_list
 from ..engines import check_engine
 from ..errors import SettingError
 from ..execution import Execution, Task
+from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.model import KMH
+from ..structure import modal_bridge
+from ..system.modes import DIRECTIONS, nth_frequency
 from .common import fingerprint_identity
 from .pem import default_slices, prepare_sweep
 from . import pem
@@ -113,8 +118,6 @@ def speed_label(speed_kmh: float) -> str:
 def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None) -> tuple[tuple[str, str, str], ...]:
     """The key quantities (name, pattern, description) that match channels of the scenario's model
     (``channels``: patterns instead of :data:`KEY_QUANTITIES`, each its own quantity)."""
-    from ..builder.model import channel_list
-
     names = [n for n, _ in channel_list(scenario)]
     known = {q[1]: q for q in KEY_QUANTITIES}  # a given pattern that is a key quantity keeps its name
     items = KEY_QUANTITIES if channels is None else tuple(known.get(p, (p, p, p)) for p in channels)
@@ -168,9 +171,6 @@ def train_distances(scenario: Scenario) -> dict[str, float]:
 def resonance_speeds(scenario: Scenario, orders: Sequence[int] = (1, 2, 3)) -> list[Resonance]:
     """v = f_n d / i for the first vertical, lateral and torsion modes of the bridge alone (its FE
     modes up to analysis.mode_max_frequency), d the car length and the bogie spacing, i in ``orders``."""
-    from ..structure import modal_bridge
-    from ..system.modes import DIRECTIONS, nth_frequency
-
     an = scenario.analysis
     mb = modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
     out = []
@@ -333,21 +333,9 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     return result
 
 
-def write_sweep(result: SweepResult, folder: str | Path, figure: bool = True) -> list[Path]:
-    """``speed_sweep.csv`` (the table) and, with matplotlib, ``speed_sweep.png`` (the figure) in
-    ``folder``."""
-    from ..results.export import write_table_csv
-
-    folder = Path(folder)
-    paths = [write_table_csv(result.rows(), folder / "speed_sweep.csv")]
-    if figure:
-        try:
-            from ..plotting import save_figure
-            from ..plotting.figures import plot_speed_sweep
-        except ImportError:  # plotting is optional (matplotlib)
-            return paths
-        paths.append(save_figure(plot_speed_sweep(result), folder / "speed_sweep.png"))
-    return paths
+def write_sweep(result: SweepResult, folder: str | Path) -> Path:
+    """The table as ``folder/speed_sweep.csv`` (the figure: :func:`tb_exudyn.plotting.plot_speed_sweep`)."""
+    return write_table_csv(result.rows(), Path(folder) / "speed_sweep.csv")
 
 
 __all__ = ["EN1991_SPEED_FACTOR", "KEY_QUANTITIES", "Resonance", "SpeedTask", "SweepResult", "check_columns",

@@ -7,10 +7,11 @@ shows (no matplotlib), and each ``plot_*`` function takes a result and returns a
 """
 
 from .data import KEY_CHANNELS, Crossing, crossing_times, psd_slices, select_channels
-from .figures import mark_crossing, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history
+from .figures import (mark_crossing, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_speed_sweep,
+                      plot_time_history)
 from .files import plot_folder, save_figure
 
 __all__ = [
     "Crossing", "KEY_CHANNELS", "crossing_times", "mark_crossing", "plot_bounds", "plot_folder", "plot_pem_vs_mc",
-    "plot_psd_map", "plot_psd_slices", "plot_time_history", "psd_slices", "save_figure", "select_channels",
+    "plot_psd_map", "plot_psd_slices", "plot_speed_sweep", "plot_time_history", "psd_slices", "save_figure", "select_channels",
 ]

@@ -23,6 +23,7 @@ from ...errors import CapabilityError
 from ...results.storage import json_default
 from ...system.columns import static_load_columns
 from ...system.components import find_components
+from .loop import integrate
 
 
 class _MeanRecorder:
@@ -42,8 +43,6 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
     """The mean of ``engine``'s scenario from its linear model (see the module docstring): the
     selected channels' values, their names and units, the time, the vertical wheel forces (all of
     them, when the engine outputs them), the provenance (JSON) and the scenario's warnings."""
-    from . import integrate  # the engine's integration (this module is imported by it lazily)
-
     start = _time.perf_counter()
     model = engine.model
     model.set_excitation(None)
