@@ -123,7 +123,9 @@ class Engine(ABC):
 
     def mean(self) -> dict[str, np.ndarray]:
         """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the
-        engine's model, as plain arrays (checkpointable): the selected channels' values, their names
+        engine's model (a linear engine may give its own linear model's instead, with "mean_engine"
+        in its provenance: the batched engine's default, :mod:`.batched.mean`), as plain arrays
+        (checkpointable): the selected channels' values, their names
         and units, the time, the vertical wheel forces of the run (all of them, selected or not),
         the run's provenance (JSON) and the scenario's warnings."""
         start = _time.perf_counter()
