@@ -136,6 +136,8 @@ def run_study_pem(sc: Scenario, out: Path | None, workers: int, engine: str | No
     kwargs = {"engine": engine} if engine is not None and has_engine_option() else {}
     if "psd_channels" in inspect.signature(run_pem).parameters:
         kwargs["psd_channels"] = "all"  # the scenario's channels are already those of the figures
+    if out is not None and not resume and "overwrite" in inspect.signature(run_pem).parameters:
+        kwargs["overwrite"] = True  # a second run of the script replaces its own earlier result
     if executor is not None or workers <= 1:
         return run_pem(sc, workers=1 if executor is None else None, executor=executor, out=out, resume=resume,
                        progress=progress, keep_psd=keep_psd, **kwargs)

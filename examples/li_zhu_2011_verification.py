@@ -81,16 +81,18 @@ def main(argv: list[str] | None = None) -> int:
     # one pool for the three sweeps: worker processes start (and import Exudyn) once
     spawn = multiprocessing.get_context("spawn")
     with single_threaded_blas(), ProcessPoolExecutor(args.workers, mp_context=spawn) as pool:
-        pem = run_pem(sc, executor=pool, out=out, progress=not args.quick)
+        # overwrite=True: a second run of the script replaces its own earlier results
+        pem = run_pem(sc, executor=pool, out=out, progress=not args.quick, overwrite=True)
         t_pem = time.perf_counter() - t0
-        mc_small = run_monte_carlo(sc, n_samples=n_small, executor=pool, out=out, progress=not args.quick, engine="exudyn")
+        mc_small = run_monte_carlo(sc, n_samples=n_small, executor=pool, out=out, progress=not args.quick, engine="exudyn",
+                                   overwrite=True, keep_checkpoint=True)  # its samples reused below
         mc_small.save(out / f"mc{n_small}")
         mc_large = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, resume=True,
                                    progress=not args.quick, engine="exudyn")  # reuses the first n_small samples
         t_all = time.perf_counter() - t0
         # the same n_large samples on the linear model (batched engine): PEM's model, in seconds
         mc_linear = run_monte_carlo(sc, n_samples=n_large, executor=pool, out=out, progress=not args.quick,
-                                    engine="batched")
+                                    engine="batched", overwrite=True)
         t_linear = time.perf_counter() - t0 - t_all
     tables = [compare(pem, mc, CHANNELS).table() for mc in (mc_small, mc_large, mc_linear)]
     header = (f"{sc.name}: {sc.description}\nPEM {pem.provenance['n_frequencies_in_band']} frequencies x "

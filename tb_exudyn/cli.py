@@ -177,7 +177,7 @@ def _figures():  # noqa: ANN202
     """plot_folder and write_report (matplotlib): imported when a command draws."""
     from . import report
 
-    return report.plot_folder, report.write_report
+    return report.plot_folder, report.write_report, report.save_figure
 
 
 def _folder_lock(folder):  # noqa: ANN001, ANN202
@@ -225,7 +225,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         write_text_atomic(table, _summary_table(result) + "\n")
         print(_short_summary(result, table))
     if not args.no_figures:
-        plot_folder, write_report = _figures()
+        plot_folder, write_report, _ = _figures()
         found = find_results(out)
         figures = plot_folder(out, found=found, progress=not args.no_progress)
         report = write_report(out, found=found)
@@ -249,13 +249,54 @@ def _cmd_export(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    methods = _methods()
+    sweep = methods.sweep
+    scenario = load_scenario(args.scenario)
+    if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
+        raise SettingError("command line", "--speeds-kmh", args.speeds_kmh,
+                           "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
+    if args.speeds_kmh is not None:
+        speeds = sweep.parse_speeds(args.speeds_kmh)
+    else:
+        if not args.line_speed_kmh > 0:
+            raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed > 0 km/h")
+        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
+    out = check_writable(args.out)
+    options = None
+    if args.precision != "float64":
+        options = methods.BatchedOptions(precision=args.precision)
+    print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
+    with _folder_lock(out):
+        return _sweep(args, methods, scenario, speeds, out, options)
+
+
+def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, options) -> int:  # noqa: ANN001
+    result = methods.sweep.run_sweep(scenario, speeds, workers=args.workers, out=out, resume=args.resume,
+                                     progress=not args.no_progress, n_freq=args.n_freq, options=options,
+                                     channels=args.channels, overwrite=args.overwrite,
+                                     keep_checkpoint=args.keep_checkpoint)
+    for row in result.rows():
+        parts = [f"{row['speed_kmh']:7g} km/h"] + [
+            f"{key} {row[f'{key}_max_abs_mean_plus_3sigma']:.4g}" for key, _, _ in result.quantities]
+        print("  ".join(parts))
+    print(f"(max |mean| + 3 sigma per key quantity; {len(speeds)} speeds in {result.provenance['seconds']:.1f} s, "
+          f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
+    figure = ""
+    if not args.no_figures:
+        _figures()[2](result.plot(), out / "speed_sweep.png")
+        figure = " and speed_sweep.png"
+    print(f"speed_sweep.csv{figure} in {out.resolve()}; each speed's result in {out.resolve()}/<speed>/pem")
+    return EXIT_OK
+
+
 def _cmd_compare(args: argparse.Namespace) -> int:
     print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
     return EXIT_OK
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    plot_folder, _ = _figures()
+    plot_folder, _, _ = _figures()
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
         paths = plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
@@ -265,7 +306,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    _, write_report = _figures()
+    _, write_report, _ = _figures()
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
         print(write_report(args.folder, args.html, found=found))
@@ -355,6 +396,32 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
     p.set_defaults(func=_cmd_run)
 
+    p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
+    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
+                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300)")
+    p.add_argument("--line-speed-kmh", type=float, default=None, metavar="V",
+                   help="EN 1991-2 (6.4.6.2): speeds up to 1.2 x the maximum line speed V, from V/2 in "
+                        "--speed-step-kmh steps (instead of --speeds-kmh)")
+    p.add_argument("--speed-step-kmh", type=float, default=10.0, help="step of --line-speed-kmh (default 10)")
+    p.add_argument("--out", default="sweep", help="output folder (default: ./sweep)")
+    p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
+    p.add_argument("--resume", action="store_true", help="reuse finished speeds (and tasks) in --out")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an earlier sweep's table, checkpoint and speeds in --out (without it or --resume such "
+                        "a folder is refused)")
+    p.add_argument("--keep-checkpoint", dest="keep_checkpoint", action="store_true",
+                   help="keep --out/checkpoint-sweep after the table is written")
+    p.add_argument("--n-freq", dest="n_freq", default=None,
+                   help="PEM frequencies per speed (default: the scenario's n_freq)")
+    p.add_argument("--channels", nargs="+", default=None,
+                   help="channel patterns of the key quantities (default: deck and car body accelerations, wheel forces)")
+    p.add_argument("--precision", choices=("float64", "float32"), default="float64",
+                   help="float32: about 15 %% faster, sigma within 1e-5 of each channel's largest (docs/speed.md)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.set_defaults(func=_cmd_sweep)
+
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
     p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")
     p.add_argument("mc_dir", help="a Monte Carlo result folder (or an --out folder holding mc/)")
@@ -408,6 +475,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     for attr, option in PATH_OPTIONS.items():
         if getattr(args, attr, None) is not None and not str(getattr(args, attr)).strip():
             raise SettingError("command line", option, getattr(args, attr), "a file or folder path", "empty")
+    if args.command == "sweep":
+        args.workers = _int_option(args.workers, "--workers", 1)
+        args.n_freq = _int_option(args.n_freq, "--n-freq", 1)
     if args.command != "run":
         return args
     # the ranges of the scenario keys these options override (the schema's checks)

@@ -27,10 +27,12 @@ import numpy as np
 from ..builder import build_model
 from ..scenario.model import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
+from ..results.derived_values import derived_values
 from ..results.storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
 from ..system.conventions import scenario_steps
 from ..system.linear import LINEARIZATIONS
+from .alpha import GeneralizedAlpha
 from .exudyn_runs import run_model
 
 
@@ -127,6 +129,34 @@ class Engine(ABC):
         values = evaluate(self.output_channels, recording, self.model.output_shapes)
         return np.stack([values[n] for n in self.outputs.names])
 
+    def linear_mean_arrays(self, outputs: np.ndarray, provenance: dict[str, Any], start: float) -> dict[str, np.ndarray]:
+        """The arrays of :meth:`mean` from a linear engine's own mean run: ``outputs`` every engine
+        output (``outputs.names`` order, (n_outputs, n_t)); the selected channels, then the derived
+        channels evaluated on them as on Exudyn's run (:func:`~tb_exudyn.results.derived_values.derived_values`),
+        the vertical wheel forces (in the model's channel order, as :meth:`mean` gives them); cached
+        as :meth:`mean`'s."""
+        model, om = self.model, self.outputs
+        n_sel = self.n_selected
+        names = list(om.names[:n_sel])
+        units = list(om.units[:n_sel])
+        rows = [outputs[:n_sel]]
+        if model.derived:
+            derived = derived_values(model.derived, dict(zip(om.names, outputs)), self.fs)
+            rows.append(np.stack([derived[d.name] for d in model.derived]))
+            names += [d.name for d in model.derived]
+            units += [d.unit for d in model.derived]
+        forces = ([om.names.index(c.name) for c in model.channels if c.name.endswith(".force_z")]
+                  if self.wheel_forces else [])
+        self._mean = {
+            "force_mean": outputs[forces] if forces else np.zeros((0, outputs.shape[1])), "outputs": outputs,
+            "mean": np.concatenate(rows), "time": self.steps.output_times,
+            "names": np.array(names, dtype=str), "units": np.array(units, dtype=str),
+            "provenance": np.array(json.dumps(provenance, default=json_default)),
+            "warnings": np.array(model.warnings, dtype=str).reshape(-1),
+            "seconds": np.array(_time.perf_counter() - start),
+        }
+        return self._mean
+
     # ------------------------------------------------------------------ the work
     @abstractmethod
     def integrate(self, source: Any, reducer: Any) -> dict[str, np.ndarray]:
@@ -139,12 +169,14 @@ class Engine(ABC):
 
     def mean(self) -> dict[str, np.ndarray]:
         """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the
-        engine's model, as plain arrays (checkpointable): the selected and derived channels' values
-        ("mean"), their names and units, the time, every engine output of the run ("outputs", in
-        ``outputs.names`` order: what the reducers need to form derived channels about the mean), the
-        vertical wheel forces of the run (all of them, selected or not), the run's provenance (JSON)
-        and the scenario's warnings. Run once per engine: later calls return the same arrays (a
-        linear Monte Carlo worker needs the mean for its samples' extremes and ratios)."""
+        engine's model (a linear engine may give its own linear model's instead, with "mean_engine"
+        in its provenance: the batched engine's default, :mod:`.batched.mean`), as plain arrays
+        (checkpointable): the selected and derived channels' values ("mean"), their names and units,
+        the time, every engine output of the run ("outputs", in ``outputs.names`` order: what the
+        reducers need to form derived channels about the mean), the vertical wheel forces of the run
+        (all of them, selected or not), the run's provenance (JSON) and the scenario's warnings. Run
+        once per engine: later calls return the same arrays (a linear Monte Carlo worker needs the
+        mean for its samples' extremes and ratios)."""
         if self._mean is not None:
             return self._mean
         start = _time.perf_counter()
@@ -171,4 +203,21 @@ class Engine(ABC):
         return self._mean
 
 
-__all__ = ["Engine"]
+def on_linear_system(cls: type, lin: Any, steps: Any, spectral_radius: float, outputs: OutputMap,
+                     options: Any = None) -> Any:
+    """An instance of the linear engine class ``cls`` on a linear system built by hand (no scenario,
+    no Exudyn model): ``lin`` a :class:`~tb_exudyn.system.linear.LinearSystem`, ``steps`` its
+    :class:`~tb_exudyn.system.conventions.RunSteps`, ``outputs`` the channels to integrate. It can
+    ``integrate`` column sources (not ``mean``, which needs the model); for tests of the engines on
+    small systems and couplings the builder does not make."""
+    engine = cls.__new__(cls)
+    engine.scenario, engine.model, engine.wheel_forces = None, None, False
+    engine.options, engine.lin, engine.steps, engine.outputs = options, lin, steps, outputs
+    engine.n_steps, engine.ratio = steps.n_steps, steps.ratio
+    engine.alpha = GeneralizedAlpha(float(spectral_radius), steps.h)
+    engine.output_time = steps.output_times
+    engine.output_channels = []
+    return engine
+
+
+__all__ = ["Engine", "on_linear_system"]

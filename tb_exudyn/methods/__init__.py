@@ -23,6 +23,7 @@ from typing import Any, Callable
 from ..builder import build_model
 from ..builder.system_modes import damping_guard, system_modes
 from ..engines import engine_class
+from ..engines.batched import BatchedOptions
 from ..engines.exudyn_runs import SolverSettings
 from ..errors import CapabilityError, SettingError
 from ..execution import Execution, RunFiles
@@ -31,7 +32,7 @@ from ..results.random_response import RandomResponse
 from ..results.time_history import TimeHistory
 from ..scenario import Scenario
 from ..system.linear import LINEARIZATIONS
-from . import monte_carlo, pem
+from . import monte_carlo, pem, sweep
 from .deterministic import run_deterministic, summarize
 from .monte_carlo import LossOfContactWarning
 
@@ -214,5 +215,5 @@ def run_monte_carlo(
                            discretisation=discretisation, options=options, where=where)  # type: ignore[arg-type]
 
 
-__all__ = ["DEFAULT_ENGINE", "build_model", "damping_guard", "system_modes", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
+__all__ = ["DEFAULT_ENGINE", "BatchedOptions", "sweep", "build_model", "damping_guard", "system_modes", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
            "run_monte_carlo", "run_pem", "simulate", "summarize"]

@@ -142,10 +142,11 @@ def mean_of(mean: Mapping[str, np.ndarray]) -> np.ndarray:
 def merge_provenance(mean: Mapping[str, np.ndarray], engine: Mapping[str, Any], extra: Mapping[str, Any]
                      ) -> dict[str, Any]:
     """A result's provenance: the mean run's, the engine's description, the method's ``extra``."""
+    own = json.loads(str(mean["provenance"]))
     return {
-        **json.loads(str(mean["provenance"])),
+        **own,
         **engine,
-        "mean_engine": "exudyn",
+        "mean_engine": own.get("mean_engine", "exudyn"),
         "mean_seconds": float(mean["seconds"]),
         **extra,
     }

@@ -371,9 +371,8 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
             state["sums"] = {k: np.zeros(shape) for k, shape in (
                 ("dvar", (n_t, n_ch)), ("dcov", (n_t, n_ch)), ("lam", (n_t, 2, n_ch)),
                 ("sperling_power", (n_t, len(plan.sperling))))}
+            # zero pages: touched once, below
             state["psd"] = np.zeros((len(rows_kept), grid.f.size, n_t), dtype=PSD_STORAGE) if keep_psd else None
-            if keep_psd:
-                state["psd"].fill(0.0)  # touched once, while the workers still compute
             for message in result["warnings"]:
                 warnings.warn(str(message), stacklevel=4)
             return
@@ -392,8 +391,13 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         state["describe"] = json.loads(str(result["describe"]))
         if state["psd"] is not None:
             k, part = result["freq_index"], result["psd"]  # the kept rows (finish_pem_task)
+            whole = len({p.type_index for p in task.data.columns}) == n_types  # every type of its frequencies
             if k.size and np.array_equal(k, np.arange(k[0], k[0] + k.size)):
-                state["psd"][:, k[0]:k[0] + k.size, :] += part  # into a view: no temporary
+                view = state["psd"][:, k[0]:k[0] + k.size, :]  # into a view: no temporary
+                if whole:
+                    view[...] = part  # the only task of these frequencies: 0 + x, bitwise
+                else:
+                    view += part
             else:
                 state["psd"][:, k, :] += part
 

@@ -33,7 +33,7 @@ from typing import Any, Iterable, Sequence
 from .._version import __version__
 from ..atomic import write_text_atomic
 from ..plotting import data as pdata
-from ..plotting.files import draw_jobs, figure_jobs, plot_folder
+from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
 from ..results.checks import checks as run_checks
@@ -185,5 +185,5 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
            "SummaryRow", "as_check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
-           "load_study", "plot_folder", "render_report", "report_pictures", "scenario_sections", "screening",
+           "load_study", "plot_folder", "render_report", "report_pictures", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "write_report"]

@@ -13,11 +13,11 @@ Every engine integrates columns of one source at once (the batched and dense eng
   real samples per complex column (sample 2j the real part, 2j + 1 the imaginary part).
 
 :meth:`contact_inputs` of both is the reference evaluation of the inputs at the contacts of a
-coupling (r and r' per contact row and column), :meth:`linear_inputs` that of the input forces
-f_in of its general linear rows (e.g. creep: alignment and cross-level as rail motion), the same
-physics as
-:func:`~.excitation.rail_inputs` for one real run; the batched engine's fast per-step forms are
-tested against them.
+coupling (r and r' per contact row and column), :meth:`rail_values` that of the tapered rail inputs
+and slopes at the axles, from which :func:`linear_row_inputs` forms the input forces f_in of the
+general linear rows (e.g. creep: alignment and cross-level as rail motion) and :func:`row_inputs`
+those of every row; the same physics as :func:`~.excitation.rail_inputs` for one real run; the
+batched engine's fast per-step forms are tested against them.
 """
 
 from __future__ import annotations
@@ -83,36 +83,33 @@ class HarmonicColumns:
         return tuple(HarmonicExcitation(kind=kind, spatial_frequency=float(self.omega[j]), amplitude=amplitude,  # type: ignore[return-value]
                                         part=part, cross_level_unit=self.units[j]) for part in ("real", "imag"))
 
-    def _taper_phase(self, coupling: Any, t: float) -> tuple[FloatArray, FloatArray, ComplexArray]:
-        """Taper w, its slope w' (n_axles,) and exp(i phase) (n_axles, m) at the axles at time t."""
+    def rail_values(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
+        """The tapered rail inputs and their slopes d/dx (3 kinds, n_axles, m) at the axles at time t
+        (the complex form of :func:`~.excitation.rail_inputs`): column j's kind carries
+        s w(x) exp(i phase) and s (w' + i Omega w) exp(i phase), the other kinds zero."""
         x = coupling.positions(t)
         x_ref = float(coupling.axle_start[0])
         w, dw = taper(x, x_ref, coupling.taper_length)
-        return w, dw, np.exp(1j * harmonic_phase(self.omega, x, x_ref))
+        phase = self.scale[None, :] * np.exp(1j * harmonic_phase(self.omega, x, x_ref))  # (n_axles, m)
+        value = np.zeros((len(KINDS), x.size, self.width), dtype=complex)
+        slope = np.zeros_like(value)
+        cols = np.arange(self.width)
+        value[self.kinds, :, cols] = (w[:, None] * phase).T
+        slope[self.kinds, :, cols] = ((dw[:, None] + 1j * self.omega[None, :] * w[:, None]) * phase).T
+        return value, slope
 
     def contact_inputs(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
         """Complex inputs r, r' (n_c, m) at the contacts at time t: r_c = W[c, kind] s w(x_c)
         exp(i phase), r'_c = v W s (w' + i Omega w) exp(i phase) at the position x_c of contact c's axle."""
-        w, dw, phase = self._taper_phase(coupling, t)
+        x = coupling.positions(t)
+        x_ref = float(coupling.axle_start[0])
+        w, dw = taper(x, x_ref, coupling.taper_length)
         a = coupling.contacts.axle
         W = coupling.contacts.input_map[:, self.kinds] * self.scale[None, :]
-        r = W * w[a, None] * phase[a]
-        r_dot = coupling.speed * W * (dw[a, None] + 1j * self.omega[None, :] * w[a, None]) * phase[a]
+        phase = np.exp(1j * harmonic_phase(self.omega, x[a], x_ref))
+        r = W * w[a, None] * phase
+        r_dot = coupling.speed * W * (dw[a, None] + 1j * self.omega[None, :] * w[a, None]) * phase
         return r, r_dot
-
-    def linear_inputs(self, coupling: Any, t: float) -> ComplexArray:
-        """Complex input forces f_in (n_g, m) of the coupling's general linear rows at time t:
-        W^v[g, kind] s w exp(i phase) + W^s[g, kind] s (w' + i Omega w) exp(i phase) at row g's
-        axle: the column form of the coupling's ``W^v . val + W^s . slope`` (no rows without
-        general rows)."""
-        lin = coupling.contacts.linear
-        if lin is None:
-            return np.zeros((0, self.width), dtype=complex)
-        w, dw, phase = self._taper_phase(coupling, t)
-        a = lin.axle
-        Wv = lin.input_value[:, self.kinds] * self.scale[None, :]
-        Ws = lin.input_slope[:, self.kinds] * self.scale[None, :]
-        return (Wv * w[a, None] + Ws * (dw[a, None] + 1j * self.omega[None, :] * w[a, None])) * phase[a]
 
 
 # ======================================================================================= profiles
@@ -258,18 +255,25 @@ class ProfileColumns:
         return ProfileExcitation(**{k: spline.row(i) for i, k in enumerate(kinds)},  # type: ignore[arg-type]
                                  cross_level_unit=self.cross_level_unit)
 
-    def _tapered(self, coupling: Any, t: float) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-        """Taper w, w' (n_axles,) and the profiles' values and slopes (n_axles, kinds, 2 width) at
-        the axles at time t."""
+    def rail_values(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
+        """The tapered rail inputs w p and their slopes w' p + w p' (3 kinds, n_axles, width) at the
+        axles at time t, samples 2j + i (2j + 1) (the complex form of :func:`~.excitation.rail_inputs`)."""
         x = coupling.positions(t)
         w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)
-        value, slope = self.at(x)
-        return w, dw, value, slope
+        v, s = self.at(x)  # (n_axles, kinds, 2 width)
+        value = np.zeros((len(KINDS), x.size, 2 * self.width))
+        slope = np.zeros_like(value)
+        for j, k in enumerate(self.kind_index):
+            value[k] = self.kind_scale[j] * w[:, None] * v[:, j]
+            slope[k] = self.kind_scale[j] * (dw[:, None] * v[:, j] + w[:, None] * s[:, j])
+        return value.view(np.complex128), slope.view(np.complex128)
 
     def contact_inputs(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
         """Complex inputs r, r' (n_c, width) at the contacts at time t (samples 2j + i (2j + 1)):
         r = W w p, r' = v W (w' p + w p') with p, p' the profiles at the contact's axle."""
-        w, dw, value, slope = self._tapered(coupling, t)
+        x = coupling.positions(t)
+        w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)
+        value, slope = self.at(x)  # (n_axles, kinds, 2 width)
         W = coupling.contacts.input_map[:, self.kind_index] * self.kind_scale[None, :]
         a = coupling.contacts.axle
         p = np.einsum("ck,ckm->cm", W, value[a])
@@ -278,21 +282,97 @@ class ProfileColumns:
         r_dot = coupling.speed * (dw[a, None] * p + w[a, None] * dp)
         return r.view(np.complex128), r_dot.view(np.complex128)
 
-    def linear_inputs(self, coupling: Any, t: float) -> ComplexArray:
-        """Complex input forces f_in (n_g, width) of the coupling's general linear rows at time t:
-        W^v . (w p) + W^s . (w p' + w' p) at row g's axle (no rows without general rows)."""
-        lin = coupling.contacts.linear
-        if lin is None:
-            return np.zeros((0, self.width), dtype=complex)
-        w, dw, value, slope = self._tapered(coupling, t)
-        a = lin.axle
-        Wv = lin.input_value[:, self.kind_index] * self.kind_scale[None, :]
-        Ws = lin.input_slope[:, self.kind_index] * self.kind_scale[None, :]
-        p = np.einsum("gk,gkm->gm", Wv, value[a])
-        dp = np.einsum("gk,gkm->gm", Ws, slope[a])
-        ps = np.einsum("gk,gkm->gm", Ws, value[a])
-        f = w[a, None] * (p + dp) + dw[a, None] * ps
-        return f.view(np.complex128)
+
+# =================================================================================== static load
+@dataclass(frozen=True)
+class StaticLoadColumns:
+    """The gravity load as one column of the linear model: the linear engines' mean.
+
+    With u_s the static equilibrium of the train standing on the approach at t = 0 under the dead
+    loads (the initial state of Exudyn's deterministic run) and u = u_s + delta, the linear model
+    (:class:`~.coupling.RowMaps`: row forces f = F^k u + F^d u', Q = -P^T f) becomes, for the
+    deviation delta from rest,
+
+        M delta'' + D0 delta' + K0 delta = F_c - P(t)^T (F^k delta + F^d delta' + f_s),
+        f_s = F^k(t) u_s,   F_c = P(0)^T f_s
+
+    where F_c, the rows' static reaction at t = 0, balances the dead loads there (the static
+    equilibrium; about linearization "static" K0 is the tangent there, so the deviation form holds
+    for both points). So it is a column whose rows' input is the static row force f_s and which
+    carries the constant generalised force F_c. The rows' forces come out whole (f_s included); the
+    displacements are u_s + delta. ``f_s`` is constant because the bridge is unloaded in u_s (no
+    rail shape of u_s enters); sources with moving point loads are not modelled
+    (:func:`static_load_columns` refuses them).
+
+    Attributes
+    ----------
+    static : (n,) u_s [m, rad]
+    row_force : (n_rows,) f_s, penalty rows then general rows [N]
+    force : (n,) F_c [N]
+    """
+
+    static: FloatArray
+    row_force: FloatArray
+    force: FloatArray
+
+    @property
+    def width(self) -> int:
+        return 1
+
+    def columns_for(self, kinds: Sequence[int]) -> IntArray:
+        """The one column, for every component (the gravity load reaches what the rows reach)."""
+        return np.zeros(1, dtype=np.int64)
+
+    def constant_force(self, coords: IntArray) -> ComplexArray:
+        """F_c at the global coordinates ``coords``, (len(coords), 1) complex."""
+        return self.force[coords].astype(complex)[:, None]
+
+    def rail_values(self, coupling: Any, t: float) -> tuple[ComplexArray, ComplexArray]:
+        """No rail input (the row input is f_s itself)."""
+        zero = np.zeros((len(KINDS), coupling.axle_start.size, 1), dtype=complex)
+        return zero, zero
 
 
-__all__ = ["HarmonicColumns", "ProfileColumns", "SplineProfile", "hermite_cubic", "spline_slopes"]
+def static_load_columns(lin: Any, static: FloatArray) -> StaticLoadColumns:
+    """The gravity-load column of the linear system ``lin`` (:class:`~.linear.LinearSystem`) from the
+    static state u_s of the built model (global ODE2 vector, gravity on, the train at its t = 0
+    positions, every axle on the approach). Raises ValueError for a bridge loaded in u_s, an axle on
+    the bridge at t = 0 or moving point loads (the column assumes f_s constant and F_c on the wheels)."""
+    cp = lin.coupling
+    ub, uw = static[lin.bridge], static[lin.wheel]
+    if np.any(ub != 0.0) or (cp.load_axle.size and np.any(cp.load_force != 0.0)) or cp.contact_state(0.0).on_bridge:
+        raise ValueError("the linear mean needs an unloaded bridge in the static state, every axle on the approach "
+                         "at t = 0 and no moving point loads")
+    rm = cp.row_maps()
+    f_s = -(rm.stiff_wheel @ uw)
+    F_c = np.zeros_like(np.asarray(static, dtype=float))
+    F_c[lin.wheel] = -(rm.app_wheel.T @ f_s)  # P(0)^T f_s: the rails are rigid at t = 0
+    return StaticLoadColumns(static=np.asarray(static, dtype=float), row_force=f_s, force=F_c)
+
+
+def linear_row_inputs(source: Any, coupling: Any, t: float) -> ComplexArray:
+    """Complex input forces f_in (n_g, m) of the coupling's general linear rows for the columns of
+    ``source`` at time t: W^v . val + W^s . slope of ``source.rail_values`` at row g's axle (the
+    column form of the coupling's real input forces; (0, m) without general rows)."""
+    lin = coupling.contacts.linear
+    if lin is None:
+        return np.zeros((0, source.width), dtype=complex)
+    value, slope = source.rail_values(coupling, t)
+    a = lin.axle
+    return np.einsum("gk,kgm->gm", lin.input_value, value[:, a]) + np.einsum("gk,kgm->gm", lin.input_slope, slope[:, a])
+
+
+def row_inputs(source: Any, maps: Any, coupling: Any, t: float) -> ComplexArray:
+    """The input forces f_in (n_rows, m) of every contact row (:class:`~.coupling.RowMaps`: penalty
+    rows' k r + c r', general rows' W^v . val + W^s . slope) for the columns of ``source`` at time t:
+    the reference evaluation the linear engines' per-step forms are tested against."""
+    if isinstance(source, StaticLoadColumns):
+        return source.row_force.astype(complex)[:, None]
+    value, slope = source.rail_values(coupling, t)
+    a = maps.axle
+    return (np.einsum("rk,krm->rm", maps.input_value, value[:, a]) + np.einsum("rk,krm->rm", maps.input_slope, slope[:, a]))
+
+
+__all__ = ["HarmonicColumns", "ProfileColumns", "SplineProfile", "StaticLoadColumns", "hermite_cubic", "linear_row_inputs",
+           "row_inputs",
+           "spline_slopes", "static_load_columns"]

@@ -13,12 +13,14 @@ than 1e-12 relative).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Iterator
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
 
+from .coupling import RAIL_SHAPE_ROWS
 from .excitation import KINDS
 from .linear import LinearSystem
 
@@ -51,7 +53,9 @@ class Component:
     n_bridge : number of bridge modes (local 0 .. n_bridge-1)
     modes : (n_bridge,) their indices among the bridge's modes
     vehicles : the vehicle parts (local coordinate ranges and contact rows)
-    rows : (n_rows,) the contact rows (layout indices) acting on the component, in layout order
+    rows : (n_rows,) the contact rows acting on the component (indices into the coupling's rows:
+        penalty rows, then general rows, :class:`~.coupling.RowMaps`), grouped by vehicle in the
+        vehicles' order, in layout order within a vehicle
     kinds : indices into ``KINDS`` of the irregularity kinds that excite the component
     """
 
@@ -67,39 +71,54 @@ class Component:
         return int(self.coords.size)
 
 
-def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Nonzero pattern of the coupling's Jacobians (n_loc, n_loc) over the given times (penalty
-    rows and general linear rows), and of the penalty rows' gap maps B (n_c, n_loc).
+def _bridge_parts(lin: LinearSystem, times: FloatArray) -> Iterator[tuple[FloatArray, FloatArray, FloatArray]]:
+    """The bridge parts S^a, S^k, S^d of every contact row's maps at each of the times, stacked over
+    chunks of times: arrays (n_t_chunk, n_rows, n_b) (:class:`~.coupling.RowMaps`); the wheel parts
+    are constant."""
+    cp = lin.coupling
+    rm = cp.row_maps()
+    nb = cp.n_bridge
+    for chunk in np.array_split(np.asarray(times, dtype=float), max(1, len(times) // 128)):
+        if chunk.size == 0:
+            continue
+        x = np.stack([cp.positions(float(t)) for t in chunk])
+        rs = cp.bridge.rail_shapes(x.reshape(-1))
+        rails = np.stack([getattr(rs, name).reshape(chunk.size, -1, nb)[:, rm.axle] for name in RAIL_SHAPE_ROWS],
+                         axis=2)  # (n_t, n_r, 6, n_b)
+        yield tuple(np.matmul(P[:, None, :], rails)[:, :, 0] for P in (rm.app_shape, rm.stiff_shape, rm.damp_shape))
 
-    The Jacobians' pattern is that of sum_t rho_t J(t) for two draws of random weights rho_t in
-    [1, 2] (a stacked product instead of one Jacobian per time): an entry cancels across times only
-    with probability zero, while the exact cancellations within a time (left and right wheel) stay
-    at round-off, below the threshold.
+
+def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Nonzero pattern of the coupling's Jacobians (n_loc, n_loc) over the given times, and of the
+    contact rows' maps P, F^k, F^d (n_rows, n_loc; penalty rows, then general rows).
+
+    The Jacobians' pattern is that of sum_t rho_t P(t)^T F(t) for two draws of random weights rho_t
+    in [1, 2] (a stacked product instead of one Jacobian per time), by blocks of bridge and wheel
+    coordinates: P = [S^a(t), -G^a], F = [S(t), -G] with G constant. An entry cancels across times
+    only with probability zero, while the exact cancellations within a time (left and right wheel)
+    stay at round-off, below the threshold.
     """
     cp = lin.coupling
+    rm = cp.row_maps()
     nb = cp.n_bridge
     rng = np.random.default_rng(2)
     K = np.zeros((2, cp.n, cp.n))
     D = np.zeros((2, cp.n, cp.n))
-    rows = np.zeros((cp.n_contacts, cp.n))
-    for chunk in np.array_split(np.asarray(times, dtype=float), max(1, len(times) // 128)):
-        states = [cp.contact_state(float(t)) for t in chunk]
-        Bs = np.concatenate([st.B for st in states])
-        dSs = np.concatenate([st.speed * st.dS for st in states])
-        rows += sum(np.abs(st.B) + np.abs(np.hstack((st.dS, np.zeros_like(lin.G)))) for st in states)
+    rows = np.zeros((rm.n_rows, cp.n))
+    n_times = 0
+    for Sa, Sk, Sd in _bridge_parts(lin, times):
+        n_t = Sa.shape[0]
+        n_times += n_t
+        rows[:, :nb] += (np.abs(Sa) + np.abs(Sk) + np.abs(Sd)).sum(axis=0)
         for d in range(2):
-            rho = np.repeat(1.0 + rng.random(len(states)), cp.n_contacts)
-            kw = (rho * np.tile(lin.k, len(states)))[:, None]
-            cw = (rho * np.tile(lin.c, len(states)))[:, None]
-            K[d] += Bs.T @ (kw * Bs)
-            K[d][:, :nb] += Bs.T @ (cw * dSs)
-            D[d] += Bs.T @ (cw * Bs)
-            if cp.n_linear:  # the general rows' A^T K, A^T D (e.g. creep)
-                As = np.concatenate([st.A_lin for st in states])
-                gw = np.repeat(rho[:: cp.n_contacts] if cp.n_contacts else 1.0 + rng.random(len(states)),
-                               cp.n_linear)[:, None]
-                K[d] += As.T @ (gw * np.concatenate([st.K_lin for st in states]))
-                D[d] += As.T @ (gw * np.concatenate([st.D_lin for st in states]))
+            rho = 1.0 + rng.random(n_t)
+            wSa = np.einsum("t,trb->rb", rho, Sa)
+            for X, S, G in ((K[d], Sk, rm.stiff_wheel), (D[d], Sd, rm.damp_wheel)):
+                X[:nb, :nb] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)
+                X[:nb, nb:] -= wSa.T @ G
+                X[nb:, :nb] -= rm.app_wheel.T @ np.einsum("t,trb->rb", rho, S)
+                X[nb:, nb:] += rho.sum() * (rm.app_wheel.T @ G)
+    rows[:, nb:] = n_times * (np.abs(rm.app_wheel) + np.abs(rm.stiff_wheel) + np.abs(rm.damp_wheel))
     pattern = np.zeros((cp.n, cp.n), dtype=bool)
     for X in (*K, *D):
         pattern |= np.abs(X) > COUPLING_ZERO * np.abs(X).max(initial=0.0)
@@ -108,24 +127,21 @@ def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.b
 
 def excited_coordinates(lin: LinearSystem, times: FloatArray) -> NDArray[np.bool_]:
     """(3, n) whether an input of each kind reaches each global coordinate at any of the times:
-    the generalised input forces B^T (k r) and B^T (c r) of the penalty rows and A^T W^v, A^T W^s of
-    the general rows (creep: alignment and cross-level as rail motion), with the same random value
-    of the input at all rows of an axle (which sit at the same x)."""
+    the generalised input forces P^T (w_v xi) and P^T (w_s xi) of every row (its value and slope
+    weights of the kind, :class:`~.coupling.RowMaps`) with the same random value xi at all rows of
+    an axle (which sit at the same x)."""
     cp = lin.coupling
+    rm = cp.row_maps()
+    nb = cp.n_bridge
     rng = np.random.default_rng(1)
-    xi = 1.0 + rng.random(cp.axle_start.size)
-    W = cp.contacts.input_map * xi[cp.contacts.axle][:, None]
+    xi = 1.0 + rng.random(cp.axle_start.size)[rm.axle][:, None]
+    weights = [rm.input_value * xi, rm.input_slope * xi]
     reach = np.zeros((len(KINDS), cp.n))
-    lin_rows = cp.contacts.linear
-    if lin_rows is not None:  # general rows: input forces W^v . val + W^s . slope, applied by A^T
-        Wg = [Wm * xi[lin_rows.axle][:, None] for Wm in (lin_rows.input_value, lin_rows.input_slope)]
-    for t in times:
-        st = cp.contact_state(float(t))
-        for coef in (lin.k, lin.c):
-            np.maximum(reach, np.abs(st.B.T @ (coef[:, None] * W)).T, out=reach)
-        if lin_rows is not None:
-            for Wm in Wg:
-                np.maximum(reach, np.abs(st.A_lin.T @ Wm).T, out=reach)
+    for W in weights:
+        np.maximum(reach[:, nb:], np.abs(rm.app_wheel.T @ W).T, out=reach[:, nb:])
+    for Sa, _, _ in _bridge_parts(lin, times):
+        for W in weights:
+            np.maximum(reach[:, :nb], np.abs(np.einsum("trb,rk->tkb", Sa, W)).max(axis=0), out=reach[:, :nb])
     out = np.zeros((len(KINDS), lin.n), dtype=bool)
     ci = np.concatenate((lin.bridge, lin.wheel))
     out[:, ci] = reach > COUPLING_ZERO * reach.max(axis=1, keepdims=True).clip(min=1e-300)
@@ -135,8 +151,8 @@ def excited_coordinates(lin: LinearSystem, times: FloatArray) -> NDArray[np.bool
 def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     """The independent, excited components of the system (see the module docstring).
 
-    Raises NotImplementedError when a bridge coordinate is not diagonal in M, K0, D0 or a vehicle's
-    contact rows are not contiguous (neither happens for the models the builder makes).
+    Raises NotImplementedError when a bridge coordinate is not diagonal in M, K0, D0 (a modal bridge
+    body always is).
     """
     n = lin.n
     base = (lin.M != 0) | (lin.K0 != 0) | (lin.D0 != 0)
@@ -154,16 +170,17 @@ def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     if offdiag[lin.bridge].any():
         raise NotImplementedError("bridge coordinates coupled to others in M, K0 or D0: not a modal bridge body")
     # vehicles: blocks of M, K0, D0 joined by their wheels' contact rows
+    rm = lin.coupling.row_maps()
     veh_graph = base.copy()
-    G_glob = np.zeros((lin.G.shape[0], n), dtype=bool)
-    G_glob[:, lin.wheel] = lin.G != 0
+    G_glob = np.zeros((rm.n_rows, n), dtype=bool)
+    G_glob[:, lin.wheel] = (rm.app_wheel != 0) | (rm.stiff_wheel != 0) | (rm.damp_wheel != 0)
     for r in G_glob:
         idx = np.flatnonzero(r)
         veh_graph[np.ix_(idx, idx)] = True
     _, vehicle_label = connected_components(csr_matrix(veh_graph), directed=False)
     _, block_label = connected_components(csr_matrix(base), directed=False)
-    # which global coordinates each contact row touches (wheel map and, over time, bridge shapes)
-    row_touch = np.zeros((lin.G.shape[0], n), dtype=bool)
+    # which global coordinates each contact row touches (wheel maps and, over time, bridge shapes)
+    row_touch = np.zeros((rm.n_rows, n), dtype=bool)
     row_touch[:, ci] = rows_pattern
     out: list[Component] = []
     for lab in range(n_comp):
@@ -173,17 +190,22 @@ def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
             continue  # never excited: stays at rest
         bridge = members[is_bridge[members]]
         modes = np.searchsorted(lin.bridge, bridge)
-        rows = np.flatnonzero(row_touch[:, members].any(axis=1))
-        coords = [bridge]
-        vehicles = []
-        local = bridge.size
-        veh_of_row = np.full(rows.size, -1)
-        for j, row in enumerate(rows):
+        touching = np.flatnonzero(row_touch[:, members].any(axis=1))
+        veh_of_row = np.full(touching.size, -1)
+        for j, row in enumerate(touching):
             wheels = np.flatnonzero(G_glob[row] & (label == lab))
             if wheels.size:
                 veh_of_row[j] = vehicle_label[wheels[0]]
         vehicle_ids = list(dict.fromkeys(vehicle_label[m] for m in members if not is_bridge[m]))
-        vehicle_ids.sort(key=lambda v: (np.flatnonzero(veh_of_row == v)[:1].tolist() or [rows.size])[0])
+        vehicle_ids.sort(key=lambda v: (np.flatnonzero(veh_of_row == v)[:1].tolist() or [touching.size])[0])
+        # rows grouped by vehicle (in running order), in layout order within a vehicle (penalty rows,
+        # then general rows); rows on no vehicle last
+        rank = {v: i for i, v in enumerate(vehicle_ids)}
+        order = sorted(range(touching.size), key=lambda j: (rank.get(veh_of_row[j], len(rank)), touching[j]))
+        rows, veh_of_row = touching[order], veh_of_row[order]
+        coords = [bridge]
+        vehicles = []
+        local = bridge.size
         for v in vehicle_ids:
             vm = members[(vehicle_label[members] == v) & ~is_bridge[members]]
             blocks = []
@@ -194,8 +216,6 @@ def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
                 coords.append(bm)
                 local += bm.size
             vrows = np.flatnonzero(veh_of_row == v)
-            if vrows.size and np.any(np.diff(vrows) != 1):
-                raise NotImplementedError("a vehicle's contact rows are not contiguous")
             r0, r1 = (int(vrows[0]), int(vrows[-1]) + 1) if vrows.size else (0, 0)
             vehicles.append(VehiclePart(start, local, tuple(blocks), r0, r1))
         out.append(Component(coords=np.concatenate(coords).astype(np.int64), n_bridge=int(bridge.size),

@@ -204,6 +204,60 @@ class ContactState:
     f_lin: NDArray[np.float64] | None = None
 
 
+@dataclass(frozen=True)
+class RowMaps:
+    """Every contact row of a coupling in one linear form, penalty rows first, then the general
+    rows (the order of ``contact_forces``): the linear engines' view of the coupling.
+
+    Row r has an application map P_r and force maps on u = [q_b; q_w],
+
+        P_r = [S^a_r(t), -G^a_r],  F^k_r = [S^k_r(t), -G^k_r],  F^d_r = [S^d_r(t), -G^d_r],
+        S^m_r(t) = sum_j shape_m[r, j] rail_j(x_a(r)),   rail_j in RAIL_SHAPE_ROWS at the row's axle,
+
+        f_r = F^k_r u + F^d_r u' + f_in_r,    f_in_r = sum_kind value[r, kind] val_kind + slope[r, kind] slope_kind,
+        Q = -P^T f
+
+    (val, slope: the tapered rail inputs of :func:`.excitation.rail_inputs` at the row's axle).
+    A penalty row f = k (B u + r) + c (B u' + v dS q_b + r') with B = [s . rail, -G] (s: z + e rx or
+    y) is P = B, F^k = k B + c v [dS, 0] (the convective term: shape_k = k s + c v s' on the slope
+    rows), F^d = c B, value = k W, slope = c v W (r' = v d r / dx); a general row is its
+    :class:`LinearRows` as given. So P^T F^k and P^T F^d are the coupling's Jacobians
+    (:meth:`WheelRailCoupling.jacobians`) and f_r its contact forces, for the moving train.
+
+    Attributes
+    ----------
+    axle : (n_r,) the axle of every row
+    app_shape, stiff_shape, damp_shape : (n_r, 6) the coefficients of the rail shapes in S^a, S^k, S^d
+    app_wheel, stiff_wheel, damp_wheel : (n_r, n_w) G^a, G^k, G^d
+    input_value, input_slope : (n_r, 3) weights of the rail inputs and their slopes in f_in
+    n_penalty : number of penalty rows (the first rows)
+    """
+
+    axle: NDArray[np.int64]
+    app_shape: NDArray[np.float64]
+    stiff_shape: NDArray[np.float64]
+    damp_shape: NDArray[np.float64]
+    app_wheel: NDArray[np.float64]
+    stiff_wheel: NDArray[np.float64]
+    damp_wheel: NDArray[np.float64]
+    input_value: NDArray[np.float64]
+    input_slope: NDArray[np.float64]
+    n_penalty: int
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.axle.shape[0])
+
+    def bridge_parts(self, rs: RailShapes | None, n_bridge: int) -> tuple[NDArray[np.float64], ...]:
+        """S^a, S^k, S^d (n_r, n_b) for the rail shapes ``rs`` at the axles (None: every axle off the
+        bridge, zero)."""
+        if rs is None:
+            zero = np.zeros((self.n_rows, n_bridge))
+            return zero, zero, zero
+        stack = np.stack([getattr(rs, name)[self.axle] for name in RAIL_SHAPE_ROWS], axis=1)  # (n_r, 6, n_b)
+        return tuple(np.einsum("rj,rjb->rb", P, stack) for P in (self.app_shape, self.stiff_shape, self.damp_shape))
+
+
 class WheelRailCoupling:
     """Wheel-rail contact forces of a whole train on a modal bridge (vectorised numpy).
 
@@ -287,6 +341,37 @@ class WheelRailCoupling:
             off = np.zeros((lin.n_rows, self.n))
             off[:, self.n_bridge:] = -Gm
             self._lin_off.append(off)
+
+    def row_maps(self) -> RowMaps:
+        """All contact rows in the linear engines' form (:class:`RowMaps`): penalty rows, then the
+        general rows."""
+        c = self.contacts
+        n_c = self.n_contacts
+        vert = self._is_vertical.astype(float)
+        e = vert * c.rail_offset
+        s = np.zeros((n_c, len(RAIL_SHAPE_ROWS)))  # z + e rx (vertical) or y (lateral), and slopes
+        s[:, RAIL_SHAPE_ROWS.index("y")] = 1.0 - vert
+        s[:, RAIL_SHAPE_ROWS.index("z")] = vert
+        s[:, RAIL_SHAPE_ROWS.index("rx")] = e
+        ds = np.zeros_like(s)
+        ds[:, RAIL_SHAPE_ROWS.index("dy")] = 1.0 - vert
+        ds[:, RAIL_SHAPE_ROWS.index("dz")] = vert
+        ds[:, RAIL_SHAPE_ROWS.index("drx")] = e
+        k, cc = self._k[:, None], self._c[:, None]
+        parts = dict(
+            axle=c.axle.astype(np.int64), app_shape=s, stiff_shape=k * s + (cc * self.speed) * ds, damp_shape=cc * s,
+            app_wheel=self._G, stiff_wheel=k * self._G, damp_wheel=cc * self._G,
+            input_value=k * c.input_map, input_slope=(cc * self.speed) * c.input_map,
+        )
+        lin = self._lin
+        if lin is not None:
+            general = dict(
+                axle=lin.axle, app_shape=lin.app_shape, stiff_shape=lin.stiff_shape, damp_shape=lin.damp_shape,
+                app_wheel=lin.app_wheel, stiff_wheel=lin.stiff_wheel, damp_wheel=lin.damp_wheel,
+                input_value=lin.input_value, input_slope=lin.input_slope,
+            )
+            parts = {key: np.concatenate((value, np.asarray(general[key]))) for key, value in parts.items()}
+        return RowMaps(**parts, n_penalty=n_c)
 
     # ------------------------------------------------------------------ excitation, time
     def set_excitation(self, excitation: Excitation | None) -> None:

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tb_exudyn.system.columns import HarmonicColumns, ProfileColumns
+from tb_exudyn.system.columns import HarmonicColumns, ProfileColumns, linear_row_inputs
 from tb_exudyn.system.excitation import KINDS, HarmonicExcitation
 
 from .test_creep_coupling import B, _coupling
@@ -37,7 +37,7 @@ def test_harmonic_columns_give_the_coupling_input_forces():
                            df=np.ones(1), n_types=3)
     cp = _with_taper()
     for t in TIMES:
-        got = cols.linear_inputs(cp, t)
+        got = linear_row_inputs(cols, cp, t)
         assert got.shape == (cp.n_linear, 3)
         for j, kind in enumerate(KINDS):
             ref = []
@@ -66,7 +66,7 @@ def test_profile_columns_give_the_coupling_input_forces():
     cols = ProfileColumns(grids, x0, dx, "height", B)
     cp = _with_taper()
     for t in TIMES:
-        got = cols.linear_inputs(cp, t)
+        got = linear_row_inputs(cols, cp, t)
         assert got.shape == (cp.n_linear, 2)
         ref = []
         for s in range(3):
@@ -84,9 +84,9 @@ def test_sources_without_general_rows_give_no_rows():
     cols = HarmonicColumns(kinds=np.array([1]), omega=np.array([0.4]), amplitude=np.array([1e-3]), units=("angle",),
                            scale=np.ones(1), type_index=np.zeros(1, dtype=np.int64), freq_index=np.zeros(1, dtype=np.int64),
                            df=np.ones(1), n_types=1)
-    assert cols.linear_inputs(cp, 0.3).shape == (0, 1)
+    assert linear_row_inputs(cols, cp, 0.3).shape == (0, 1)
     prof = ProfileColumns({"alignment": np.zeros((10, 2))}, -10.0, 1.0, "angle", B)
-    assert prof.linear_inputs(cp, 0.3).shape == (0, 1)
+    assert linear_row_inputs(prof, cp, 0.3).shape == (0, 1)
 
 
 @pytest.mark.parametrize("t", [0.05, 0.5])

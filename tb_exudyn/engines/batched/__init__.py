@@ -5,51 +5,97 @@ differs. So all columns of a task (PEM: one complex column per irregularity type
 real part the cosine run and the imaginary part the sine run; Monte Carlo: two real samples per
 complex column) are integrated together, with exactly Exudyn's generalized-alpha step
 (:mod:`tb_exudyn.engines.alpha`), on the very model the Exudyn runs use: M, K0, D0 from Exudyn's
-``ComputeLinearizedSystem`` and the contact of the ``WheelRailCoupling``
-(:class:`~tb_exudyn.system.linear.LinearSystem`). The model being linear, each step is solved exactly
-(Exudyn to its Newton tolerance). Initial accelerations from M qdd0 = f(q0, v0, 0) and a0 = qdd0
-(Exudyn's computeInitialAccelerations); the step h = end_time / n_steps and the output grid are the
-Exudyn engine's (:func:`~tb_exudyn.system.conventions.run_steps`).
+``ComputeLinearizedSystem`` and the rows of the ``WheelRailCoupling`` (penalty rows and general
+linear rows, :class:`~tb_exudyn.system.coupling.RowMaps`). The model being linear, each step is
+solved exactly (Exudyn to its Newton tolerance). Initial accelerations from M qdd0 = f(q0, v0, 0)
+and a0 = qdd0 (Exudyn's computeInitialAccelerations); the step h = end_time / n_steps and the
+output grid are the Exudyn engine's (:func:`~tb_exudyn.system.conventions.run_steps`).
 
 What makes it fast:
 
 - the contact forces by Woodbury over the contact rows of the vehicles with an axle on the bridge;
   vehicles off the bridge advance by a constant folded operator (:mod:`.run`);
+- the time-only data of a step (axle positions, taper, rail shapes) and the bridge parts of the
+  per-step operators computed for blocks of steps at once (:mod:`.steps`, :meth:`.run._Run.prepare`);
 - independent components (e.g. the vertical in-plane and lateral out-of-plane motion of a symmetric
   car on a symmetric track) each integrate only the columns that excite them, and coordinates no
   input reaches are not integrated at all (:mod:`tb_exudyn.system.components`);
-- complex columns computed on their float64 view, in-place BLAS (:mod:`.kernels`);
+- complex columns computed on their real view, in-place BLAS (:mod:`.kernels`), in float64 or, as an
+  option, float32 (about twice the speed; see :class:`BatchedOptions` for its error);
 - single-threaded BLAS, one process per core, each owning large slices of the columns (tasks);
-- outputs reduced at every output step by the method's reducer, never stored as histories.
+- outputs reduced at every output step by the method's reducer, never stored as histories, and only
+  for the selected channels.
+
+Options (:class:`BatchedOptions`): the precision, and where the mean comes from (Exudyn's
+deterministic run, or the same linear model with the gravity load as one more column:
+:mod:`.mean`).
 """
 
 from __future__ import annotations
 
+import json
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from ...builder import linear_system
+from ...errors import CapabilityError, SettingError
 from ...execution.threads import single_threaded_blas
 from ...system.components import find_components
 from ...system.conventions import scenario_steps
-from ...system.excitation import taper
 from ..alpha import GeneralizedAlpha
-from ..base import Engine
-from .outputs import _Outputs
-from .inputs import shared_inputs
-from .run import _Run, _Step
+from ..base import Engine, on_linear_system
+from .kernels import PRECISIONS
+from .loop import CHUNK_BYTES, MIN_CHUNK, chunks, integrate
+from .mean import linear_mean
+
+#: where a linear engine's mean comes from
+MEANS: tuple[str, ...] = ("auto", "exudyn", "linear")
+
+
+@dataclass(frozen=True)
+class BatchedOptions:
+    """Options of the batched engine.
+
+    Attributes
+    ----------
+    precision : "float64" (default: the reference) or "float32" (state and products in single
+        precision: 10-20 % faster on the reference study; its sigma within 1e-5 of each channel's
+        largest sigma, the PSD map within 2e-3 of its largest value; accelerations of stiff parts
+        driven far below their frequency carry about 6e-8 (f_n / f)^2 relative error:
+        docs/speed.md, tests/engines/test_batched_kernels.py)
+    mean : "linear" (the model linearised about the static state under the dead loads, the gravity
+        load integrated like one more column, :mod:`.mean`: no Exudyn run; on the reference study
+        within 1.1e-3 of each channel's largest |mean| and 3e-5 of its largest sigma of Exudyn's
+        run, what remains being the finite rotations, docs/speed.md; refused where it does not
+        apply: a bridge loaded at t = 0, moving point loads), "exudyn" (Exudyn's deterministic run: a
+        full-model run that no other core can share, 3-8 s of the reference study) or "auto"
+        (default: "linear" where it applies, else "exudyn", the reason in the provenance's
+        ``mean_engine``)
+    """
+
+    precision: str = "float64"
+    mean: str = "auto"
+
+    def __post_init__(self) -> None:
+        if self.precision not in PRECISIONS:
+            raise SettingError("BatchedOptions", "precision", self.precision, " or ".join(map(repr, PRECISIONS)))
+        if self.mean not in MEANS:
+            raise SettingError("BatchedOptions", "mean", self.mean, " or ".join(map(repr, MEANS)))
 
 
 class BatchedEngine(Engine):
-    """The linear model's columns integrated together (no options)."""
+    """The linear model's columns integrated together (options: :class:`BatchedOptions`)."""
 
     name = "batched"
     full_model = False
+    linear_rows = True  # general linear rows (creep) through the coupling's RowMaps
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
         with single_threaded_blas():
             super().__init__(scenario, options, wheel_forces)
+            self.options = _options(options)
             self.lin = linear_system(self.model, scenario.analysis.linearization)
             steps = scenario_steps(scenario)
             self.n_steps, self.ratio = steps.n_steps, steps.ratio
@@ -57,11 +103,37 @@ class BatchedEngine(Engine):
             self.output_time = steps.output_times
             self.components = find_components(self.lin, self.output_time)
 
+    @classmethod
+    def on_system(cls, lin: Any, steps: Any, spectral_radius: float, outputs: Any, options: Any = None) -> "BatchedEngine":
+        """The engine on a linear system built by hand (:func:`~tb_exudyn.engines.base.on_linear_system`)."""
+        engine = on_linear_system(cls, lin, steps, spectral_radius, outputs, _options(options))
+        engine.components = find_components(lin, engine.output_time)
+        return engine
+
+    @classmethod
+    def check(cls, scenario: Any, options: Any = None, others: str = "") -> None:
+        super().check(scenario, options, others)
+        _options(options)
+
+    @classmethod
+    def default_options(cls) -> BatchedOptions:
+        return BatchedOptions()
+
+    @classmethod
+    def describe_options(cls, options: Any) -> dict[str, Any]:
+        opts = _options(options)
+        return {"precision": opts.precision, "mean": opts.mean}
+
+    @property
+    def precision(self) -> str:
+        return self.options.precision
+
     def describe(self) -> dict[str, Any]:
         ga = self.alpha
         return {
             "engine": self.name,
             "linearization": self.lin.linearization,
+            "precision": self.precision,
             "generalized_alpha": {"spectral_radius": ga.rho, "alpha_m": ga.alpha_m, "alpha_f": ga.alpha_f,
                                   "gamma": ga.gamma, "beta": ga.beta, "time_step_s": ga.h, "steps": self.n_steps},
             "components": [{"coordinates": c.size, "bridge_modes": c.n_bridge, "contacts": int(c.rows.size),
@@ -74,78 +146,33 @@ class BatchedEngine(Engine):
         with single_threaded_blas():
             return integrate(self, source, reducer)
 
-
-def integrate(engine: BatchedEngine, source: Any, reducer: Any) -> dict[str, np.ndarray]:
-    """Integrate the columns of ``source`` over the crossing, handing the outputs of every output
-    time to ``reducer.record(i, Y, ext)``; returns ``reducer.result()``.
-
-    ``source`` is a column source (:mod:`tb_exudyn.system.columns`): ``width`` (number of complex
-    columns) and ``columns_for(kinds)`` (the columns a component excited by those kinds integrates);
-    its per-step inputs come from :mod:`.inputs`.
-    """
-    lin, ga, cm = engine.lin, engine.alpha, engine.outputs
-    cp = lin.coupling
-    n_ch, m = len(cm.names), source.width
-    runs = [_Run(lin, ga, comp, cols, source) for comp in engine.components
-            if (cols := source.columns_for(comp.kinds)).size]
-    overlap = np.zeros((lin.k.size, m), dtype=np.int64)  # components integrating (contact row, column)
-    for run in runs:
-        overlap[np.ix_(run.rows, run.cols)] += 1
-    # internal channel order: node channels per component and order, bridge, contacts, the rest
-    bridge_ch = [i for o in range(3) for i, _, oo in cm.bridge if oo == o]
-    contact_ch = [i for i, _ in cm.contact]
-    integrated = {int(g) for r in runs for g in r.comp.coords}
-    shared0 = sum(1 for _, g, _ in cm.node if g in integrated)  # node channels come first
-    bridge_rows = {i: shared0 + j for j, i in enumerate(bridge_ch)}
-    contact_rows = {i: shared0 + len(bridge_ch) + j for j, i in enumerate(contact_ch)}
-    order: list[int] = []
-    outs = [_Outputs(cm, r, overlap, order, bridge_rows, contact_rows) for r in runs]
-    order += bridge_ch + contact_ch
-    order += sorted(set(range(n_ch)) - set(order))  # moving loads and channels no input reaches: zero
-    ext = np.argsort(np.array(order, dtype=np.int64))  # internal row of each channel
-    shared_rows = slice(shared0, n_ch)  # summed over components: cleared at every output time
-    Y = np.zeros((n_ch, m), dtype=complex)
-
-    def record(i: int, first: bool) -> None:
-        Y[shared_rows] = 0.0
-        for run, out in zip(runs, outs):
-            out.write(run, Y, ga, first)
-        reducer.record(i, Y, ext)
-
-    coef = ga.update_coefficients()
-    h = ga.h
-    x_ref, length = float(cp.axle_start[0]), cp.bridge.length
-
-    taper_end = (x_ref + cp.taper_length - float(cp.positions(0.0).min())) / cp.speed
-    ones, zeros = np.ones(cp.axle_start.size), np.zeros(cp.axle_start.size)
-
-    def step_at(t: float) -> _Step:
-        x = cp.positions(t)
-        on = (x >= 0.0) & (x <= length)
-        st = cp.contact_state(t) if on.any() else None  # off the bridge the rail shapes are zero
-        if t >= taper_end:
-            w, dw = ones, zeros
+    def mean(self) -> dict[str, np.ndarray]:
+        if self._mean is not None:
+            return self._mean
+        if self.options.mean in ("linear", "auto"):
+            try:
+                with single_threaded_blas():
+                    return linear_mean(self)
+            except CapabilityError as exc:
+                if self.options.mean == "linear":
+                    raise
+                reason = exc.reason
         else:
-            w, dw = taper(x, x_ref, cp.taper_length)
-        return _Step(t, cp.speed, x, on, None if st is None else st.S, None if st is None else st.dS,
-                     w, dw, t >= taper_end, not (w.any() or dw.any()))
-
-    step = step_at(0.0)
-    shared = shared_inputs(source, step)
-    for run in runs:
-        run.start(step, shared, ga)
-    record(0, True)
-    for n in range(1, engine.n_steps + 1):
-        step = step_at(n * h)
-        shared = shared_inputs(source, step)
-        rec = n % engine.ratio == 0
-        for run in runs:
-            run.solve(step, shared, rec)
-        if rec:
-            record(n // engine.ratio, False)
-        for run in runs:
-            run.update(coef, h)
-    return reducer.result()
+            return super().mean()
+        out = super().mean()  # "auto" where the linear mean does not apply
+        prov = json.loads(str(out["provenance"]))
+        prov["mean_engine"] = f"exudyn (the linear mean does not apply: {reason})"
+        out["provenance"] = np.array(json.dumps(prov))
+        return out
 
 
-__all__ = ["BatchedEngine", "integrate"]
+def _options(options: Any) -> BatchedOptions:
+    if options is None:
+        return BatchedOptions()
+    if not isinstance(options, BatchedOptions):
+        raise SettingError("engine options", "options", type(options).__name__,
+                           "a BatchedOptions (tb_exudyn.engines.batched.BatchedOptions) or None")
+    return options
+
+
+__all__ = ["BatchedEngine", "BatchedOptions", "CHUNK_BYTES", "MEANS", "MIN_CHUNK", "chunks", "integrate"]

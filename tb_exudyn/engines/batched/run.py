@@ -1,21 +1,28 @@
 """One component's integration in the batched engine: its state, its constant operators, its step.
 
-Per step, with A0 = beta' M + gamma' D0 + K0 (constant, block diagonal: inverted once) and the
-contact a low-rank term (one row per contact force, B = [S(t), -G]):
+Every contact row, penalty or general (:class:`~tb_exudyn.system.coupling.RowMaps`), has an
+application map P = [S^a(t), -G^a] and force maps F^k = [S^k(t), -G^k], F^d = [S^d(t), -G^d]:
+f = F^k u + F^d u' + f_in, Q = -P^T f (a penalty row: P = B, F^k = k B + c v [dS, 0], F^d = c B).
+Per step, with A0 = beta' M + gamma' D0 + K0 (constant, block diagonal: inverted once),
 
-    A0 Delta + B^T f = R = -(K0 q~ + D0 v~),    f = f~ + C Delta,    C = (k + gamma' c) B + c v [dS, 0]
+    A0 Delta + P^T f = R = -(K0 q~ + D0 v~),    f = f~ + C Delta,    C = F^k + gamma' F^d,
+    f~ = F^k q~ + F^d v~ + f_in,
 
-where f~ is the contact force at the predictor. So the contact forces come out of the small system
-(I + C A0^-1 B^T) f = f~ + C A0^-1 R (Woodbury) and Delta = A0^-1 (R - B^T f). Only the small
-contact matrix is factorised per step, over the contact rows of the vehicles with an axle on the
-bridge; the wheels' part of every operator is constant and block-sparse per vehicle, and a vehicle off
-the bridge (on the rigid track) advances by a constant operator with its contact forces folded in
-(computed only when an output is recorded).
+so the contact forces come out of the small system (I + C A0^-1 P^T) f = f~ + C A0^-1 R (Woodbury)
+and Delta = A0^-1 (R - P^T f) (docs/creep_design.md, section 4). Only the small contact matrix is
+factorised per step, over the rows of the vehicles with an axle on the bridge; the wheels' part of
+every operator is constant and block-sparse per vehicle, and a vehicle off the bridge (on the rigid
+track) advances by a constant operator with its contact forces folded in (computed only when an
+output is recorded). The bridge parts of the per-step operators are computed for a block of steps
+at once (:meth:`_Run.prepare`, from :mod:`.steps`), so that a step is only products with the columns.
+
+A column source may carry a constant generalised force per column (the gravity load of the linear
+mean, :class:`tb_exudyn.system.columns.StaticLoadColumns`): y_c = A0^-1 F_c is added to Delta and
+C y_c to the contact equations' right-hand side.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -24,30 +31,12 @@ from numpy.typing import NDArray
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
 from .inputs import run_inputs
-from .kernels import _acc, _inv, advance
+from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
+from .steps import StepBlock
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
-
-
-@dataclass(frozen=True)
-class _Step:
-    """What a step's time gives: axle positions x and which are on the bridge, the coupling's rail shapes S and
-    slopes dS there (None while no axle is on the bridge: zero rows), the approach taper w, w' of
-    every axle (``steady``: w = 1, w' = 0 for all; ``zero``: w = w' = 0 for all)."""
-
-    t: float
-    speed: float
-    x: FloatArray
-    on: NDArray[np.bool_]
-    S: FloatArray | None
-    dS: FloatArray | None
-    w: FloatArray
-    dw: FloatArray
-    steady: bool
-    zero: bool
-
 
 
 class _Vehicle:
@@ -55,69 +44,76 @@ class _Vehicle:
     the constant operators of both ways to advance it.
 
     On the bridge (its contact forces part of the Woodbury system): Y0 = -(A0^-1 K0 q~ + A0^-1 D0 v~)
-    per dense block, the contact equations' right-hand side J [q~; v~] (g = f~ + C Y0 of the wheels)
-    and Delta += A0^-1 G^T f. Off the bridge the rail is rigid, the vehicle's step is constant and
-    folded: Delta = T_q q~ + T_v v~ + T_i (k r + c r'), with f = H0^-1 (k r + c r' + J [q~; v~]) only
-    when an output is recorded. T_q, T_v keep the blocks of A0 when they have no entries outside them
-    (a symmetric car: left and right wheels' cross terms cancel), else one dense block.
+    per dense block, the contact equations' right-hand side J [q~; v~] (its wheel part
+    -G^k q~ - G^d v~ - C_w Y0, C_w = G^k + gamma' G^d) and Delta += A0^-1 G^a^T f. Off the bridge the
+    rail is rigid, the vehicle's step is constant and folded: Delta = T_q q~ + T_v v~ + T_i f_in, with
+    f = H0^-1 (f_in + J [q~; v~]) only when an output is recorded. T_q, T_v keep the blocks of A0
+    when they have no entries outside them (a symmetric car: left and right wheels' cross terms
+    cancel), else one dense block.
     """
 
-    def __init__(self, veh, A0inv: FloatArray, K0: FloatArray, D0: FloatArray, Gl: FloatArray,  # noqa: ANN001
-                 k: FloatArray, c: FloatArray, kap: FloatArray, H0: FloatArray) -> None:
+    def __init__(self, veh, A0inv: FloatArray, K0: FloatArray, D0: FloatArray, Ga: FloatArray,  # noqa: ANN001
+                 Gk: FloatArray, Gd: FloatArray, Cw: FloatArray, H0: FloatArray, dtype: Any) -> None:
         v0, v1, r0, r1 = self.v0, self.v1, self.r0, self.r1 = veh.start, veh.stop, veh.row_start, veh.row_stop
         Ai = A0inv[v0:v1, v0:v1]
         Pk, Pd = Ai @ K0[v0:v1, v0:v1], Ai @ D0[v0:v1, v0:v1]
-        self.blocks = [(b0, b1, np.ascontiguousarray(-Pk[b0 - v0:b1 - v0, b0 - v0:b1 - v0]),
-                        np.ascontiguousarray(-Pd[b0 - v0:b1 - v0, b0 - v0:b1 - v0])) for b0, b1 in veh.blocks]
-        Gv = Gl[r0:r1, v0:v1]
-        self.Gi = np.ascontiguousarray(Ai @ Gv.T)
-        # wheels' part of g = f~ + C Y0: -k G q~ - c G v~ - kappa G Y0
-        self.Jq = np.ascontiguousarray(-k[r0:r1, None] * Gv + kap[r0:r1, None] * (Gv @ Pk))
-        self.Jv = np.ascontiguousarray(-c[r0:r1, None] * Gv + kap[r0:r1, None] * (Gv @ Pd))
-        H0[r0:r1, r0:r1] += kap[r0:r1, None] * (Gv @ self.Gi)
-        self.H0inv = _inv(H0[r0:r1, r0:r1])
-        Ti = self.Gi @ self.H0inv
-        Tq, Tv = -Pk + Ti @ self.Jq, -Pd + Ti @ self.Jv
-        self.Ti = np.ascontiguousarray(Ti)
+
+        def c(X: FloatArray) -> FloatArray:
+            return in_precision(X, dtype)
+
+        self.blocks = [(b0, b1, c(-Pk[b0 - v0:b1 - v0, b0 - v0:b1 - v0]), c(-Pd[b0 - v0:b1 - v0, b0 - v0:b1 - v0]))
+                       for b0, b1 in veh.blocks]
+        Gav, Gkv, Gdv, Cwv = (X[r0:r1, v0:v1] for X in (Ga, Gk, Gd, Cw))
+        Gi = Ai @ Gav.T
+        self.Ai, self.Cw = Ai, Cwv
+        # wheels' part of g = f~ + C Y0: -G^k q~ - G^d v~ - C_w Y0
+        Jq = -Gkv + Cwv @ Pk
+        Jv = -Gdv + Cwv @ Pd
+        H0[r0:r1, r0:r1] += Cwv @ Gi
+        H0inv = _inv(H0[r0:r1, r0:r1])
+        Ti = Gi @ H0inv
+        Tq, Tv = -Pk + Ti @ Jq, -Pd + Ti @ Jv
+        self.Gi, self.Jq, self.Jv, self.H0inv, self.Ti = c(Gi), c(Jq), c(Jv), c(H0inv), c(Ti)
         inside = np.zeros(Tq.shape, dtype=bool)
         for b0, b1 in veh.blocks:
             inside[b0 - v0:b1 - v0, b0 - v0:b1 - v0] = True
         scale = max(np.abs(Tq).max(initial=0.0), 1e-300), max(np.abs(Tv).max(initial=0.0), 1e-300)
         split = np.all(np.abs(Tq[~inside]) <= 1e-13 * scale[0]) and np.all(np.abs(Tv[~inside]) <= 1e-13 * scale[1])
         spans = veh.blocks if split else ((v0, v1),)
-        self.folded = [(b0, b1, np.ascontiguousarray(Tq[b0 - v0:b1 - v0, b0 - v0:b1 - v0]),
-                        np.ascontiguousarray(Tv[b0 - v0:b1 - v0, b0 - v0:b1 - v0])) for b0, b1 in spans]
+        self.folded = [(b0, b1, c(Tq[b0 - v0:b1 - v0, b0 - v0:b1 - v0]), c(Tv[b0 - v0:b1 - v0, b0 - v0:b1 - v0]))
+                       for b0, b1 in spans]
 
-    def delta(self, QP: FloatArray, VP: FloatArray, DL: FloatArray, F: FloatArray) -> None:
-        """On the bridge: Delta = Y0 + A0^-1 G^T f (f solved for)."""
-        for b0, b1, mPk, mPd in self.blocks:
-            np.matmul(mPk, QP[b0:b1], out=DL[b0:b1])
-            _acc(DL[b0:b1], mPd, VP[b0:b1])
-        _acc(DL[self.v0:self.v1], self.Gi, F[self.r0:self.r1])
+    def calls(self, QP: FloatArray, VP: FloatArray, DL: FloatArray, G: FloatArray, F: FloatArray
+              ) -> tuple[list[Any], list[Any], list[Any], list[Any]]:
+        """The vehicle's products for a run's arrays, prepared (:func:`.kernels.gemm_call`):
 
-    def delta_off(self, QP: FloatArray, VP: FloatArray, DL: FloatArray, G: FloatArray, F: FloatArray,
-                  record: bool) -> None:
-        """Off the bridge: the folded constant step; ``G`` holds k r + c r' of the rows."""
-        for b0, b1, Tq, Tv in self.folded:
-            np.matmul(Tq, QP[b0:b1], out=DL[b0:b1])
-            _acc(DL[b0:b1], Tv, VP[b0:b1])
-        g = G[self.r0:self.r1]
-        _acc(DL[self.v0:self.v1], self.Ti, g)
-        if record:
-            _acc(g, self.Jq, QP[self.v0:self.v1])
-            _acc(g, self.Jv, VP[self.v0:self.v1])
-            np.matmul(self.H0inv, g, out=F[self.r0:self.r1])
+        - on the bridge, before the contact solve: g += J_q q~ + J_v v~ (``G`` holds f_in);
+        - on the bridge, after it: Delta = Y0 + A0^-1 G^a^T f;
+        - off the bridge: the folded step Delta = T_q q~ + T_v v~ + T_i f_in;
+        - off the bridge, at an output time: f = H0^-1 (f_in + J [q~; v~])."""
+        v0, v1, r0, r1 = self.v0, self.v1, self.r0, self.r1
+        g, f = G[r0:r1], F[r0:r1]
+        rhs = [gemm_call(g, self.Jq, QP[v0:v1]), gemm_call(g, self.Jv, VP[v0:v1])]
+        on = [c for b0, b1, mPk, mPd in self.blocks
+              for c in (gemm_call(DL[b0:b1], mPk, QP[b0:b1], beta=0.0), gemm_call(DL[b0:b1], mPd, VP[b0:b1]))]
+        on.append(gemm_call(DL[v0:v1], self.Gi, f))
+        off = [c for b0, b1, Tq, Tv in self.folded
+               for c in (gemm_call(DL[b0:b1], Tq, QP[b0:b1], beta=0.0), gemm_call(DL[b0:b1], Tv, VP[b0:b1]))]
+        off.append(gemm_call(DL[v0:v1], self.Ti, g))
+        forces = rhs + [gemm_call(f, self.H0inv, g, beta=0.0)]
+        return rhs, on, off, forces
 
 
-class _Run:
-    """State (q~, v~, a~, Delta of the columns on the float64 view) and constant operators of one
-    component for one task's columns."""
+class _Operators:
+    """The constant operators of one component and, per block of steps, the bridge parts of its
+    per-step operators (:meth:`prepare`): shared by the runs (column chunks) of the component."""
 
-    def __init__(self, lin: Any, ga: GeneralizedAlpha, comp: Component, cols: IntArray, source: Any) -> None:
+    def __init__(self, lin: Any, ga: GeneralizedAlpha, comp: Component, precision: str = "float64") -> None:
         cp = lin.coupling
-        self.comp, self.cols = comp, cols
-        self.sel: Any = slice(None) if cols.size == source.width else cols
-        bp, gp = ga.beta_p, ga.gamma_p
+        maps = self.maps = cp.row_maps()
+        self.dtype, self.cdtype = PRECISIONS[precision]
+        self.comp = comp
+        bp, gp = self.bp, self.gp = ga.beta_p, ga.gamma_p
         g = comp.coords
         M, K0, D0 = (X[np.ix_(g, g)] for X in (lin.M, lin.K0, lin.D0))
         self.M = M
@@ -125,109 +121,229 @@ class _Run:
         nb = self.nb = comp.n_bridge
         self.modes = comp.modes
         self.a0b = np.diag(A0)[:nb].copy()
-        self.pk = (np.diag(K0)[:nb] / self.a0b)[:, None]
-        self.pd = (np.diag(D0)[:nb] / self.a0b)[:, None]
+        self.pk = np.diag(K0)[:nb] / self.a0b
+        self.pd = np.diag(D0)[:nb] / self.a0b
+        self.pk_c = in_precision(self.pk[:, None], self.dtype)
+        self.pd_c = in_precision(self.pd[:, None], self.dtype)
         A0inv = np.zeros_like(A0)
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
+        self.A0inv = A0inv
         rows = self.rows = comp.rows
-        self.axle = cp.contacts.axle[rows]
-        k, c = lin.k[rows], lin.c[rows]
-        kap = k + gp * c
-        self.k, self.c, self.kap = k[:, None], c[:, None], kap[:, None]
-        # the wheels' part of the gap map in local coordinates: B = [S, -Gl]
-        Gl = np.zeros((rows.size, g.size))
+        self.axle = maps.axle[rows]
+        # the wheels' parts of the row maps in local coordinates: P = [S^a, -Ga], F^k = [S^k, -Gk], ...
         wheel_col = {int(w): j for j, w in enumerate(lin.wheel)}
-        for j, gi in enumerate(g):
-            if int(gi) in wheel_col:
-                Gl[:, j] = lin.G[rows, wheel_col[int(gi)]]
-        self.Gl = Gl
+        loc = [(j, wheel_col[int(gi)]) for j, gi in enumerate(g) if int(gi) in wheel_col]
+        Ga, Gk, Gd = (np.zeros((rows.size, g.size)) for _ in range(3))
+        for X, W in ((Ga, maps.app_wheel), (Gk, maps.stiff_wheel), (Gd, maps.damp_wheel)):
+            for j, wc in loc:
+                X[:, j] = W[rows, wc]
+        self.Ga, self.Cw = Ga, Gk + gp * Gd
+        # (n_r, 3, 6): the coefficients of the rail shapes (RAIL_SHAPE_ROWS) in S^a, S^k, S^d of each row
+        self.shape_maps = np.ascontiguousarray(
+            np.stack([P[rows] for P in (maps.app_shape, maps.stiff_shape, maps.damp_shape)], axis=1))
+        self.shape_key = tuple(int(i) for i in self.modes)  # the modes whose rail shapes the run needs
         self.H0 = np.eye(rows.size)
-        self.vehicles = [_Vehicle(veh, A0inv, K0, D0, Gl, k, c, kap, self.H0) for veh in comp.vehicles]
+        self.vehicles = [_Vehicle(veh, A0inv, K0, D0, Ga, Gk, Gd, self.Cw, self.H0, self.dtype) for veh in comp.vehicles]
         if sum(v.r1 - v.r0 for v in self.vehicles) != rows.size:
             raise NotImplementedError("a contact row acting on no vehicle coordinate")
+        self.row_vehicle = np.zeros(rows.size, dtype=np.int64)
+        for i, v in enumerate(self.vehicles):
+            self.row_vehicle[v.r0:v.r1] = i
+        self.block: dict[str, Any] | None = None
+
+    def prepare(self, block: StepBlock) -> None:
+        """The bridge parts of the operators at every step of ``block`` with an axle of this
+        component on the bridge: L_q = S^k - C_b p_k^T, L_v = S^d - C_b p_d^T (C_b = S^k + gamma' S^d,
+        p = diag(K0 or D0) / diag(A0) of the modes), S^a / diag(A0) and the inverse of the contact
+        matrix H = H0 + C_b (S^a / diag(A0))^T over the rows of the vehicles with an axle on the
+        bridge, and which rows and vehicles take part. Only the rows whose axle is on the bridge at
+        some step of the block are evaluated."""
+        nb = self.nb
+        self.block = None
+        rails = block.rails.get(self.shape_key) if nb else None
+        if rails is None:
+            return
+        on = block.on[:, self.axle]  # (T, n_r)
+        steps = np.flatnonzero(on.any(axis=1))
+        if not steps.size:
+            return
+        used = np.flatnonzero(on[steps].any(axis=0))
+        a0, a1 = int(used[0]), int(used[-1]) + 1  # rows evaluated: [a0, a1)
+        # S^m[r] = sum_j shape_m[r, j] rail_j(x_a(r)): one (3 x 6) @ (6 x n_b) product per row and step
+        S = np.matmul(self.shape_maps[a0:a1], rails[steps][:, self.axle[a0:a1]])  # (k, rows, 3, n_b)
+        Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
+        Cb = Sk + self.gp * Sd
+        Lq = Sk - Cb * self.pk
+        Lv = Sd - Cb * self.pd
+        SaS = Sa / self.a0b
+        per_step: list[Any] = [None] * block.size
+        H0 = self.H0
+        for i, k in enumerate(steps):
+            idx = np.flatnonzero(on[k])
+            r0, r1 = int(idx[0]), int(idx[-1]) + 1
+            vs = range(int(self.row_vehicle[r0]), int(self.row_vehicle[r1 - 1]) + 1)
+            on_veh = [self.vehicles[j] for j in vs]
+            R0, R1 = on_veh[0].r0, on_veh[-1].r1
+            # the contact matrix of the vehicles on the bridge
+            H = H0[R0:R1, R0:R1].copy()
+            H[r0 - R0:r1 - R0, r0 - R0:r1 - R0] += Cb[i, r0 - a0:r1 - a0] @ SaS[i, r0 - a0:r1 - a0].T
+            per_step[k] = (i, r0, r1, R0, R1, on_veh, vs, in_precision(_inv(H), self.dtype))
+        dt = self.dtype
+        self.block = {"per_step": per_step, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
+                      "SaS": in_precision(SaS, dt), "Cb": Cb}
+
+
+class _Run:
+    """State (q~, v~, a~, Delta of the columns on the real view) of one component for a chunk of a
+    task's columns (``cols``, indices into the source's columns; ``sel`` the same as a slice when
+    contiguous), in the operators' precision (:data:`.kernels.PRECISIONS`)."""
+
+    def __init__(self, ops: _Operators, cols: IntArray, source: Any, coupling: Any) -> None:
+        self.ops = ops
+        self.comp, self.cols = ops.comp, cols
+        self.rows, self.axle, self.modes, self.nb = ops.rows, ops.axle, ops.modes, ops.nb
+        self.dtype, self.cdtype = ops.dtype, ops.cdtype
+        contiguous = cols.size and np.array_equal(cols, np.arange(cols[0], cols[0] + cols.size))
+        self.sel: Any = slice(int(cols[0]), int(cols[0]) + cols.size) if contiguous else cols
+        nb, rows = ops.nb, ops.rows
         m = cols.size
-        self.input = run_inputs(self, source, cols, cp)  # k r + c r' of the rows, per step
-        n = g.size
-        self.QP, self.VP, self.AP, self.DL = (np.zeros((n, 2 * m)) for _ in range(4))
-        self.tmp = np.zeros((nb, 2 * m))
-        self.Gc = np.zeros((rows.size, m), dtype=complex)
-        self.G = self.Gc.view(np.float64)
-        self.R = np.zeros((rows.size, m), dtype=complex)  # k r + c r' at output steps
-        self.F = np.zeros((rows.size, 2 * m))
+        self.input = run_inputs(self, source, cols, coupling, ops.maps, self.cdtype)  # f_in of the rows, per step
+        n = ops.comp.size
+        dt = self.dtype
+        self.QP, self.VP, self.AP, self.DL = (np.zeros((n, 2 * m), dtype=dt) for _ in range(4))
+        self.tmp = np.zeros((nb, 2 * m), dtype=dt)
+        self.Gc = np.zeros((rows.size, m), dtype=self.cdtype)
+        self.G = self.Gc.view(dt)
+        self.R = np.zeros((rows.size, m), dtype=self.cdtype)  # f_in at output steps
+        self.F = np.zeros((rows.size, 2 * m), dtype=dt)
         self.qdd0 = np.zeros((n, 2 * m))
         self.bridge_moving = False
+        # the vehicles' products, prepared on this run's arrays
+        self.calls_rhs, self.calls_on, self.calls_off, self.calls_forces = zip(
+            *(v.calls(self.QP, self.VP, self.DL, self.G, self.F) for v in ops.vehicles)) if ops.vehicles else ((),) * 4
+        self._advance: dict[tuple[int, int], list[Any]] = {}
+        self._gemm = gemm_call(self.F, self.F, self.F)[0]  # the gemm of the run's precision
+        self._bridge_views = (self.QP[:nb], self.VP[:nb], self.DL[:nb])
+        # vehicles still at rest (no input yet, off the bridge: their state is exactly zero) are not
+        # stepped; they are the trailing ones, so the active vehicles are a leading range
+        self.n_active = 0
+        self.rows_end = nb  # the local rows that are stepped: [0 or nb, rows_end)
+        # a constant generalised force per column (the linear mean's gravity load)
+        force = getattr(source, "constant_force", None)
+        self.force_delta = None
+        if force is not None:
+            g = ops.comp.coords
+            Fc = force(g)[:, cols]  # (n, m) complex, local coordinates
+            yc = np.zeros_like(Fc)
+            yc[nb:] = ops.A0inv[nb:, nb:] @ Fc[nb:]
+            yc[:nb] = Fc[:nb] / ops.a0b[:, None]
+            self.constant_force = Fc
+            self.force_delta = np.ascontiguousarray(yc).view(np.float64).astype(dt)  # added to Delta every step
+            self.force_rows = (-(ops.Cw[:, nb:] @ yc[nb:])).astype(self.cdtype)  # wheel part of C y_c
+            self.force_bridge = np.ascontiguousarray(yc[:nb]).view(np.float64).astype(dt)  # C_b y_c per step
 
-    def inputs(self, step: "_Step", shared: Any, out: ComplexArray) -> None:
-        """k r + c r' of the component's contact rows (``shared``: the column source's ``at(step)``)."""
-        if step.zero:
+    def inputs(self, k: int, block: StepBlock, shared: Any, out: ComplexArray) -> None:
+        """f_in of the component's contact rows at step k of ``block`` (``shared``: see
+        :func:`.inputs.shared_inputs`)."""
+        if block.zero[k] and self.force_delta is None:
             out.fill(0.0)
         else:
-            self.input(step, shared, out)
+            self.input(k, block, shared, out)
 
-    def start(self, step: "_Step", shared: Any, ga: GeneralizedAlpha) -> None:
-        """Rest; M qdd0 = -B(0)^T (k r + c r'); the first predictor."""
-        self.inputs(step, shared, self.Gc)
-        B = -self.Gl
-        if self.nb and step.S is not None:
-            B = B.copy()
-            B[:, : self.nb] = step.S[np.ix_(self.rows, self.modes)]
-        self.qdd0 = np.linalg.solve(self.M, -(B.T @ self.G))
-        self.QP[:], self.VP[:], self.AP[:] = ga.first_predictor(self.qdd0)
+    def _activate(self, k: int, block: StepBlock) -> None:
+        """Count in the vehicles that leave rest at step k (an input at one of their axles, an axle
+        on the bridge, or a constant force)."""
+        ops = self.ops
+        vehicles = ops.vehicles
+        while self.n_active < len(vehicles):
+            v = vehicles[self.n_active]
+            a = self.axle[v.r0:v.r1]
+            if not (self.force_delta is not None or np.any(block.w[k, a]) or np.any(block.dw[k, a])
+                    or np.any(block.on[k, a]) or np.any(self.qdd0[v.v0:v.v1])):
+                break
+            self.n_active += 1
+            self.rows_end = v.v1
+        if self.n_active == len(vehicles):
+            self.rows_end = self.comp.size
+
+    def start(self, block0: StepBlock, shared: Any, ga: GeneralizedAlpha) -> None:
+        """Rest; M qdd0 = F_c - P(0)^T f_in; the first predictor (``block0``: the block of step 0)."""
+        ops = self.ops
+        self.inputs(0, block0, shared, self.Gc)
+        P = -ops.Ga
+        if self.nb and ops.shape_key in block0.rails:
+            P = P.copy()
+            P[:, : self.nb] = np.matmul(ops.shape_maps[:, :1], block0.rails[ops.shape_key][0][self.axle])[:, 0]
+        rhs = -(P.T @ self.Gc.astype(np.complex128))
+        if self.force_delta is not None:
+            rhs += self.constant_force
+        self.qdd0 = np.ascontiguousarray(np.linalg.solve(ops.M, rhs)).view(np.float64)
+        qp, vp, ap = ga.first_predictor(self.qdd0)
+        self.QP[:], self.VP[:], self.AP[:] = qp, vp, ap
         self.bridge_moving = bool(np.any(self.qdd0[: self.nb]))
         self.F[:] = self.G
         self.R[:] = self.Gc
+        self._activate(0, block0)
 
-    def solve(self, step: "_Step", shared: Any, record: bool) -> None:
+    def solve(self, k: int, block: StepBlock, shared: Any, record: bool) -> None:
         """Delta (self.DL) and contact forces (self.F; of vehicles off the bridge only when recording)
-        of the step ending at step.t."""
+        of step k of ``block``."""
+        ops = self.ops
         nb, QP, VP, DL, G, F = self.nb, self.QP, self.VP, self.DL, self.G, self.F
-        self.inputs(step, shared, self.Gc)  # g = f~ + C Y0 starts with k r + c r'
+        self.inputs(k, block, shared, self.Gc)  # g = f~ + C Y0 starts with f_in
         if record:
             self.R[:] = self.Gc
-        on_rows = np.flatnonzero(step.on[self.axle]) if nb and step.S is not None else ()
-        self.bridge_moving |= len(on_rows) > 0  # until the first axle arrives the bridge stays at rest
+        if self.force_delta is not None:
+            self.Gc += self.force_rows
+        self._activate(k, block)
+        step = None if ops.block is None else ops.block["per_step"][k]
+        self.bridge_moving |= step is not None  # until the first axle arrives the bridge stays at rest
         if nb and self.bridge_moving:
-            np.multiply(QP[:nb], -self.pk, out=DL[:nb])
-            np.multiply(VP[:nb], self.pd, out=self.tmp)
+            np.multiply(QP[:nb], -ops.pk_c, out=DL[:nb])
+            np.multiply(VP[:nb], ops.pd_c, out=self.tmp)
             DL[:nb] -= self.tmp
-        on_veh: list[_Vehicle] = []
-        if len(on_rows):
+        on: Any = ()
+        if step is not None:
             # Woodbury on the contact rows of the vehicles with an axle on the bridge
-            r0, r1 = int(on_rows[0]), int(on_rows[-1]) + 1
-            on_veh = [v for v in self.vehicles if v.r0 < r1 and v.r1 > r0]
-            R0, R1 = on_veh[0].r0, on_veh[-1].r1
-            rows = self.rows[r0:r1]
-            S = step.S[rows][:, self.modes]
-            dS = step.dS[rows][:, self.modes]
-            k, c = self.k[r0:r1], self.c[r0:r1]
-            cvdS = (c * step.speed) * dS
-            Cb = self.kap[r0:r1] * S + cvdS
-            Lq = np.ascontiguousarray(k * S + cvdS - Cb * self.pk.T)
-            Lv = np.ascontiguousarray(c * S - Cb * self.pd.T)
-            SaT = np.ascontiguousarray((S / self.a0b).T)
-            H = self.H0[R0:R1, R0:R1].copy()
-            H[r0 - R0:r1 - R0, r0 - R0:r1 - R0] += Cb @ SaT
-            for v in on_veh:
-                _acc(G[v.r0:v.r1], v.Jq, QP[v.v0:v.v1])
-                _acc(G[v.r0:v.r1], v.Jv, VP[v.v0:v.v1])
-            _acc(G[r0:r1], Lq, QP[:nb])
-            _acc(G[r0:r1], Lv, VP[:nb])
-            np.matmul(_inv(H), G[R0:R1], out=F[R0:R1])
-            _acc(DL[:nb], SaT, F[r0:r1], alpha=-1.0)
-            for v in on_veh:
-                v.delta(QP, VP, DL, F)
-        for v in self.vehicles:
-            if v not in on_veh:
-                v.delta_off(QP, VP, DL, G, F, record)
+            i, r0, r1, R0, R1, on_veh, on, Hinv = step
+            blk = ops.block
+            a = blk["a0"]
+            if self.force_delta is not None:  # C_b y_c of the constant force's bridge part
+                G[r0:r1] += blk["Cb"][i, r0 - a:r1 - a] @ self.force_bridge
+            for j in on:
+                run_calls(self.calls_rhs[j])
+            gemm = self._gemm
+            qb, vb, db = self._bridge_views
+            g = G[r0:r1]
+            gemm(1.0, qb.T, blk["Lq"][i, r0 - a:r1 - a].T, 1.0, g.T, 0, 0, 1)
+            gemm(1.0, vb.T, blk["Lv"][i, r0 - a:r1 - a].T, 1.0, g.T, 0, 0, 1)
+            fr = F[R0:R1]
+            fr.fill(0.0)  # then beta = 1: OpenBLAS takes a slower path for beta = 0 at this size
+            gemm(1.0, G[R0:R1].T, Hinv.T, 1.0, fr.T, 0, 0, 1)
+            gemm(-1.0, F[r0:r1].T, blk["SaS"][i, r0 - a:r1 - a].T, 1.0, db.T, 0, 1, 1)
+            for j in on:
+                run_calls(self.calls_on[j])
+        for j in range(self.n_active):
+            if j not in on:
+                run_calls(self.calls_off[j])
+                if record:
+                    run_calls(self.calls_forces[j])
+        if self.force_delta is not None:
+            DL += self.force_delta
 
     def update(self, coef: tuple[float, ...], h: float) -> None:
-        """Corrector of this step fused with the predictor of the next, in place."""
+        """Corrector of this step fused with the predictor of the next, in place (only the rows
+        that move: the bridge once an axle has reached it, the vehicles that have left rest)."""
         r0 = 0 if self.bridge_moving else self.nb  # the bridge's rows are zero while it is at rest
-        advance(coef, h, *(X[r0:].reshape(-1) for X in (self.QP, self.VP, self.AP, self.DL)))
+        r1 = self.rows_end
+        if r1 > r0:
+            calls = self._advance.get((r0, r1))
+            if calls is None:
+                calls = self._advance[(r0, r1)] = advance_calls(
+                    coef, h, *(X[r0:r1].reshape(-1) for X in (self.QP, self.VP, self.AP, self.DL)))
+            run_calls(calls)
 
 
-
-
-__all__ = ["_Run", "_Step", "_Vehicle"]
+__all__ = ["_Operators", "_Run", "_Vehicle"]

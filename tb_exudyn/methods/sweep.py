@@ -1,0 +1,369 @@
+"""Speed sweeps: PEM at a series of train speeds, the frequency grid following the speed.
+
+At each speed v the scenario is :func:`sweep_scenario` of the base: the same train, bridge, track
+and analysis, with
+
+- the PEM band over the track's wavelength band at that speed: freq_min = v / wavelength_max,
+  freq_max = min(v / wavelength_min, 0.1 / time_step) (the highest frequency the time step resolves,
+  as ``Analysis`` requires), the base's number of frequencies and spacing (pass ``n_freq`` to refine:
+  the study's 200 linear points are not converged for every channel, docs/findings.md);
+- an approach at least the base's in metres and in seconds (a faster train gets a longer lead-in,
+  so that the runs, started at rest, have settled as well as at the base speed);
+- the output channels of the key quantities (:data:`KEY_QUANTITIES`, or those given).
+
+Each speed is one task on the sweep's executor (the local process pool, a Dask executor: the
+same :class:`~tb_exudyn.execution.Execution` as a sweep over frequencies), running the whole PEM of
+that speed in its worker with the column slices of a separate run on this machine, so that a
+sweep's result at a speed is bitwise that of ``run_pem(sweep_scenario(base, v), ...)``. With an
+output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`` and
+``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
+sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
+
+The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output folder; the figure is
+:func:`tb_exudyn.plotting.plot_speed_sweep`): one row per speed with, per key quantity, the
+largest |mean|, sigma and |mean| + 3 sigma over its channels and time, and the channel; the code
+checks' estimates and exceedance probabilities enter through :func:`check_columns` (the hook for
+``RandomResponse.checks()``, issue 16). :func:`resonance_speeds` gives v = f_n d / i for the
+bridge's first modes, d the car length and the bogie spacing, i = 1, 2, 3.
+
+EN 1991-2 (6.4.6.2) analyses a series of speeds up to 1.2 x the maximum line speed:
+:func:`en1991_speeds`.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import importlib
+import json
+import math
+import time as _time
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..builder.model import channel_list
+from ..engines import check_engine
+from ..errors import SettingError
+from ..execution import Execution, RunFiles, Task
+from ..results.export import write_table_csv
+from ..results.random_response import RandomResponse
+from ..scenario import Scenario, scenario_to_toml
+from ..scenario.model import KMH
+from ..structure import modal_bridge
+from ..system.modes import DIRECTIONS, nth_frequency
+from .common import fingerprint_identity
+from .pem import default_slices, prepare_sweep
+from . import pem
+
+#: the key quantities of a sweep: (column name, channel pattern, what it is); those that match no
+#: channel of the model are left out
+KEY_QUANTITIES: tuple[tuple[str, str, str], ...] = (
+    ("deck_acc_z", "bridge.*.mid.acc_z", "bridge deck vertical acceleration at mid-span [m/s^2]"),
+    ("deck_acc_y", "bridge.*.mid.acc_y", "bridge deck lateral acceleration at mid-span [m/s^2]"),
+    ("body_acc_z", "car*.body.acc_z", "car body vertical acceleration [m/s^2]"),
+    ("body_acc_y", "car*.body.acc_y", "car body lateral acceleration [m/s^2]"),
+    ("wheel_force_z", "car*.axle*force_z", "vertical wheel-rail force [N]"),
+    ("wheel_force_y", "car*.axle*force_y", "lateral wheel-rail force [N]"),
+)
+#: EN 1991-2, 6.4.6.2: speeds up to this factor times the maximum line speed
+EN1991_SPEED_FACTOR = 1.2
+#: sigma multiple of the design value max |mean| + K sigma in the table
+K_SIGMA = 3.0
+#: the sweep's table in its output folder
+SWEEP_TABLE = "speed_sweep.csv"
+
+
+# ------------------------------------------------------------------------------------- speeds
+def parse_speeds(text: str, where: str = "command line") -> tuple[float, ...]:
+    """'START:STOP:STEP' (km/h, STOP included) or a comma list '160,220,300'."""
+    try:
+        if ":" in text:
+            start, stop, step = (float(x) for x in text.split(":"))
+            if not (step > 0 and stop >= start > 0):
+                raise ValueError
+            return speed_range(start, stop, step)
+        speeds = tuple(float(x) for x in text.split(",") if x.strip())
+        if not speeds or min(speeds) <= 0:
+            raise ValueError
+        return speeds
+    except ValueError:
+        raise SettingError(where, "speeds-kmh", text, "START:STOP:STEP with 0 < START <= STOP and STEP > 0, "
+                           "or positive speeds separated by commas (km/h)") from None
+
+
+def speed_range(start: float, stop: float, step: float) -> tuple[float, ...]:
+    """start, start + step, ... up to stop (included within 1e-9 of a step) [km/h]."""
+    n = int(math.floor((stop - start) / step + 1e-9)) + 1
+    return tuple(round(start + i * step, 9) for i in range(n))
+
+
+def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: float | None = None) -> tuple[float, ...]:
+    """EN 1991-2 (6.4.6.2): a series of speeds up to 1.2 x the maximum line speed, in steps of
+    ``step_kmh`` from ``start_kmh`` (default: half the line speed, rounded to a step) [km/h]; the
+    last speed is 1.2 x the line speed itself."""
+    top = EN1991_SPEED_FACTOR * line_speed_kmh
+    start = start_kmh if start_kmh is not None else max(step_kmh, step_kmh * round(0.5 * line_speed_kmh / step_kmh))
+    speeds = [v for v in speed_range(start, top, step_kmh)]
+    if abs(speeds[-1] - top) > 1e-9:
+        speeds.append(round(top, 9))
+    return tuple(speeds)
+
+
+def speed_label(speed_kmh: float) -> str:
+    """The folder (and task) name of a speed: '220', '222.5'."""
+    return f"{speed_kmh:g}"
+
+
+# ------------------------------------------------------------------------------------- scenario
+def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None) -> tuple[tuple[str, str, str], ...]:
+    """The key quantities (name, pattern, description) that match channels of the scenario's model
+    (``channels``: patterns instead of :data:`KEY_QUANTITIES`, each its own quantity)."""
+    names = [n for n, _ in channel_list(scenario)]
+    known = {q[1]: q for q in KEY_QUANTITIES}  # a given pattern that is a key quantity keeps its name
+    items = KEY_QUANTITIES if channels is None else tuple(known.get(p, (p, p, p)) for p in channels)
+    keep = tuple(q for q in items if fnmatch.filter(names, q[1]))
+    if not keep:
+        raise SettingError("run_sweep", "channels", list(channels or [q[1] for q in items]),
+                           "patterns matching channels of the model, e.g. 'bridge.*.mid.acc_z'", "no key quantity")
+    return keep
+
+
+def sweep_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str] | None = None,
+                   n_freq: int | None = None) -> Scenario:
+    """The scenario of a sweep at ``speed_kmh`` (the module docstring): the grid over the track's
+    wavelength band at that speed, an approach at least the base's in metres and in seconds, the
+    channels ``patterns`` (default: those of :func:`key_patterns`)."""
+    lead_in = max(base.track.lead_in, base.track.lead_in * speed_kmh / base.speed_kmh)
+    sc = base.replace(speed_kmh=float(speed_kmh), track=base.track.replace(lead_in=lead_in))
+    v, tr, an = sc.speed, sc.track, sc.analysis
+    patterns = tuple(patterns) if patterns is not None else tuple(q[1] for q in key_patterns(base))
+    return sc.replace(analysis=an.replace(
+        freq_min=v / tr.wavelength_max, freq_max=min(v / tr.wavelength_min, 0.1 / an.time_step),
+        n_freq=int(n_freq or an.n_freq), channels=patterns))
+
+
+# ------------------------------------------------------------------------------------- resonances
+@dataclass(frozen=True)
+class Resonance:
+    """A resonance speed v = f_n d / i: the loads spaced d apart passing a bridge mode of frequency
+    f_n every i-th period."""
+
+    direction: str
+    frequency: float  # [Hz]
+    distance_name: str  # "car length" or "bogie spacing"
+    distance: float  # [m]
+    order: int
+    speed_kmh: float
+
+
+def train_distances(scenario: Scenario) -> dict[str, float]:
+    """The train's characteristic load spacings [m]: the (first) car length and bogie spacing."""
+    out = {}
+    v = scenario.train.vehicles[0]
+    if getattr(v, "length", 0.0):
+        out["car length"] = float(v.length)
+    geometry = getattr(v, "geometry", None)
+    if geometry is not None and getattr(geometry, "half_bogie_spacing", 0.0):
+        out["bogie spacing"] = 2.0 * float(geometry.half_bogie_spacing)
+    return out
+
+
+def resonance_speeds(scenario: Scenario, orders: Sequence[int] = (1, 2, 3)) -> list[Resonance]:
+    """v = f_n d / i for the first vertical, lateral and torsion modes of the bridge alone (its FE
+    modes up to analysis.mode_max_frequency), d the car length and the bogie spacing, i in ``orders``."""
+    an = scenario.analysis
+    mb = modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    out = []
+    for d in DIRECTIONS:
+        f = nth_frequency(mb.frequencies, mb.mode_types, d, 1)
+        if math.isnan(f):
+            continue
+        for name, dist in train_distances(scenario).items():
+            out += [Resonance(d, f, name, dist, i, f * dist / i / KMH) for i in orders]
+    return out
+
+
+# ------------------------------------------------------------------------------------- the sweep
+@dataclass(frozen=True)
+class SpeedTask:
+    """The PEM of one speed (run in a worker). The fields that say only how it runs (its folder,
+    resume, overwrite, keep_checkpoint) are left out of its repr, and so of the checkpoint's task
+    digest: a resumed sweep reuses the speeds the first run finished."""
+
+    scenario: Scenario
+    engine: str
+    options: Any
+    out: str | None = field(repr=False)
+    resume: bool = field(repr=False)
+    slices: tuple[float, ...] = ()
+    keep_psd: bool = False
+    overwrite: bool = field(default=False, repr=False)
+    keep_checkpoint: bool = field(default=False, repr=False)
+
+
+def _setup() -> None:
+    return None
+
+
+def _work(_: Any, task: Task) -> dict[str, np.ndarray]:
+    st: SpeedTask = task.data
+    execution = Execution(workers=1, out=st.out, resume=st.resume, progress=False, slices=st.slices, where="run_sweep",
+                          overwrite=st.overwrite and not st.resume, keep_checkpoint=st.keep_checkpoint)
+    with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
+        warnings.simplefilter("always")
+        result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd)
+    summary = speed_summary(result)
+    summary["warnings"] = np.array(list(dict.fromkeys(f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)"
+                                                      for w in caught)), dtype=str).reshape(-1)
+    return summary
+
+
+def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
+    """What the table needs of one speed's result, as plain arrays (checkpointable)."""
+    peak = np.abs(result.mean).max(axis=1)
+    return {
+        "channels": np.array(result.channels, dtype=str), "units": np.array(result.units, dtype=str),
+        "max_abs_mean": peak, "max_sigma": result.std.max(axis=1),
+        "max_design": (np.abs(result.mean) + K_SIGMA * result.std).max(axis=1),
+        "band": np.array(result.band, dtype=float), "n_freq": np.array(result.freq.size),
+        "seconds": np.array(float(result.provenance.get("seconds", math.nan))),
+        "checks": np.array(json.dumps(check_columns(result))),
+    }
+
+
+def check_columns(result: RandomResponse) -> dict[str, float]:
+    """The table columns of one speed's code checks (:meth:`RandomResponse.checks`, the default
+    limits and target probability): per criterion that applies, at its deciding location
+    (``ChecksTable.worst``), ``"<criterion>_utilisation"`` (the estimate over the limit) and
+    ``"<criterion>_probability"`` (of exceeding the limit in one passage; NaN where the criterion is
+    not a random process), and ``"checks_exceeding"``, the number of criteria whose verdict is
+    EXCEEDS. The one place that turns checks into sweep columns (rows, CSV and figure)."""
+    table = result.checks()
+    out: dict[str, float] = {}
+    worst = table.worst()
+    for r in worst:
+        ratio = r.estimate / r.limit if math.isfinite(r.limit) and r.limit != 0 else math.nan
+        out[f"{r.criterion}_utilisation"] = float(ratio)
+        out[f"{r.criterion}_probability"] = math.nan if r.probability is None else float(r.probability)
+    out["checks_exceeding"] = float(sum(r.verdict == "EXCEEDS" for r in worst))
+    return out
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """A speed sweep: per speed the summary of its PEM (:func:`speed_summary`), the key
+    quantities, the resonance speeds and the base scenario."""
+
+    base: Scenario
+    speeds: tuple[float, ...]
+    summaries: tuple[dict[str, np.ndarray], ...]
+    quantities: tuple[tuple[str, str, str], ...]
+    resonances: tuple[Resonance, ...]
+    provenance: dict[str, Any] = field(default_factory=dict)
+
+    def rows(self) -> list[dict[str, Any]]:
+        return sweep_rows(self)
+
+    def plot(self, **options: Any) -> Any:
+        """The sweep's figure (:func:`tb_exudyn.plotting.plot_speed_sweep`, a matplotlib Figure)."""
+        return importlib.import_module("tb_exudyn.plotting").plot_speed_sweep(self, **options)  # matplotlib on first use
+
+
+def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
+    """The table: one row per speed; per key quantity the largest |mean|, sigma and |mean| + 3
+    sigma over its channels and time, and the channel of the largest |mean| + 3 sigma; then the
+    check hook's columns."""
+    rows = []
+    for v, s in zip(result.speeds, result.summaries):
+        names = list(s["channels"])
+        row: dict[str, Any] = {"speed_kmh": v, "f_min_hz": float(s["band"][0]), "f_max_hz": float(s["band"][1]),
+                               "n_freq": int(s["n_freq"])}
+        for key, pattern, _ in result.quantities:
+            idx = [i for i, n in enumerate(names) if fnmatch.fnmatchcase(n, pattern)]
+            j = idx[int(np.argmax(s["max_design"][idx]))]
+            row[f"{key}_max_abs_mean"] = float(s["max_abs_mean"][idx].max())
+            row[f"{key}_max_sigma"] = float(s["max_sigma"][idx].max())
+            row[f"{key}_max_abs_mean_plus_3sigma"] = float(s["max_design"][j])
+            row[f"{key}_channel"] = names[j]
+        row.update(json.loads(str(s["checks"])))
+        row["seconds"] = float(s["seconds"])
+        rows.append(row)
+    return rows
+
+
+def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = "batched", workers: int | None = None,
+              executor: Any = None, out: str | Path | None = None, resume: bool = False, progress: bool = True,
+              channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
+              keep_psd: bool = False, slices: Sequence[float] | None = None, overwrite: bool = False,
+              keep_checkpoint: bool = False) -> SweepResult:
+    """PEM of ``scenario`` at each of ``speeds_kmh`` (see the module docstring).
+
+    Parameters
+    ----------
+    scenario : the base scenario (its speed only sets the approach's duration kept at other speeds)
+    speeds_kmh : the speeds [km/h] (e.g. :func:`parse_speeds`, :func:`en1991_speeds`)
+    engine, options : the PEM engine and its options (default the batched engine)
+    workers, executor, progress : as :func:`tb_exudyn.run_pem`; the speeds are the tasks
+    out : folder: ``out/<speed>/`` (each speed's PEM result and checkpoint), ``out/checkpoint-sweep``
+    resume : reuse finished speeds and tasks
+    channels : patterns of the key quantities (default :data:`KEY_QUANTITIES`)
+    n_freq : frequencies per speed (default the base's analysis.n_freq)
+    keep_psd : keep each speed's PSD map (default False: sigma only)
+    slices : the column slices of every speed's PEM (default: a separate run's on this machine)
+    overwrite : replace an earlier sweep's table, checkpoint and speeds in ``out`` (without it or
+        ``resume`` a folder holding them is refused)
+    keep_checkpoint : keep ``out/checkpoint-sweep`` (and each speed's checkpoint) after the results are
+        written (default: removed)
+    """
+    t0 = _time.perf_counter()
+    speeds = tuple(float(v) for v in speeds_kmh)
+    if not speeds or min(speeds) <= 0 or len(set(speeds)) != len(speeds):
+        raise SettingError("run_sweep", "speeds_kmh", list(speeds), "distinct positive speeds [km/h]")
+    quantities = key_patterns(scenario, channels)
+    execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
+                          where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
+    cls = check_engine(engine, scenario, options)
+    patterns = tuple(dict.fromkeys(q[1] for q in quantities))
+    scenarios = [sweep_scenario(scenario, v, patterns, n_freq) for v in speeds]
+    for sc in scenarios:  # every speed's grid and spectra checked before any run
+        prepare_sweep(sc)
+    root = execution.output_folder()
+    cuts = tuple(slices) if slices is not None else tuple(default_slices(execution.cores))
+    tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(sc, engine, options, None if root is None else
+                                                        str(root / speed_label(v)), resume, cuts, keep_psd, overwrite,
+                                                        keep_checkpoint))
+             for v, sc in zip(speeds, scenarios)]
+    identity = fingerprint_identity(
+        scenario_to_toml(scenario), method="pem_sweep", engine=engine, engine_options=cls.describe_options(options),
+        method_options={"keep_psd": keep_psd, "channels": [q[1] for q in quantities], "n_freq": n_freq,
+                        "slices": list(cuts), "speeds_kmh": list(speeds)}, spectra=scenario.track.irregularities)
+    summaries: list[dict[str, np.ndarray]] = [{} for _ in tasks]
+
+    def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
+        summaries[i] = result
+        for message in result.get("warnings", ()):
+            warnings.warn(str(message), stacklevel=4)
+
+    with execution.claim(RunFiles(SWEEP_TABLE, "checkpoint-sweep")) as root:
+        checkpoint = execution.checkpoint("checkpoint-sweep", identity)
+        stats = execution.run(tasks, setup=_setup, setup_args=(), work=_work, reduce=reduce, checkpoint=checkpoint,
+                              desc=f"speed sweep ({engine})")
+        result = SweepResult(base=scenario, speeds=speeds, summaries=tuple(summaries), quantities=quantities,
+                             resonances=tuple(resonance_speeds(scenario)),
+                             provenance={"seconds": _time.perf_counter() - t0, "engine": engine, **stats})
+        if root is not None:
+            write_sweep(result, root)
+    return result
+
+
+def write_sweep(result: SweepResult, folder: str | Path) -> Path:
+    """The table as ``folder/speed_sweep.csv`` (the figure: :func:`tb_exudyn.plotting.plot_speed_sweep`)."""
+    return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
+
+
+__all__ = ["EN1991_SPEED_FACTOR", "KEY_QUANTITIES", "SWEEP_TABLE", "Resonance", "SpeedTask", "SweepResult", "check_columns",
+           "en1991_speeds", "key_patterns", "parse_speeds", "resonance_speeds", "run_sweep", "speed_label",
+           "speed_range", "speed_summary", "sweep_rows", "sweep_scenario", "train_distances", "write_sweep"]

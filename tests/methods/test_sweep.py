@@ -1,0 +1,147 @@
+"""Speed sweeps (tb_exudyn.methods.sweep): a sweep's result at a speed is a separate run's; resume
+per speed; the speed series, the per-speed scenario and the resonance speeds; the command."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from tb_exudyn.errors import SettingError
+from tb_exudyn.methods import run_pem
+from tb_exudyn.methods.pem import default_slices
+from tb_exudyn.methods.sweep import (EN1991_SPEED_FACTOR, en1991_speeds, parse_speeds, resonance_speeds, run_sweep,
+                                     speed_label, sweep_scenario)
+from tb_exudyn.results import load_results
+
+from .test_pem import sprung_mass_scenario
+
+CHANNELS = ("bridge.*.mid.acc_z", "car*.body.acc_z")
+
+
+def _base():
+    """The sprung mass over the 25 m beam (tests/methods/test_pem.py), 6 frequencies, short approach."""
+    return sprung_mass_scenario(lead_in=20.0, run_out=5.0, f_min=2.0, f_max=20.0, n_freq=6, channels=("*",))
+
+
+def test_speed_series_and_en1991_convention():
+    """Exact problem: the speed series of the command. References: the definitions: START:STOP:STEP
+    with STOP included; EN 1991-2 6.4.6.2, speeds up to 1.2 x the line speed (the last one exactly
+    1.2 V). Exact (a grid of decimal numbers: compared to 1e-9 km/h)."""
+    assert parse_speeds("160:350:10") == tuple(float(v) for v in range(160, 351, 10))
+    assert len(parse_speeds("160:350:10")) == 20
+    assert parse_speeds("160,220.5") == (160.0, 220.5)
+    for bad in ("350:160:10", "160:350:0", "a:b:c", "", "-5,10"):
+        with pytest.raises(SettingError, match="speeds-kmh"):
+            parse_speeds(bad)
+    s = en1991_speeds(300.0, 10.0)
+    assert s[0] == 150.0 and abs(s[-1] - EN1991_SPEED_FACTOR * 300.0) < 1e-9 and np.allclose(np.diff(s), 10.0)
+    s = en1991_speeds(250.0, 20.0, start_kmh=200.0)
+    assert s[:-1] == (200.0, 220.0, 240.0, 260.0, 280.0) and s[-1] == 300.0
+
+
+def test_sweep_scenario_follows_the_speed():
+    """Exact problem: the scenario of a sweep at 200 and 450 km/h from the base at 300 km/h.
+    Reference: the convention of the module: band v / lambda_max .. v / lambda_min (capped at
+    0.1 / time_step), the base's n_freq, an approach at least the base's in metres and in seconds.
+    Exact (the same arithmetic)."""
+    base = _base()
+    for v in (200.0, 450.0):
+        sc = sweep_scenario(base, v, CHANNELS)
+        ms = v / 3.6
+        assert sc.speed_kmh == v and sc.analysis.channels == CHANNELS and sc.analysis.n_freq == 6
+        assert sc.analysis.freq_min == ms / 120.0 and sc.analysis.freq_max == min(ms / 1.0, 100.0)
+        assert sc.track.lead_in == max(20.0, 20.0 * v / 300.0)
+    assert sweep_scenario(base, 200.0, CHANNELS, n_freq=9).analysis.n_freq == 9
+
+
+@pytest.mark.exudyn
+def test_sweep_equals_separate_runs_bitwise(tmp_path):
+    """Problem: the sprung mass at 250 and 320 km/h, 6 frequencies each. Reference: separate
+    run_pem calls on the sweep's scenarios (sweep_scenario) with the default column slices of this
+    machine. A speed is one task that runs the same PEM tasks in the same order, so the results
+    must be bitwise equal (tolerance zero), for the sweep in this process and on 2 workers."""
+    base = _base()
+    speeds = (250.0, 320.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        one = run_sweep(base, speeds, workers=1, out=tmp_path / "a", progress=False, channels=CHANNELS)
+        two = run_sweep(base, speeds, workers=2, out=tmp_path / "b", progress=False, channels=CHANNELS)
+        for v in speeds:
+            ref = run_pem(sweep_scenario(base, v, CHANNELS), engine="batched", workers=1, progress=False,
+                          keep_psd=False, slices=default_slices(2))
+            for folder in ("a", "b"):
+                got = load_results(tmp_path / folder / speed_label(v) / "pem")
+                for name in ("time", "mean", "std", "var_by_type"):
+                    assert np.array_equal(getattr(got, name), getattr(ref, name)), (folder, v, name)
+    for a, b in zip(one.summaries, two.summaries):
+        for key in ("max_abs_mean", "max_sigma", "max_design"):
+            assert np.array_equal(a[key], b[key])
+    rows = one.rows()
+    assert [r["speed_kmh"] for r in rows] == list(speeds)
+    for r, v in zip(rows, speeds):
+        ref = load_results(tmp_path / "a" / speed_label(v) / "pem")
+        i = ref.channels.index("bridge.span1.mid.acc_z")
+        assert r["deck_acc_z_max_sigma"] == ref.std[i].max()
+        assert r["deck_acc_z_max_abs_mean_plus_3sigma"] == (np.abs(ref.mean[i]) + 3 * ref.std[i]).max()
+    assert (tmp_path / "a" / "speed_sweep.csv").read_text().count("\n") == 3
+
+
+@pytest.mark.exudyn
+def test_sweep_resumes_per_speed(tmp_path):
+    """Problem: a sweep of three speeds interrupted: one speed never finished (its summary and
+    one of its PEM tasks deleted). Reference: the uninterrupted sweep. On resume the other two
+    speeds come from the sweep's checkpoint, the third resumes within its own checkpoint (one PEM
+    task run again), and every result is bitwise the uninterrupted one (tolerance zero)."""
+    base = _base()
+    speeds = (240.0, 280.0, 320.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ref = run_sweep(base, speeds, workers=1, out=tmp_path, progress=False, channels=CHANNELS, keep_checkpoint=True)
+        (tmp_path / "checkpoint-sweep" / "tasks" / "speed-280.npz").unlink()
+        tasks = sorted((tmp_path / "280" / "checkpoint" / "tasks").glob("pemb-*.npz"))
+        tasks[0].unlink()
+        (tmp_path / "280" / "pem" / "meta.json").unlink()
+        again = run_sweep(base, speeds, workers=1, out=tmp_path, progress=False, channels=CHANNELS, resume=True)
+    assert again.provenance["tasks_from_checkpoint"] == 2 and again.provenance["tasks_run"] == 1
+    redone = load_results(tmp_path / "280" / "pem")
+    assert redone.provenance["tasks_run"] == 1 and redone.provenance["tasks_from_checkpoint"] >= 2
+    for a, b in zip(ref.summaries, again.summaries):
+        for key in ("max_abs_mean", "max_sigma", "max_design"):
+            assert np.array_equal(a[key], b[key])
+
+
+def test_resonance_speeds_of_a_simple_span():
+    """Exact problem: the resonance speeds of the sprung mass's 25 m simply supported beam. Reference:
+    v = f1 d / i with the closed-form first bending frequency of the scenario's beam,
+    f1 = (pi / (2 L^2)) sqrt(EI / m), and d the vehicle's length; tolerance 1e-3 relative (the
+    finite-element f1 of the beam against the closed form)."""
+    base = _base()
+    beam = base.bridge
+    L, EI, m = beam.spans[0], beam.girder.E * beam.girder.I_y, beam.girder.mass_per_length
+    f1 = math.pi / (2 * L**2) * math.sqrt(EI / m)
+    res = [r for r in resonance_speeds(base) if r.direction == "vertical" and r.distance_name == "car length"]
+    assert [r.order for r in res] == [1, 2, 3]
+    for r in res:
+        assert abs(r.frequency - f1) < 1e-3 * f1
+        assert abs(r.speed_kmh - r.frequency * r.distance / r.order * 3.6) < 1e-9 * r.speed_kmh
+
+
+@pytest.mark.exudyn
+def test_sweep_command(tmp_path, capsys):
+    """The command on two speeds writes the table, the figure and each speed's result; a malformed
+    speed series is a one-line error (exit 2)."""
+    from tb_exudyn.cli import main
+    from tb_exudyn.scenario import save_scenario
+
+    path = tmp_path / "sc.toml"
+    save_scenario(_base(), path)
+    out = tmp_path / "out"
+    assert main(["sweep", str(path), "--speeds-kmh", "250:300:50", "--out", str(out), "--workers", "1",
+                 "--no-progress", "--channels", *CHANNELS]) == 0
+    for name in ("speed_sweep.csv", "speed_sweep.png", "250/pem/meta.json", "300/pem/meta.json"):
+        assert (out / name).exists(), name
+    assert main(["sweep", str(path), "--speeds-kmh", "300:250:10", "--out", str(out)]) == 2
+    assert "speeds-kmh" in capsys.readouterr().err
