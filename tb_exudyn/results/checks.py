@@ -49,7 +49,7 @@ from ..errors import SettingError
 from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
 from ..scenario.registry import model_files
 from . import statistics as st
-from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability
+from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
 from .empirical import binomial_interval
 
 #: the literature's per-passage target (code_limits.md [abstract]): 100 train pairs a day, 1-year return period
@@ -434,11 +434,12 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
              + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
     for r in table.worst():
-        p = "" if r.probability is None else f", P = {format_probability(r)}"
-        est = "-" if not math.isfinite(r.estimate) else f"{r.estimate:.4g}"
-        lim = "-" if not math.isfinite(r.limit) else f"{r.limit:.4g}"
+        shown = "" if r.probability is None else format_probability(r)
+        p = "" if not shown else f", P {shown}" if shown.startswith("<") else f", P = {shown}"
+        est = format_value(r.estimate, r.unit, with_unit=False)
+        lim = format_value(r.limit, r.unit)
         tags = sorted({c.kind for c in r.caveats if c.changes_verdict})
-        lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim} {r.unit}{p}"
+        lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim}{p}"
                      + (f" (caveats: {', '.join(tags)})" if tags else ""))
     return lines
 

@@ -8,6 +8,8 @@ import math
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
+from ..system.labels import display_unit, format_number
+
 #: the verdicts a row can have
 VERDICTS = ("OK", "EXCEEDS", "UNDETERMINED", "NOT EVALUATED")
 
@@ -144,8 +146,8 @@ class ChecksTable:
                     caveats.append(line)
                 marks.append(str(caveats.index(line) + 1))
             p = format_probability(r)
-            limit = "-" if not math.isfinite(r.limit) else f"{r.limit:.4g} {r.unit}"
-            est = "-" if not math.isfinite(r.estimate) else f"{r.estimate:.4g}"
+            limit = format_value(r.limit, r.unit)
+            est = format_value(r.estimate, r.unit, with_unit=False)
             verdict = r.verdict_text + (f" {r.grade}" if r.grade else "")
             table.append([r.criterion, r.channel, est, limit, p, verdict + (f" [{','.join(marks)}]" if marks else "")])
         widths = [max(len(h), *(len(row[i]) for row in table)) if table else len(h) for i, h in enumerate(head)]
@@ -173,6 +175,16 @@ def _severity(r: CheckRow) -> tuple[int, float]:
 SMALLEST_SHOWN = 1e-9
 
 
+def format_value(x: float, si_unit: str, with_unit: bool = True) -> str:
+    """An estimate or a limit in the channel's engineering display unit (kN, mm, m/s^2:
+    :func:`tb_exudyn.system.labels.display_unit`), 4 significant digits; "-" when not finite."""
+    if not math.isfinite(x):
+        return "-"
+    du = display_unit(si_unit)
+    text = format_number(x * du.factor)
+    return f"{text} {du.unit}".rstrip() if with_unit and du.unit not in ("", "-") else text
+
+
 def format_probability(r: CheckRow) -> str:
     """The probability as the report and the terminal show it (3 digits, "< 1e-09" below
     SMALLEST_SHOWN, the interval when there is one)."""
@@ -184,4 +196,4 @@ def format_probability(r: CheckRow) -> str:
     return text
 
 
-__all__ = ["SMALLEST_SHOWN", "Caveat", "CheckRow", "ChecksTable", "VERDICTS", "format_probability"]
+__all__ = ["SMALLEST_SHOWN", "Caveat", "CheckRow", "ChecksTable", "VERDICTS", "format_probability", "format_value"]
