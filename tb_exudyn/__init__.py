@@ -29,6 +29,7 @@ _LAZY = {
     "run_pem": "tb_exudyn.methods",
     "run_monte_carlo": "tb_exudyn.methods",
     "simulate": "tb_exudyn.methods",
+    "BatchedOptions": "tb_exudyn.methods",
 }
 
 
@@ -41,6 +42,7 @@ def __getattr__(name: str):
 
 
 __all__ = [
+    "BatchedOptions",
     "Execution",
     "RandomResponse",
     "Scenario",
