@@ -70,13 +70,13 @@ class CheckRow:
 
     @property
     def conditional(self) -> bool:
-        """A caveat could turn the verdict."""
-        return any(c.changes_verdict for c in self.caveats)
+        """A verdict (OK or EXCEEDS, not NOT EVALUATED) that a caveat could turn."""
+        return self.verdict != "NOT EVALUATED" and any(c.changes_verdict for c in self.caveats)
 
     @property
     def verdict_text(self) -> str:
         """The verdict, with 'conditional' when a caveat could turn it."""
-        return f"{self.verdict} (conditional)" if self.conditional and self.verdict != "NOT EVALUATED" else self.verdict
+        return f"{self.verdict} (conditional)" if self.conditional else self.verdict
 
     def as_dict(self) -> dict[str, Any]:
         """Plain data (JSON-ready)."""
@@ -162,12 +162,14 @@ class ChecksTable:
         return "\n".join(lines)
 
 
-def _severity(r: CheckRow) -> tuple[int, float]:
+def _severity(r: CheckRow) -> tuple[int, float, float]:
+    """Which row decides a criterion: the verdict, then the probability as shown (3 digits: rows whose
+    probabilities read the same, e.g. both 1, are not told apart by round-off), then estimate / limit."""
     rank = {"EXCEEDS": 3, "UNDETERMINED": 2, "OK": 1, "NOT EVALUATED": 0}[r.verdict]
-    if r.probability is not None and math.isfinite(r.probability):
-        return rank, r.probability
     ratio = r.estimate / r.limit if math.isfinite(r.estimate) and r.limit and math.isfinite(r.limit) else -math.inf
-    return rank, ratio
+    if r.probability is not None and math.isfinite(r.probability):
+        return rank, float(f"{r.probability:.3g}"), ratio
+    return rank, -math.inf, ratio
 
 
 #: below this a displayed probability reads "< 1e-09": the Gaussian tail that far out says more about
