@@ -94,6 +94,9 @@ _CLASSES = ("", "num", "num", "num", "", "notes")
 def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
     """The verdict section's body from the checks (module docstring)."""
     rows = list(verdicts.rows)
+    if not rows:
+        return ['<p id="verdicts-table">No criterion of the limit files applies to the channels of this result.</p>'] + [
+            f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
     top = sorted(verdicts.decisive, key=lambda r: _ORDER.get(r.verdict, 1))
     folded = len(top) < len(rows)  # some locations do not decide their criterion: the per-location tables
     out = [f'<p class="counts" id="verdict-counts"><b>{len(rows)} checks of {len({r.criterion for r in rows})} '
