@@ -1,25 +1,33 @@
 """A self-contained HTML report of saved results, read top-down by an engineer.
 
-Sections, in order: the verdicts (:class:`CheckEntry` rows, from the checks of a result) and the
-warnings (each result's provenance ``warnings``); for a scenario that reproduces a study, the
-study's stated findings beside ours (data: ``models/studies/*.toml``, :func:`load_study`); the
-figures, each next to the numbers it explains, grouped by bridge / car / wheelsets; the full
-channel table, grouped the same way, collapsible and filterable; the modes (:class:`ModeEntry`
-rows); the scenario; the provenance.
+Sections, in order: the verdicts and the warnings (each result's provenance ``warnings``); for a
+scenario that reproduces a study, the study's stated findings beside ours (data:
+``models/studies/*.toml``, :func:`load_study`); the figures, each next to the numbers it explains,
+grouped by bridge / car / wheelsets; the full channel table, grouped the same way, collapsible and
+filterable; the modes (:class:`ModeEntry` rows); the scenario; the provenance.
+
+The verdicts (:class:`Verdicts`, from the checks of the first random result, or given): a one-line
+count per verdict (how many conditional: a caveat could change the verdict); one row per criterion,
+its deciding location (readable label, the channel name beside it, linked to the channel's figure
+when the report has one); each distinct caveat once, numbered under the table (the rows carry the
+numbers); the full per-location table folded below. Probabilities, estimates and limits as the
+terminal shows them (:func:`tb_exudyn.results.checks_table.format_probability`, ``format_value``:
+"< 1e-09" below SMALLEST_SHOWN, kN, mm, m/s^2).
 
 Inputs that other layers compute arrive as documented data objects; a section whose input is
 absent says "not computed":
 
-- ``checks``: a sequence of :class:`CheckEntry` (or objects with the same attribute names, e.g. the
-  rows of ``result.checks()``), one per criterion and location;
+- ``checks``: a checks table (``result.checks()``, :class:`tb_exudyn.results.checks_table.ChecksTable`)
+  or a sequence of :class:`CheckEntry` (or objects with the same attribute names), one per
+  criterion and location;
 - ``modes``: a sequence of :class:`ModeEntry` (or objects with the same attribute names), the
   damped modes of the linearised system.
 
 One page, no external resources: figures are embedded as base64 PNG, the style and the few lines
 of script (the channel filter; the page reads the same without it) are inline, and every piece of
 text is escaped. Values are shown in engineering units (:func:`tb_exudyn.plotting.data.display_unit`).
-Until the checks exist, the verdict section shows a screening of max |mean| + 3 sigma against the
-limits of :func:`code_limit` (all [check]), clearly labelled as not being a verdict.
+When the checks cannot be computed, the verdict section shows a screening of max |mean| + 3 sigma
+against the limits of :func:`code_limit` (all [check]), clearly labelled as not being a verdict.
 matplotlib is imported only when figures are drawn (through :mod:`tb_exudyn.plotting`).
 """
 
@@ -38,10 +46,12 @@ from ..errors import UserError
 from ..results import RandomResponse, find_results
 from ..results.checks import checks as run_checks
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
-from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, as_check_entries,
-                      as_mode_entries, check_entries, code_limit, compare_findings, screening, static_axle_load, summary)
+from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, Verdicts, as_check_entries,
+                      as_mode_entries, check_entries, code_limit, compare_findings, screening, static_axle_load, summary,
+                      verdicts_of)
 from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_section, findings_section, link, modes_section,
-                   provenance_section, result_name, scenario_section, verdicts_section, warnings_section)
+                   provenance_section, result_name, scenario_section, warnings_section)
+from .verdicts import verdicts_section
 
 esc = html.escape
 
@@ -78,10 +88,10 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     if checks is None:  # the checks of the first random response (the verdicts at the top)
         first = _first_random(found)
         try:
-            checks = check_entries(run_checks(first)) if first is not None else None
+            checks = run_checks(first) if first is not None else None
         except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
             report_warnings.append(f"code checks not computed: {exc}")
-    check_rows = as_check_entries(checks)
+    verdicts = verdicts_of(checks)
     if modes is None:  # the modal table a random result carries (its analysis set-up)
         carried = [r.provenance["damped_modes"] for _, r in found if r.provenance.get("damped_modes")]
         modes = [ModeEntry(**m) for m in carried[0]] if carried else None
@@ -111,7 +121,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
             f'<p class="meta">{esc(sc.description if sc else "")}</p>',
             f'<p class="meta">{esc("; ".join(what))}. Generated {esc(now)} by tb_exudyn {esc(__version__)}.</p>',
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
-            verdicts_section(check_rows, first, k, figure_ids),
+            verdicts_section(verdicts, first, k, figure_ids),
             warnings_section(found, report_warnings),
             findings_section(studies, pem, figure_ids),
             figures_section(found, pictures, names, k, list(comparison)),
@@ -167,8 +177,8 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     matter, :func:`tb_exudyn.plotting.data.default_channels`); the channel table lists every
     channel. Figures that ``plot_folder`` already wrote (newer than the results) are embedded as
     they are; missing ones are drawn (``workers`` processes, a progress bar with ``progress``) into
-    ``<result>/figures``. ``checks``, ``modes``: the verdict rows and the modes (see
-    :class:`CheckEntry`, :class:`ModeEntry`; None: "not computed"). ``found``: the results already
+    ``<result>/figures``. ``checks``: a checks table or the verdict rows (:func:`verdicts_of`; None:
+    the checks of the first random result); ``modes``: the modes (:class:`ModeEntry`; None: "not computed"). ``found``: the results already
     loaded (``find_results(folder)``).
     """
     folder = Path(folder)
@@ -184,6 +194,6 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
 
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
-           "SummaryRow", "as_check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
+           "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
            "load_study", "plot_folder", "render_report", "report_pictures", "save_figure", "scenario_sections", "screening",
-           "static_axle_load", "studies_for", "summary", "write_report"]
+           "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report"]

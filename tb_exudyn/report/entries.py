@@ -1,4 +1,4 @@
-"""The report's inputs as data: the verdict rows (:class:`CheckEntry`), the modes
+"""The report's inputs as data: the verdict rows (:class:`CheckEntry`, :class:`Verdicts`), the modes
 (:class:`ModeEntry`), the per-channel summary, the screening against the former hard-coded limits,
 and the study's findings beside ours (:func:`compare_findings`)."""
 
@@ -14,6 +14,7 @@ import numpy as np
 from ..plotting import data as pdata
 from ..system.labels import channel_label
 from ..results import RandomResponse, TimeHistory
+from ..results.checks_table import Caveat
 from ..scenario import Car15, Scenario
 from ..scenario.studies import Study, StudyFinding, StudyQuantity
 
@@ -22,15 +23,18 @@ Result = Union[RandomResponse, TimeHistory]
 
 @dataclass(frozen=True)
 class CheckEntry:
-    """One row of the verdicts table: a criterion checked at one location.
+    """One row of the verdicts: a criterion checked at one location.
 
-    The checks of a result (issue 16, ``result.checks()``) provide these attributes; any object
-    with them is accepted (:func:`as_check_entries`). ``estimate`` and ``limit`` are in ``unit``
-    (SI; shown in its display unit). ``verdict`` is a word ("OK", "EXCEEDS", "NOT APPLICABLE", ...);
-    ``probability`` the probability that the limit is exceeded at least once per passage (NaN: not
-    computed); ``caveats`` the warnings that apply to this row (a lightly damped mode, a grid error,
-    a quantity the linear model cannot represent); ``channel`` the channel it comes from (links the
-    row to its figures)."""
+    The rows of a checks table (:func:`tb_exudyn.results.checks.checks`) arrive through
+    :func:`check_entries`; any object with these attributes is accepted (:func:`as_check_entries`).
+    ``estimate`` and ``limit`` are in ``unit`` (SI; shown in its display unit). ``verdict`` is a word
+    ("OK", "EXCEEDS", "UNDETERMINED", "NOT EVALUATED", ...); ``probability`` the probability that the
+    limit is exceeded at least once per passage (None or NaN: not computed) and ``interval`` its
+    confidence interval (Monte Carlo); ``caveats`` what qualifies the row (:class:`Caveat`, or plain
+    text: a caveat that does not change the verdict); ``channel`` the channel it comes from (links the
+    row to its figures); ``conditional``: a caveat could turn the verdict; ``grade`` the grade of a
+    graded limit; ``decisive``: this location decides its criterion (its worst), the row of the
+    report's first table (the others are in the per-location table)."""
 
     criterion: str
     location: str
@@ -38,10 +42,36 @@ class CheckEntry:
     limit: float
     unit: str
     verdict: str
-    probability: float = math.nan
+    probability: float | None = None
     clause: str = ""
-    caveats: tuple[str, ...] = ()
+    caveats: tuple[Caveat, ...] = ()
     channel: str = ""
+    interval: tuple[float, float] | None = None
+    grade: str = ""
+    conditional: bool = False
+    decisive: bool = True
+
+    def __post_init__(self) -> None:
+        if self.probability is not None and math.isnan(self.probability):
+            object.__setattr__(self, "probability", None)
+        object.__setattr__(self, "caveats", tuple(c if isinstance(c, Caveat) else Caveat("", str(c), False)
+                                                  for c in (self.caveats or ())))
+
+
+@dataclass(frozen=True)
+class Verdicts:
+    """The report's verdict section: ``rows`` (every criterion and location, :class:`CheckEntry`),
+    ``heading`` (what was checked: method, speed, passage, target probability; "" if unknown) and the
+    table's ``notes`` (remarks on the whole table)."""
+
+    rows: tuple[CheckEntry, ...]
+    heading: str = ""
+    notes: tuple[str, ...] = ()
+
+    @property
+    def decisive(self) -> list[CheckEntry]:
+        """One row per criterion: the location that decides it."""
+        return [r for r in self.rows if r.decisive]
 
 
 @dataclass(frozen=True)
@@ -71,10 +101,7 @@ def _entries(rows: Iterable[Any] | None, cls: type) -> list | None:
         if missing:
             raise TypeError(f"{cls.__name__} row {i}: {type(row).__name__} has no attribute {missing[0]!r} "
                             f"(needs {', '.join(required)})")
-        values = {f.name: getattr(row, f.name) for f in fields(cls) if hasattr(row, f.name)}
-        if "caveats" in values:
-            values["caveats"] = tuple(values["caveats"] or ())
-        out.append(cls(**values))
+        out.append(cls(**{f.name: getattr(row, f.name) for f in fields(cls) if hasattr(row, f.name)}))
     return out
 
 
@@ -84,18 +111,30 @@ def as_check_entries(rows: Iterable[Any] | None) -> list[CheckEntry] | None:
 
 
 def check_entries(table: Any) -> list[CheckEntry]:
-    """The report's verdict rows from a checks table (:func:`tb_exudyn.results.checks.checks`): the
-    location that decides each criterion (its worst), with the verdict marked conditional where a
-    caveat could turn it, and every caveat's text."""
-    out = []
-    for r in table.worst():
-        out.append(CheckEntry(
-            criterion=r.title or r.criterion, location=channel_label(r.channel), estimate=float(r.estimate),
-            limit=float(r.limit), unit=r.unit, verdict=r.verdict_text,
-            probability=math.nan if r.probability is None else float(r.probability), clause=r.clause,
-            caveats=tuple(c.text for c in r.caveats), channel=r.channel,
-        ))
-    return out
+    """The report's rows of a checks table (:func:`tb_exudyn.results.checks.checks`): every criterion
+    and location, the deciding location of each criterion (``table.worst()``) marked ``decisive``,
+    conditional as the table shows it (``verdict_text``), the caveats as they are."""
+    worst = {id(r) for r in table.worst()}
+    return [CheckEntry(
+        criterion=r.title or r.criterion, location=channel_label(r.channel), estimate=float(r.estimate),
+        limit=float(r.limit), unit=r.unit, verdict=r.verdict, probability=r.probability, clause=r.clause,
+        caveats=tuple(r.caveats), channel=r.channel, interval=r.interval, grade=r.grade,
+        conditional=r.verdict_text != r.verdict, decisive=id(r) in worst,
+    ) for r in table.rows]
+
+
+def verdicts_of(checks: Any) -> Verdicts | None:
+    """The verdict section's data: from a checks table (an object with ``rows`` and ``worst()``, e.g.
+    :class:`tb_exudyn.results.checks_table.ChecksTable`) or from a sequence of rows (each a
+    :class:`CheckEntry` or an object with its attributes); None stays None ("not computed")."""
+    if checks is None:
+        return None
+    if hasattr(checks, "rows") and hasattr(checks, "worst"):
+        heading = (f"{checks.method}, {checks.speed_kmh:g} km/h, passage {checks.window[0]:.3g}-{checks.window[1]:.4g} s, "
+                   f"target P <= {checks.target:.3g} per passage"
+                   + (f" ({checks.first_passage} first passage)" if checks.method == "pem" else ""))
+        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes))
+    return Verdicts(tuple(as_check_entries(checks)))
 
 
 def as_mode_entries(rows: Iterable[Any] | None) -> list[ModeEntry] | None:

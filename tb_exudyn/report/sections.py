@@ -15,9 +15,10 @@ import numpy as np
 from ..plotting import data as pdata
 from ..plotting.data import channel_group, channel_label, crossing_times, display_unit, format_number
 from ..results import RandomResponse, TimeHistory
+from ..results.checks_table import format_value
 from ..scenario import Scenario
 from ..scenario.studies import MEASURES, Study, StudyQuantity
-from .entries import CheckEntry, FindingRow, ModeEntry, Result, code_limit, compare_findings, screening, static_axle_load
+from .entries import FindingRow, ModeEntry, Result, code_limit, compare_findings, static_axle_load
 
 esc = html.escape
 
@@ -95,7 +96,7 @@ def scenario_sections(sc: Scenario) -> list[tuple[str, str, list[str], list[Sequ
 
 # ============================================================================================ HTML pieces
 STYLE = """
-body{font-family:system-ui,sans-serif;max-width:76rem;margin:.6rem auto;padding:0 1rem;color:#222;line-height:1.35}
+body{font-family:system-ui,sans-serif;max-width:88rem;margin:.6rem auto;padding:0 1rem;color:#222;line-height:1.35}
 h1{font-size:1.45rem;margin:.2rem 0} h2{font-size:1.2rem;margin:1.2rem 0 .4rem;border-bottom:1px solid #ddd}
 h3{font-size:1.05rem;margin:.9rem 0 .3rem} h4{font-size:.95rem;margin:.8rem 0 .2rem}
 p.meta{margin:.1rem 0;color:#555;font-size:.85rem} nav{font-size:.85rem;margin:.2rem 0 .4rem}
@@ -103,12 +104,18 @@ table{border-collapse:collapse;margin:.3rem 0 .8rem;font-size:.82rem}
 th,td{border:1px solid #ccc;padding:.15rem .45rem;text-align:left;vertical-align:top}
 th{background:#f0f0f0} td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}
 .exceeds,.not-matched{color:#b00;font-weight:bold} .ok,.matched{color:#070;font-weight:bold} .check{color:#a60}
+.undetermined{color:#a60;font-weight:bold} .not-evaluated{color:#555;font-weight:bold}
 .placeholder{background:#fff8e0;border:1px solid #e6c200;padding:.3rem .6rem;margin:.3rem 0;font-size:.88rem}
 .warn{background:#fdeaea;border-left:4px solid #b00;padding:.2rem .6rem;margin:.2rem 0;font-size:.88rem}
 .figs{display:grid;grid-template-columns:repeat(auto-fill,minmax(34rem,1fr));gap:.4rem}
 figure{margin:0} img{max-width:100%;height:auto} figcaption{font-size:.78rem;color:#555}
 p.nums{font-size:.85rem;margin:.1rem 0 .3rem} code{font-size:.85em} small{color:#555}
 details{margin:.2rem 0} summary{cursor:pointer;font-weight:600}
+p.counts{margin:.2rem 0 .3rem;font-size:.92rem} .conditional{color:#a60;font-weight:600}
+#verdicts td.notes{font-size:.78rem;white-space:nowrap}
+#verdicts-table td{padding:.08rem .4rem;line-height:1.22} h2 small{font-weight:normal;font-size:.8rem;color:#555} ol.notes{font-size:.78rem;margin:.1rem 0 .5rem;padding-left:2.4rem}
+ol.notes li{margin:.05rem 0} #verdicts-all table{width:100%;table-layout:fixed}
+#verdicts-all th:nth-child(1){width:46%} #verdicts-all th:nth-child(5){width:18%} #verdicts-all th:nth-child(6){width:9%}
 """
 
 #: the channel filter: an input box, made by the script (without it the page reads the same)
@@ -125,20 +132,20 @@ d.hidden=n===0;d.open=words.length>0&&n>0;});});})();
 
 
 @dataclass(frozen=True)
-class _Raw:
+class Raw:
     """Already escaped HTML for a table cell."""
 
     html: str
 
 
-def _table(tid: str, header: Sequence[str], rows: Iterable[Sequence[Any]], classes: Sequence[str] = ()) -> str:
+def html_table(tid: str, header: Sequence[str], rows: Iterable[Sequence[Any]], classes: Sequence[str] = ()) -> str:
     out = [f'<table id="{esc(tid)}"><thead><tr>' + "".join(f"<th>{esc(h)}</th>" for h in header) + "</tr></thead><tbody>"]
     for row in rows:
         cells = []
         for i, cell in enumerate(row):
             cls = classes[i] if i < len(classes) else ""
             cells.append(f'<td class="{cls}">' if cls else "<td>")
-            cells.append((cell.html if isinstance(cell, _Raw) else esc(str(cell))) + "</td>")
+            cells.append((cell.html if isinstance(cell, Raw) else esc(str(cell))) + "</td>")
         out.append("<tr>" + "".join(cells) + "</tr>")
     return "".join(out) + "</tbody></table>"
 
@@ -148,13 +155,7 @@ def _shown(value: float, si_unit: str) -> str:
     return format_number(value * display_unit(si_unit).factor)
 
 
-def _with_unit(value: float, si_unit: str) -> str:
-    du = display_unit(si_unit)
-    text = format_number(value * du.factor)
-    return f"{text} {du.unit}".strip() if text else ""
-
-
-def _verdict_class(word: str) -> str:
+def verdict_class(word: str) -> str:
     return re.sub(r"[^a-z]+", "-", word.lower()).strip("-")
 
 
@@ -187,57 +188,6 @@ def link(target: str, text: str) -> str:
 
 
 # ============================================================================================ sections
-def verdicts_section(checks: Sequence[CheckEntry] | None, first: Result | None, k: float,
-                     figure_ids: set[str], max_rows: int = 12) -> str:
-    """The verdicts: the checks table (exceeding rows first; beyond ``max_rows`` the rest folded),
-    or "not computed" with the interim screening."""
-    out = ['<section id="verdicts"><h2>Verdicts</h2>']
-    if checks is None:
-        out.append('<p class="placeholder"><b>Verdicts: not computed.</b> The code checks (exceedance '
-                   "probabilities of the limits in models/limits) were not given to this report. Below: a "
-                   f"screening of max |mean| + {k:g} sigma against the interim limits, all "
-                   '<span class="check">[check]</span>, which is not a verdict (a Gaussian response exceeds '
-                   f"its {k:g}-sigma level in a sizeable share of passages).</p>")
-        if first is not None:
-            rows = []
-            for s in screening(first, k):
-                w = s.worst
-                ch = w.channel
-                where = link(anchor("fig", ch), channel_label(ch)) if anchor("fig", ch) in figure_ids else esc(channel_label(ch))
-                rows.append((s.criterion, _Raw(f"{where}<br><small><code>{esc(ch)}</code></small>"),
-                             _with_unit(w.peak, w.unit), _Raw(f'{esc(_with_unit(w.limit.value, w.unit))} '
-                                                              f'<span class="check">[check]</span>'),
-                             _Raw(f'<span class="{_verdict_class(w.status)}">{esc(w.status)}</span>'),
-                             f"{s.n_exceeding} of {s.n_locations}", _Raw(f"<small>{esc(w.limit.source)}"
-                                                                         f"{'; ' + esc(w.limit.note) if w.limit.note else ''}</small>")))
-            head = ["criterion", "worst location", f"max |mean| + {k:g} sigma", "limit", "screening",
-                    "locations exceeding", "source"]
-            out.append(_table("verdicts-table", head, rows, ("", "", "num", "num", "", "num", "")) if rows
-                       else '<p id="verdicts-table">No channel of this result has a screening limit.</p>')
-        out.append("</section>")
-        return "\n".join(out)
-    order = sorted(range(len(checks)), key=lambda i: (checks[i].verdict.upper() == "OK", i))
-    rows = []
-    for i in order:
-        c = checks[i]
-        where = esc(c.location)
-        if c.channel and anchor("fig", c.channel) in figure_ids:
-            where = link(anchor("fig", c.channel), c.location)
-        caveats = "".join(f"<li>{esc(x)}</li>" for x in c.caveats)
-        rows.append((c.criterion, _Raw(where), _with_unit(c.estimate, c.unit), _with_unit(c.limit, c.unit),
-                     "" if math.isnan(c.probability) else f"{c.probability:.3g}",
-                     _Raw(f'<span class="{_verdict_class(c.verdict)}">{esc(c.verdict)}</span>'),
-                     _Raw(f"<ul>{caveats}</ul>" if caveats else ""), _Raw(f"<small>{esc(c.clause)}</small>")))
-    head = ["criterion", "location", "estimate", "limit", "P(exceed) per passage", "verdict", "caveats", "clause"]
-    classes = ("", "", "num", "num", "num", "", "", "")
-    out.append(_table("verdicts-table", head, rows[:max_rows], classes))
-    if len(rows) > max_rows:
-        out.append(f"<details><summary>{len(rows) - max_rows} more checks</summary>"
-                   + _table("verdicts-more", head, rows[max_rows:], classes) + "</details>")
-    out.append("</section>")
-    return "\n".join(out)
-
-
 def warnings_section(found: Sequence[tuple[Path, Result]], extra: Sequence[str] = ()) -> str:
     """Every result's provenance ``warnings`` (and the report's own), or "none recorded"."""
     items = [(None, w) for w in extra]
@@ -303,19 +253,19 @@ def findings_section(studies: Sequence[Study], resp: RandomResponse | None, figu
             ch = r.quantity.channel
             where = link(anchor("fig", ch), channel_label(ch)) if anchor("fig", ch) in figure_ids else esc(channel_label(ch))
             agreement = r.agreement
-            cls = _verdict_class(agreement) if agreement in ("matched", "not matched") else ""
+            cls = verdict_class(agreement) if agreement in ("matched", "not matched") else ""
             rule = _rule_text(r.quantity)
-            claim = (_Raw("") if r.finding is previous else  # the claim once, on its first quantity
-                     _Raw(f"<b>{esc(r.finding.id)}</b>: {esc(r.finding.claim)}<br><small>{esc(r.finding.where)}</small>"))
+            claim = (Raw("") if r.finding is previous else  # the claim once, on its first quantity
+                     Raw(f"<b>{esc(r.finding.id)}</b>: {esc(r.finding.claim)}<br><small>{esc(r.finding.where)}</small>"))
             previous = r.finding
             rows.append((claim,
-                         _Raw(f"{where}<br><small><code>{esc(ch)}</code></small>"),
+                         Raw(f"{where}<br><small><code>{esc(ch)}</code></small>"),
                          MEASURES[r.quantity.measure][1], _study_text(r.quantity), _ours_text(r),
-                         _Raw((f'<span class="{cls}">{esc(agreement)}</span>' if cls else esc(agreement))
+                         Raw((f'<span class="{cls}">{esc(agreement)}</span>' if cls else esc(agreement))
                               + (f"<br><small>{esc(rule)}: {esc(r.quantity.basis)}</small>" if rule else
                                  f"<small>{esc(r.quantity.basis)}</small>"))))
         head = ["finding (the study)", "channel", "measure", "the study", "ours", "agreement"]
-        out.append(_table(f"findings-{study.name}", head, rows, ("", "", "", "num", "num", "")))
+        out.append(html_table(f"findings-{study.name}", head, rows, ("", "", "", "num", "num", "")))
     out.append("</section>")
     return "\n".join(out)
 
@@ -324,14 +274,14 @@ def _numbers(result: Result, ch: str, k: float) -> str:
     """The numbers a channel's figures explain, in one line."""
     if isinstance(result, TimeHistory):
         value, t = result.peak(ch)
-        return f"max |value| {esc(_with_unit(abs(value), result.unit(ch)))} at t = {t:.3g} s"
+        return f"max |value| {esc(format_value(abs(value), result.unit(ch)))} at t = {t:.3g} s"
     row = result.index(ch)
     unit = result.unit(ch)
     mean, std = result.mean[row], result.std[row]
     j = int(np.argmax(std))
-    parts = [f"max |mean| {_with_unit(float(np.max(np.abs(mean))), unit)}",
-             f"max sigma {_with_unit(float(std[j]), unit)} at t = {result.time[j]:.3g} s",
-             f"max |mean| + {k:g} sigma {_with_unit(float(np.max(np.abs(mean) + k * std)), unit)}"]
+    parts = [f"max |mean| {format_value(float(np.max(np.abs(mean))), unit)}",
+             f"max sigma {format_value(float(std[j]), unit)} at t = {result.time[j]:.3g} s",
+             f"max |mean| + {k:g} sigma {format_value(float(np.max(np.abs(mean) + k * std)), unit)}"]
     if pdata.has_psd(result, ch):
         f, t = pdata.psd_peak(result, ch)
         lo, hi = pdata.psd_band(result, ch)
@@ -339,7 +289,7 @@ def _numbers(result: Result, ch: str, k: float) -> str:
                      f"{format_number(lo, 3)}-{format_number(hi, 3)} Hz")
     lim = code_limit(ch, result.scenario)
     if lim is not None:
-        parts.append(f"screening limit {_with_unit(lim.value, lim.unit)} [check]")
+        parts.append(f"screening limit {format_value(lim.value, lim.unit)} [check]")
     return esc(" · ".join(parts))
 
 
@@ -425,10 +375,10 @@ def channels_section(found: Sequence[tuple[Path, Result]], k: float, figure_ids:
             for c, u, values in rows:
                 label = channel_label(c)
                 target = anchor("fig", c)
-                name_cell = _Raw(link(target, label)) if target in figure_ids and path.name == found[0][0].name else label
-                cells.append((name_cell, _Raw(f"<code>{esc(c)}</code>"), display_unit(u).unit) + values)
+                name_cell = Raw(link(target, label)) if target in figure_ids and path.name == found[0][0].name else label
+                cells.append((name_cell, Raw(f"<code>{esc(c)}</code>"), display_unit(u).unit) + values)
             out.append(f'<details class="group"><summary>{esc(heading)} ({len(rows)} channels)</summary>'
-                       + _table(f"channels-{path.name}-{key}", head, cells, ("", "", "") + ("num",) * len(head))
+                       + html_table(f"channels-{path.name}-{key}", head, cells, ("", "", "") + ("num",) * len(head))
                        + "</details>")
     out.append("</section>")
     return "\n".join(out)
@@ -444,9 +394,9 @@ def modes_section(modes: Sequence[ModeEntry] | None) -> str:
         out.append("<p>No modes in the analysed band.</p>")
     else:
         rows = [(format_number(m.frequency, 4), f"{m.damping_ratio:.3g}", m.label, m.context,
-                 _Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
+                 Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
                 for m in sorted(modes, key=lambda m: m.frequency)]
-        out.append(_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
+        out.append(html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
                           rows, ("num", "num", "", "", "")))
     out.append("</section>")
     return "\n".join(out)
@@ -464,7 +414,7 @@ def scenario_section(scenarios: Sequence[Scenario]) -> str:
         out.append(f'<p class="warn">Some results were computed for other scenarios: {esc(", ".join(others))}'
                    " (only the first is tabulated).</p>")
     for tid, heading, head, rows in scenario_sections(sc):
-        out.append(f"<details><summary>{esc(heading)}</summary>" + _table(tid, head, rows) + "</details>")
+        out.append(f"<details><summary>{esc(heading)}</summary>" + html_table(tid, head, rows) + "</details>")
     out.append("</section>")
     return "\n".join(out)
 
@@ -476,6 +426,6 @@ def provenance_section(found: Sequence[tuple[Path, Result]]) -> str:
         if result.scenario is not None:
             rows.insert(0, ("scenario seed (analysis.seed)", str(result.scenario.analysis.seed)))
         out.append(f"<details><summary>{esc(result_name(path, result))}</summary>"
-                   + _table(f"provenance-{path.name}", ["key", "value"], rows) + "</details>")
+                   + html_table(f"provenance-{path.name}", ["key", "value"], rows) + "</details>")
     out.append("</section>")
     return "\n".join(out)

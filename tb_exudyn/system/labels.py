@@ -15,10 +15,15 @@ _COMPONENT = {"y": "lateral", "z": "vertical", "rx": "roll", "ry": "pitch", "rz"
 _BRIDGE_COMPONENT = {"y": "lateral", "z": "vertical", "rx": "torsional"}
 _QUANTITY_TRANSLATION = {"disp": "displacement", "vel": "velocity", "acc": "acceleration"}
 _QUANTITY_ROTATION = {"disp": "angle", "vel": "angular velocity", "acc": "angular acceleration"}
-_STATION = {"mid": "mid-span", "q1": "first quarter point", "q3": "third quarter point", "top": "top"}
+_STATION = {"mid": "mid-span", "q1": "first quarter point", "q3": "third quarter point", "top": "top",
+            "start": "1.5 m from the span's start", "end": "1.5 m from the span's end"}
 _BOGIE = {"1": "leading bogie", "2": "trailing bogie"}
 
 _MOTION = re.compile(r"(disp|vel|acc)_(y|z|rx|ry|rz)")
+#: the derived channels of tb_exudyn.system.derived (what follows the station, body or axle)
+_BRIDGE_DERIVED = {"acc_z_en1990": "EN 1990 vertical acceleration (modes up to the cut-off)", "twist_3m": "deck twist over 3 m"}
+_BODY_DERIVED = {"acc_z_wb": "Wb-weighted vertical acceleration", "acc_y_wd": "Wd-weighted lateral acceleration",
+                 "sperling_z": "vertical Sperling index", "sperling_y": "lateral Sperling index"}
 _BRIDGE = re.compile(r"bridge\.(span|pier)(\d+)\.(\w+)\.(.+)")
 _CAR = re.compile(r"car(\d+)\.(.+)")
 
@@ -36,12 +41,13 @@ def channel_label(name: str) -> str:
     """A readable label of a channel name (``tb_exudyn.system.channels`` naming), e.g.
     ``car1.bogie1.acc_y`` -> "car 1, leading bogie, lateral acceleration",
     ``bridge.span2.mid.disp_z`` -> "span 2, mid-span, vertical displacement",
-    ``car1.axle3.left.force_z`` -> "car 1, axle 3, left wheel, vertical wheel-rail force".
-    A name of another form (a derived quantity) is returned as it is."""
+    ``car1.axle3.left.force_z`` -> "car 1, axle 3, left wheel, vertical wheel-rail force"; the derived
+    channels of :mod:`tb_exudyn.system.derived` too (``car1.axle2.left.derailment`` -> "car 1, axle 2,
+    left wheel, derailment quotient Q/P"). A name of another form is returned as it is."""
     m = _BRIDGE.fullmatch(name)
     if m:
         kind, number, station, what = m.groups()
-        motion = _motion_label(what, _BRIDGE_COMPONENT)
+        motion = _motion_label(what, _BRIDGE_COMPONENT) or _BRIDGE_DERIVED.get(what)
         if motion is not None:
             return f"{kind} {number}, {_STATION.get(station, station)}, {motion}"
         return name
@@ -52,7 +58,7 @@ def channel_label(name: str) -> str:
     parts = rest.split(".")
     head = f"car {car}"
     if len(parts) == 2 and parts[0] == "body":
-        motion = _motion_label(parts[1], _COMPONENT)
+        motion = _motion_label(parts[1], _COMPONENT) or _BODY_DERIVED.get(parts[1])
         return f"{head}, body, {motion}" if motion else name
     if len(parts) == 2 and parts[0].startswith("bogie") and parts[0][5:] in _BOGIE:
         motion = _motion_label(parts[1], _COMPONENT)
@@ -65,6 +71,10 @@ def channel_label(name: str) -> str:
             return f"{axle}, vertical wheel-rail force"
         if len(parts) == 3 and parts[1] in ("left", "right") and parts[2] == "force_z":
             return f"{axle}, {parts[1]} wheel, vertical wheel-rail force"
+        if len(parts) == 3 and parts[1] in ("left", "right") and parts[2] == "derailment":
+            return f"{axle}, {parts[1]} wheel, derailment quotient Q/P"
+        if len(parts) == 2 and parts[1] == "unloading":
+            return f"{axle}, wheel unloading dP/P"
         if len(parts) == 2:
             motion = _motion_label(parts[1], _COMPONENT)
             if motion:

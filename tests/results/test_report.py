@@ -4,6 +4,8 @@ with their numbers, grouped channel table, modes, scenario, provenance), on synt
 from __future__ import annotations
 
 import base64
+import fnmatch
+import html
 import importlib.util
 import math
 import os
@@ -25,6 +27,13 @@ from tb_exudyn.report import (
     studies_for, summary, write_report,
 )
 from tb_exudyn.results import RandomResponse
+from tb_exudyn.results.checks import DEFAULT_TARGET_PROBABILITY, default_limits
+from tb_exudyn.results.checks_table import SMALLEST_SHOWN, Caveat, CheckRow, ChecksTable
+from tb_exudyn.scenario.limits import quantity
+from tb_exudyn.structure import simply_supported_modes
+from tb_exudyn.system.channels import catalogue
+from tb_exudyn.system.derived import derived_catalogue, station_positions
+from tb_exudyn.system.labels import channel_label
 from tb_exudyn.scenario.errors import ScenarioError
 
 matplotlib.use("Agg")
@@ -123,11 +132,14 @@ def test_verdicts_not_computed_show_the_screening(report):
 
 
 def test_the_checks_slot_in(folder):
-    """CheckEntry rows and rows of another type with the same attributes: exceeding rows first,
-    caveats beside the verdict, the location linked to its figures; beyond 12 rows folded."""
+    """CheckEntry rows and rows of another type with the same attributes: one row per criterion (its
+    deciding location, exceeding first), numbers in display units (170e3 N -> 170 kN), probabilities
+    by format_probability (1e-9 is not below SMALLEST_SHOWN: shown), the caveat's text in a numbered
+    note the row links to, the location linked to its figure; the other locations in the folded
+    per-location table. Fails if the rows lose their order, units or links, or a caveat is inlined."""
 
     @dataclass
-    class OtherCheck:  # e.g. the rows of result.checks()
+    class OtherCheck:  # a row of another type with the same attribute names
         criterion: str
         location: str
         estimate: float
@@ -138,20 +150,25 @@ def test_the_checks_slot_in(folder):
         caveats: list
         channel: str
 
+    caveat = "bogie yaw mode 8.34 Hz, damping 9.8e-05: sigma grows through the run"
     checks = [CheckEntry("deck vertical acceleration", "span 1, mid-span", 0.49, 3.5, "m/s^2", "OK", 1e-9,
                          "EN 1990 A2.4.4.2.1", (), "bridge.span1.mid.acc_z"),
-              OtherCheck("lateral axle force H", "car 1, axle 1", 170e3, 49.08e3, "N", "EXCEEDS", 0.93,
-                         ["bogie yaw mode 8.34 Hz, damping 9.8e-05: sigma grows through the run"], CH)]
-    checks += [CheckEntry("Q/P", f"car 1, wheel {i}", 0.1, 0.8, "", "OK") for i in range(12)]
+              OtherCheck("lateral axle force H", "car 1, axle 1", 170e3, 49.08e3, "N", "EXCEEDS", 0.93, [caveat], CH)]
+    checks += [CheckEntry("Q/P", f"car 1, wheel {i}", 0.1 + 0.01 * i, 0.8, "-", "OK", decisive=i == 11)
+               for i in range(12)]
     found = find_results(folder)
     text = render_report(found, channels=[CH], checks=checks)
     page = Page(text)
     table = page.tables["verdicts-table"]
-    assert len(table) == 1 + 12 and len(page.tables["verdicts-more"]) == 1 + 2
+    assert [r[0] for r in table] == ["criterion", "lateral axle force H", "deck vertical acceleration", "Q/P"]
     first = table[1]
-    assert first[:6] == ["lateral axle force H", "car 1, axle 1", "170 kN", "49.08 kN", "0.93", "EXCEEDS"]
-    assert "bogie yaw mode 8.34 Hz" in first[6]
+    assert first == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
+                     "EXCEEDS", "1"]
+    assert table[2][4] == "1e-09" and table[3][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
+    assert text.count(caveat) == 1 and '<li id="note-1">' + caveat in text and 'href="#note-1"' in text
     assert '<a href="#fig-car1.axle1.force_y">car 1, axle 1</a>' in text
+    assert len(page.tables["verdicts-locations-3"]) == 1 + 12  # the Q/P locations, folded
+    assert "14 checks of 3 criteria</b>: 13 OK, 1 EXCEEDS" in text
     assert "not computed" not in text.split('id="warnings"')[0]
     with pytest.raises(TypeError, match="has no attribute 'criterion'"):
         render_report(found, checks=[object()])
@@ -328,7 +345,7 @@ PROBE = """<script>window.addEventListener('load', function () {
   h.setAttribute('data-images', imgs.length); h.setAttribute('data-broken', broken);
   h.setAttribute('data-verdict-top', Math.round(v.top + window.scrollY));
   h.setAttribute('data-verdict-bottom', Math.round(v.bottom + window.scrollY));
-  h.setAttribute('data-width', window.innerWidth);
+  h.setAttribute('data-width', window.innerWidth); h.setAttribute('data-height', window.innerHeight);
   var box = document.querySelector('#channel-filter input');
   h.setAttribute('data-filter', box ? 'yes' : 'no');
   if (box) {
@@ -372,3 +389,135 @@ def test_first_screen_shows_the_verdicts_and_every_image_loads(report, tmp_path)
     shot = tmp_path / "first_screen.png"
     _chromium([f"--screenshot={shot}", report.resolve().as_uri()])
     assert shot.read_bytes()[:4] == b"\x89PNG"
+
+
+# ------------------------------------------------------------------------------------------ verdicts of a checks table
+#: the loss-of-contact caveat of the checks: global, on every row, could change every verdict
+LOSS = Caveat("loss_of_contact", "a wheel load falls below 0 (loss of contact) with probability 0.048 per passage "
+              "(car2.axle1.left.force_z): the linear contact model cannot lose contact, so results past it are not "
+              "physical", True)
+#: probabilities far below SMALLEST_SHOWN: a Gaussian tail and an underflow to 0
+TINY = (1.44e-160, 0.0)
+
+
+def _checks_table() -> ChecksTable:
+    """A checks table on every criterion of the shipped limit files (their real titles, clauses and
+    [check] notes: the lengths the first screen must hold), three locations each (real channel names
+    of the criterion's quantity), with the caveats the checks attach: the loss-of-contact caveat on
+    every row, each [check] criterion's note on each of its rows, a grid error at location 2. Even
+    criteria are OK everywhere (probabilities 0 and 1.44e-160, and 3.2e-6 at location 3 of every
+    fourth), odd ones exceed at location 3 (P = 0.93); window statistics (Sperling) have no probability. Limits for 250 km/h and a static
+    axle load of 156.96 kN."""
+    rows = []
+    for ls in default_limits():
+        for i, c in enumerate(ls.criteria):
+            q = quantity(c.quantity)
+            limit = c.limit_value(speed_kmh=250.0, static_axle_load=156.96e3, static_wheel_load=78.48e3)
+            for k in (1, 2, 3):
+                name = q.channels[0].replace("span*", f"span{k}.mid").replace("car*", f"car{k}").replace("axle*", "axle1")
+                assert fnmatch.fnmatchcase(name, q.channels[0]), name
+                caveats = [LOSS]
+                if k == 2:
+                    caveats.append(Caveat("grid_error", "the frequency grid changes this channel's sigma by 5 % (> 1 %)", True))
+                if c.check:
+                    caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+                exceeds = i % 2 == 1 and k == 3
+                ok = TINY[k - 1] if k < 3 else 3.2e-6 if i % 4 == 0 else TINY[0]
+                p = None if c.statistic == "window_max" else 0.93 if exceeds else ok
+                estimate = limit * (1.2 if exceeds else 0.2 * k)
+                rows.append(CheckRow(
+                    criterion=f"{ls.name}/{c.id}", title=c.title, clause=c.clause, channel=name, unit=q.unit,
+                    statistic=c.statistic, limit=limit, limit_text="", estimate=estimate, estimate_text="",
+                    peak_3sigma=estimate, probability=p, interval=None, probability_vanmarcke=None,
+                    target=DEFAULT_TARGET_PROBABILITY, verdict="EXCEEDS" if exceeds else "OK", caveats=tuple(caveats)))
+    return ChecksTable(method="pem", scenario="quick", speed_kmh=250.0, target=DEFAULT_TARGET_PROBABILITY,
+                       first_passage="poisson", window=(0.0, 2.1), rows=tuple(rows),
+                       notes=("target probability per passage 2.74e-05",))
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt-get install chromium)")
+def test_first_screen_shows_every_criterions_verdict(folder, tmp_path):
+    """Headless Chromium at 1400 x 900 on a report of the checks of every shipped criterion (three
+    locations each): the whole verdict table lies on the first screen (top > 0, bottom <= 900 px, the
+    screenshot's viewport), with one row per criterion (its worst location) and no probability printed
+    below SMALLEST_SHOWN (1.44e-160 and 0 read "< 1e-09"). Fails if the table repeats caveats or
+    locations until it runs past the first screen, or prints a raw probability."""
+    table = _checks_table()
+    out = write_report(folder, tmp_path / "report.html", channels=[CH], checks=table, workers=1)
+    probe = tmp_path / "probe.html"
+    probe.write_text(out.read_text(encoding="utf-8").replace("</body>", PROBE + "</body>"), encoding="utf-8")
+    dom = _chromium(["--virtual-time-budget=10000", "--dump-dom", probe.resolve().as_uri()])
+    attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', dom.split(">", 2)[1]))
+    assert attrs["width"] == "1400"  # the layout's width; heights do not change the layout
+    assert 0 < int(attrs["verdict-top"]) < int(attrs["verdict-bottom"]) <= 900, attrs
+    rows = Page(dom).tables["verdicts-table"][1:]
+    titles = [c.title for ls in default_limits() for c in ls.criteria]
+    assert len(titles) == len(table.by_criterion()) and sorted(r[0] for r in rows) == sorted(titles)
+    shown = {r[0]: r[4] for r in rows}
+    for r in table.worst():  # the display rule, written out: "-" without, "< 1e-09" below 1e-9, else 3 digits
+        p = r.probability
+        assert shown[r.title] == ("-" if p is None else "< 1e-09" if p < 1e-9 else f"{p:.3g}"), r.title
+    assert {"< 1e-09", "3.2e-06", "0.93", "-"} <= set(shown.values())
+    assert all(p in ("-", "< 1e-09") or float(p) >= SMALLEST_SHOWN for p in shown.values())
+    assert "e-160" not in dom and "1.44e" not in dom
+    assert attrs["broken"] == "0"
+
+
+def test_each_caveat_text_appears_once():
+    """The checks table's 3 x 15 rows share the loss-of-contact caveat and, per criterion, its [check]
+    note: the page holds each distinct caveat text once (a numbered note), the rows carry its number
+    (a link to the note), and 'conditional' is explained once. Fails if a row inlines its caveats."""
+    table = _checks_table()
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=table)
+    caveats = {c.text for r in table.rows for c in r.caveats}
+    assert len(caveats) == 2 + len({c.note for ls in default_limits() for c in ls.criteria if c.check})
+    for c in caveats:
+        assert text.count(html.escape(c)) == 1, c
+    loss = re.search(r'<li id="note-(\d+)"><b class="conditional">could change the verdict</b> \u00b7 '
+                     + re.escape(html.escape(LOSS.text)), text)
+    top = text.split('id="verdicts-table"')[1].split("</table>")[0]
+    assert loss and top.count(f'href="#note-{loss.group(1)}"') == len(table.by_criterion())  # on every row
+    assert text.count("a caveat that could change the verdict applies to the row") == 1
+    assert top.count('href="#conditional">conditional</a>') == len(table.by_criterion())
+    assert "45 checks of 15 criteria</b>: 38 OK, 7 EXCEEDS; 45 conditional" in text
+
+
+def test_verdict_numbers_are_in_display_units():
+    """Estimates and limits of the first table in the display units (forces in kN, twist in mm,
+    accelerations in m/s^2, ratios and indices bare), 4 significant digits, written here from the SI
+    values by the unit factors (1e-3 for N, 1e3 for m). Fails if a value is shown in N or m."""
+    table = _checks_table()
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=table)
+    shown = {r[0]: r for r in Page(text).tables["verdicts-table"][1:]}
+    shows = {"N": (1e-3, " kN"), "m": (1e3, " mm"), "m/s^2": (1.0, " m/s^2"), "-": (1.0, "")}
+    units = set()
+    for r in table.worst():
+        factor, unit = shows[r.unit]
+        units.add(r.unit)
+        estimate = "-" if math.isnan(r.estimate) else f"{r.estimate * factor:.4g}{unit}"
+        assert shown[r.title][2:4] == [estimate, f"{r.limit * factor:.4g}{unit}"], r.title
+    assert units == set(shows)  # every kind of unit is among the criteria
+    cells = [r[t[0].index(col)] for tid, t in Page(text).tables.items() if tid.startswith("verdicts-")
+             for r in t[1:] for col in ("estimate", "limit")]  # the first table and the per-location ones
+    assert len(cells) == 2 * (15 + 45) and not [c for c in cells if re.search(r"\d( N| m)$|e\+0", c)]
+
+
+def test_derived_channels_have_readable_labels():
+    """Every derived channel (tb_exudyn.system.derived, on a two-span bridge with a car body and an
+    axle) reads as words in the report: not its name, no underscore, distinct from every other
+    channel's label. Fails if a new derived channel shows its raw name."""
+    bridge = simply_supported_modes((24.0, 31.3), 2e11, 8e11, 5e10, 2e4, 2e5, 0.02, 80.0, track_offset=2.0,
+                                    track_height=1.0)
+    bodies = [("car1.body", 10, (("y", 1), ("z", 2))), ("car1.axle1", 11, (("y", 1), ("z", 2), ("rx", 3)))]
+    channels = catalogue(bridge.station_names, bodies, ["car1.axle1.left.force_z", "car1.axle1.right.force_z",
+                                                        "car1.axle1.force_y"], [])
+    derived = derived_catalogue(channels, station_positions(bridge.station_names, (24.0, 31.3)), bridge, 0.7175, 3.0)
+    names = [d.name for d in derived.channels]
+    kinds = {n.rsplit(".", 1)[-1].rsplit("_", 1)[0] if "sperling" in n else n.rsplit(".", 1)[-1] for n in names}
+    assert kinds >= {"acc_z_en1990", "twist_3m", "acc_z_wb", "acc_y_wd", "sperling", "unloading", "derailment"}
+    labels = {n: channel_label(n) for n in names}
+    assert all(lab != n and "_" not in lab for n, lab in labels.items()), labels
+    every = [channel_label(c.name) for c in channels] + list(labels.values())
+    assert len(set(every)) == len(every)
+    assert labels["car1.axle1.left.derailment"] == "car 1, axle 1, left wheel, derailment quotient Q/P"
+    assert labels["bridge.span2.start.twist_3m"] == "span 2, 1.5 m from the span's start, deck twist over 3 m"

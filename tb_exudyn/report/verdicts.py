@@ -1,0 +1,164 @@
+"""The report's verdict section: what an engineer reads first.
+
+A one-line count per verdict (and how many are conditional), one row per criterion (the location
+that decides it), each distinct caveat once as a numbered note under the table (the rows carry the
+numbers), the table's own notes, and the full per-location table folded below. Numbers are shown by
+the one display rule of the checks (:func:`tb_exudyn.results.checks_table.format_probability`,
+:func:`~tb_exudyn.results.checks_table.format_value`: "< 1e-09" below SMALLEST_SHOWN, kN, mm,
+m/s^2), the same as the terminal's. Without checks: the interim screening, labelled as not a verdict.
+"""
+
+from __future__ import annotations
+
+import html
+from typing import Sequence
+
+from ..plotting.data import channel_label
+from ..results.checks_table import VERDICTS, Caveat, format_probability, format_value
+from .entries import CheckEntry, Result, Verdicts, screening
+from .sections import Raw, anchor, html_table, link, verdict_class
+
+esc = html.escape
+
+#: reading order of the rows: exceeding first, then undetermined, not evaluated, OK (other words after EXCEEDS)
+_ORDER = {"EXCEEDS": 0, "UNDETERMINED": 2, "NOT EVALUATED": 3, "OK": 4}
+
+#: what "conditional" means, said once (the verdict cells link here)
+CONDITIONAL = ("a caveat that could change the verdict applies to the row (its note is marked "
+               "\u201ccould change the verdict\u201d): the verdict holds only as far as that caveat allows")
+
+
+class _Notes:
+    """The distinct caveats, numbered in order of first use (1, 2, ...): a caveat's number is the
+    same in every row and table of the section."""
+
+    def __init__(self) -> None:
+        self.items: list[Caveat] = []
+        self._number: dict[tuple[str, bool, str], int] = {}
+
+    def number(self, c: Caveat) -> int:
+        key = (c.kind, c.changes_verdict, c.text)
+        if key not in self._number:
+            self.items.append(c)
+            self._number[key] = len(self.items)
+        return self._number[key]
+
+    def html(self, start: int, list_id: str) -> str:
+        """The notes from number ``start`` on, as an ordered list ("" if none)."""
+        items = []
+        for i, c in enumerate(self.items[start - 1:], start):
+            flag = '<b class="conditional">could change the verdict</b> \u00b7 ' if c.changes_verdict else ""
+            kind = f" <small><code>{esc(c.kind)}</code></small>" if c.kind else ""
+            items.append(f'<li id="note-{i}">{flag}{esc(c.text)}{kind}</li>')
+        return f'<ol class="notes" id="{list_id}" start="{start}">' + "".join(items) + "</ol>" if items else ""
+
+
+def _where(channel: str, label: str, figure_ids: set[str]) -> str:
+    """The readable label (linked to the channel's figure when the report has one), the name beside it."""
+    target = anchor("fig", channel)
+    text = link(target, label) if channel and target in figure_ids else esc(label)
+    return text + (f" <small><code>{esc(channel)}</code></small>" if channel and channel != label else "")
+
+
+def _cells(c: CheckEntry, notes: _Notes, figure_ids: set[str], mark_worst: bool = False) -> tuple:
+    """location, estimate, limit, probability, verdict (conditional, grade) and the caveats' numbers;
+    ``mark_worst``: say "worst" at the location that decides its criterion."""
+    marks = []
+    for cav in c.caveats:
+        n = notes.number(cav)
+        cls = ' class="conditional"' if cav.changes_verdict else ""
+        marks.append(f'<a href="#note-{n}"{cls}>{n}</a>')
+    verdict = f'<span class="{verdict_class(c.verdict)}">{esc(c.verdict)}</span>'
+    if c.conditional:
+        verdict += ' <a class="conditional" href="#conditional">conditional</a>'
+    if c.grade:
+        verdict += f" <small>{esc(c.grade)}</small>"
+    where = _where(c.channel, c.location, figure_ids) + (" <b>(worst)</b>" if mark_worst and c.decisive else "")
+    return (Raw(where), format_value(c.estimate, c.unit),
+            format_value(c.limit, c.unit), format_probability(c), Raw(verdict), Raw(",".join(marks)))
+
+
+def count_text(rows: Sequence[CheckEntry]) -> str:
+    """'68 OK, 112 EXCEEDS, 16 NOT EVALUATED; 180 conditional' (the verdicts in the order of
+    VERDICTS, then any other word; the terminal summary's first line counts the same way)."""
+    words = list(VERDICTS) + sorted({r.verdict for r in rows} - set(VERDICTS))
+    counts = {w: sum(r.verdict == w for r in rows) for w in words}
+    n_cond = sum(r.conditional for r in rows)
+    return ", ".join(f"{counts[w]} {w}" for w in words if counts[w]) + (f"; {n_cond} conditional" if n_cond else "")
+
+
+_HEAD = ["location", "estimate", "limit", "P(exceed) per passage", "verdict", "notes"]
+_CLASSES = ("", "num", "num", "num", "", "notes")
+
+
+def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
+    """The verdict section's body from the checks (module docstring)."""
+    rows = list(verdicts.rows)
+    if not rows:
+        return ['<p id="verdicts-table">No criterion of the limit files applies to the channels of this result.</p>'] + [
+            f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
+    top = sorted(verdicts.decisive, key=lambda r: _ORDER.get(r.verdict, 1))
+    folded = len(top) < len(rows)  # some locations do not decide their criterion: the per-location tables
+    out = [f'<p class="counts" id="verdict-counts"><b>{len(rows)} checks of {len({r.criterion for r in rows})} '
+           f"criteria</b>: {esc(count_text(rows))}"
+           + (f" \u00b7 worst location per criterion (the table): {esc(count_text(top))}" if folded else "") + "</p>"]
+    notes = _Notes()
+    cells = []
+    for c in top:
+        criterion = f'<span title="{esc(c.clause)}">{esc(c.criterion)}</span>' if c.clause else esc(c.criterion)
+        cells.append((Raw(criterion),) + _cells(c, notes, figure_ids))
+    head = ["criterion", "worst location" if folded else "location"] + _HEAD[1:]
+    out.append(html_table("verdicts-table", head, cells, ("",) + _CLASSES))
+    if any(c.conditional for c in rows):
+        out.append(f'<p class="meta" id="conditional"><span class="conditional">conditional</span>: {esc(CONDITIONAL)}.</p>')
+    n_top = len(notes.items)
+    out.append(notes.html(1, "verdict-notes"))
+    out += [f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
+    if folded:
+        by_criterion: dict[str, list[CheckEntry]] = {c.criterion: [] for c in top}  # the table's order
+        for r in rows:
+            by_criterion.setdefault(r.criterion, []).append(r)
+        parts = []
+        for i, (criterion, group) in enumerate(by_criterion.items()):
+            clause = f" <small>{esc(group[0].clause)}</small>" if group[0].clause else ""
+            parts.append(f"<h4>{esc(criterion)}{clause}</h4>" + html_table(
+                f"verdicts-locations-{i + 1}", _HEAD,
+                [_cells(c, notes, figure_ids, mark_worst=True) for c in group], _CLASSES))
+        out.append(f'<details id="verdicts-all"><summary>Every location: {len(rows)} checks, by criterion</summary>'
+                   + "".join(parts) + notes.html(n_top + 1, "verdict-notes-more") + "</details>")
+    return out
+
+
+def screening_html(first: Result | None, k: float, figure_ids: set[str]) -> list[str]:
+    """The interim screening of max |mean| + k sigma against the limits of :func:`code_limit`."""
+    out = ['<p class="placeholder"><b>Verdicts: not computed.</b> The code checks (exceedance '
+           "probabilities of the limits in models/limits) were not given to this report. Below: a "
+           f"screening of max |mean| + {k:g} sigma against the interim limits, all "
+           '<span class="check">[check]</span>, which is not a verdict (a Gaussian response exceeds '
+           f"its {k:g}-sigma level in a sizeable share of passages).</p>"]
+    if first is None:
+        return out
+    rows = []
+    for s in screening(first, k):
+        w = s.worst
+        rows.append((s.criterion, Raw(_where(w.channel, channel_label(w.channel), figure_ids)),
+                     format_value(w.peak, w.unit), Raw(f'{esc(format_value(w.limit.value, w.unit))} '
+                                                      f'<span class="check">[check]</span>'),
+                     Raw(f'<span class="{verdict_class(w.status)}">{esc(w.status)}</span>'),
+                     f"{s.n_exceeding} of {s.n_locations}", Raw(f"<small>{esc(w.limit.source)}"
+                                                                 f"{'; ' + esc(w.limit.note) if w.limit.note else ''}</small>")))
+    head = ["criterion", "worst location", f"max |mean| + {k:g} sigma", "limit", "screening",
+            "locations exceeding", "source"]
+    out.append(html_table("verdicts-table", head, rows, ("", "", "num", "num", "", "num", "")) if rows
+               else '<p id="verdicts-table">No channel of this result has a screening limit.</p>')
+    return out
+
+
+def verdicts_section(verdicts: Verdicts | None, first: Result | None, k: float, figure_ids: set[str]) -> str:
+    """The verdicts from the checks, or "not computed" with the interim screening."""
+    body = checks_html(verdicts, figure_ids) if verdicts is not None else screening_html(first, k, figure_ids)
+    what = f" <small>({esc(verdicts.heading)})</small>" if verdicts is not None and verdicts.heading else ""
+    return "\n".join([f'<section id="verdicts"><h2>Verdicts{what}</h2>', *body, "</section>"])
+
+
+__all__ = ["CONDITIONAL", "checks_html", "count_text", "screening_html", "verdicts_section"]
