@@ -65,9 +65,10 @@ COUPLING_ZERO = 1e-14
 REAL_SNAP = 1e-11
 #: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
 #: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
-#: wheelsets' antisymmetric longitudinal modes 1.3e-16; the least reached modes 2.9e-8 (the train's
-#: surge on the weak springs, through the bogies' pitch), 2e-5 (car body bounce by the vertical
-#: profile), 1.5e-5 (body roll by cross-level)
+#: wheelsets' antisymmetric longitudinal/spin modes 6e-17 to 2e-16; the least reached modes 1.3e-8
+#: (the wheelsets' slow spin roots, "rigid") and 2.7e-8 (the train's surge on the weak springs,
+#: through the bogies' pitch), 2e-5 (car body bounce by the vertical profile), 1.5e-5 (body roll by
+#: cross-level)
 REACH_ZERO = 1e-10
 
 Role = Literal["bridge", "vehicle", "wheelset"]
