@@ -4,8 +4,9 @@ rigid track and the linear critical speed, with and without the yaw dampers, and
 For each shipped creep car (``ice_motor_creep``, ``ice_trailer_creep``) the damped modes of the car on
 rigid track (``tb_exudyn.builder.system_modes`` at t = 0: every axle on the approach) are computed at
 a speed; the least damped mode is the one of smallest damping ratio among the vehicle and wheelset
-modes in 0.2-60 Hz that an irregularity reaches (``ModeTable.reached``: the undamped antisymmetric
-longitudinal wheelset modes, which nothing excites, are left out). The linear critical speed is the
+modes in 0.2-60 Hz that an irregularity reaches (``ModeTable.reached``: the antisymmetric
+longitudinal/spin wheelset modes, 37.8 Hz and creep-damped 4.4-4.6 %, which nothing excites, are
+left out). The linear critical speed is the
 lowest speed at which that damping ratio crosses zero: a scan from 100 to 500 km/h, then bisection.
 The creep coefficients do not depend on speed; the creep damping falls as 1 / v.
 
@@ -38,7 +39,7 @@ from tb_exudyn.scenario import CreepCar, Train, load_vehicle
 NAME = "creep_car_stability"
 #: band of the modes considered [Hz]: above the weak springs' surge (0.09 Hz, no running mode), up to
 #: the reference study's 60 Hz (above it the bogies' longitudinal modes against the wheelsets,
-#: 65-73 Hz, which without yaw dampers keep only 0.1 % of damping: c_x = 0 in the data)
+#: 63-72 Hz, which without yaw dampers keep only the wheels' common creep, 2.0-2.2 %: c_x = 0 in the data)
 F_MIN, F_MAX = 0.2, 60.0
 
 

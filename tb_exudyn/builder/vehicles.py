@@ -32,9 +32,16 @@ A damper at another height would add a pitch term and couple the car's pitch to 
 Creep cars (``creep_car``, :func:`add_creep_car`) have longitudinal springs in both stages, at the
 axle box and secondary heights: a bogie's or the body's pitch moves their ends along x, so there
 the x coordinates belong to the vertical plane (the weak springs on the body's and bogies' x hold
-only the train's surge, 0.1 Hz, and are not marked decoupled); only the wheelsets' spin is on a
-decoupled weak spring. The wheelsets' lateral motion, roll and yaw are coupled by the creep rows
-(:mod:`tb_exudyn.system.creep`), their vertical motion by the penalty rows as on car15.
+only the train's surge, 0.1 Hz, and are not marked decoupled). The wheelsets' lateral motion, roll
+and yaw are coupled by the creep rows (:mod:`tb_exudyn.system.creep`), their vertical motion by the
+penalty rows as on car15, their x and spin ry by the common longitudinal creep (x' - r0 ry') / v of
+the creep rows. The spin is a free rotation (a constant ry costs nothing): a weak spring (0.1 Hz
+against the spin inertia, not decoupled) keeps the stiffness matrix regular; the creep damping
+c r0^2 (c = 2 f11 / v) on the spin turns its mode into a fast real root (about -c r0^2 / I_wy;
+ICE creep cars at 220 km/h: 107-114 Hz) and a slow one (about -k_weak / (c r0^2): decay times of
+1.4e3 s, below 1e-3 Hz: "rigid" in a mode table, exempt from the damping guard), both outside any
+analysed band and moving no channel (the creep forces depend on the spin rate only). The wheelset's
+longitudinal motion against its spin is damped by that creep (37.8 Hz, 4.4-4.6 %, the same cars).
 
 Wheel-rail contact damping (``analysis.contact_damping_ratio``, default 0.5): the damping ratio of
 every contact against the wheel mass it carries (vertical: half a wheelset per wheel; lateral: the
@@ -77,11 +84,12 @@ WHEELSET_COMPONENTS: tuple[tuple[str, int], ...] = (("y", 1), ("z", 2), ("rx", 3
 #: a creep-guided wheelset (creep_car) also yaws
 CREEP_WHEELSET_COMPONENTS: tuple[tuple[str, int], ...] = WHEELSET_COMPONENTS + (("rz", 5),)
 #: node coordinates of the creep rows' wheelset coordinates (tb_exudyn.system.creep.WHEEL_COORDINATES)
-CREEP_NODE_COORDINATES: tuple[int, ...] = tuple({"y": 1, "rx": 3, "rz": 5}[c] for c in WHEEL_COORDINATES)
+CREEP_NODE_COORDINATES: tuple[int, ...] = tuple({"x": 0, "y": 1, "rx": 3, "ry": 4, "rz": 5}[c] for c in WHEEL_COORDINATES)
 VERTICAL_COMPONENTS: tuple[tuple[str, int], ...] = (("z", 0),)
 
 
-#: frequency [Hz] and damping ratio of the weak decoupled springs holding x, wheelset spin and yaw
+#: frequency [Hz] and damping ratio of the weak springs holding x, wheelset spin and yaw (decoupled on
+#: car15; on a creep car they hold the train's surge and the wheelsets' free spin)
 WEAK_SPRING_FREQUENCY, WEAK_SPRING_DAMPING_RATIO = 0.1, 1.0
 
 
@@ -384,15 +392,16 @@ def add_creep_car(
     """A car whose wheelsets are guided by linear Kalker creep forces (kind ``creep_car``).
 
     Body and two bogies as in :func:`add_car15` (y, z, rx, ry, rz; x on weak springs). Each
-    wheelset a rigid body with x, y, z, roll rx and yaw rz (spin ry on a weak spring: no spin
-    degree of freedom, decoupled). Primary suspension per side between wheelset and bogie at
+    wheelset a rigid body with x, y, z, roll rx, spin ry (its perturbation of the rolling rate
+    v / r0, inertia ``wheelset.inertia_spin``; a weak spring, not decoupled, makes K regular: see the
+    module docstring) and yaw rz. Primary suspension per side between wheelset and bogie at
     (x_w, +-b_p, z_w) in x, y and z (the pair gives the wheelset the yaw stiffness 2 k_x b_p^2
     against the bogie); secondary per side at (x_t, +-b_s, z_s) in x, y and z; yaw dampers as
     car15's. Wheel-rail contact: the two vertical penalty rows of car15 per wheelset (z + e rx, the
     wheelset follows the rail vertically) and, instead of car15's lateral penalty row, the four
     linear creep rows of :func:`tb_exudyn.system.creep.creep_rows` at the train's speed (general
     linear rows of the coupling: lateral creep and gravitational force, longitudinal creep per
-    wheel, spin and gravitational yaw moment).
+    wheel with the common part on x and spin, spin and gravitational yaw moment).
 
     Longitudinal motion is not decoupled here: the primary and secondary k_x act at the axle box
     and secondary heights, so a bogie's or the body's pitch moves their ends along x; the car's x
@@ -401,19 +410,18 @@ def add_creep_car(
     Channels: ``<prefix>.body``, ``<prefix>.bogie1/2`` as car15; ``<prefix>.axle1..4`` with y, z,
     rx, rz, the vertical wheel forces ``left/right.force_z`` and the creep rows ``force_y``
     (lateral force of the rail on the wheelset at rail level, as car15's), ``left/right.force_x``
-    (longitudinal creep force per wheel) and ``moment_z`` [N m] (docs/channels.md).
+    (longitudinal creep force per wheel: the yaw-antisymmetric and the common part) and ``moment_z`` [N m] (docs/channels.md).
     """
     L = _car_levels(car.geometry, x_first)
     b_p, b = car.geometry.half_primary_span, parts.half_gauge
     ws = car.wheelset
-    # spin inertia: not in the data and not needed (weak spring, decoupled): roll's
-    ws_inertia = (ws.inertia_roll, ws.inertia_roll, ws.inertia_yaw)
+    ws_inertia = (ws.inertia_roll, ws.inertia_spin, ws.inertia_yaw)
     pri_k, pri_c, (pri_kx, pri_cx) = _stage(car.primary)
     rows = creep_rows(wheelset_contact(car, parts.gravity), parts.speed)
 
     def add_wheelset(bog_node: int, bogie: int, xt: float, xw: float, axle: int, name: str) -> None:
         ws_node, wheelset = add_rigid_body(mbs, parts, mass=ws.mass, inertia=ws_inertia,
-                                           position=(xw, 0.0, L.z_w), weak_coordinates=(4,))
+                                           position=(xw, 0.0, L.z_w), weak_coordinates=(4,), decoupled=False)
         parts.bodies.append(BodyOutput(name, ws_node, CREEP_WHEELSET_COMPONENTS, ws.mass))
         ends: tuple[list[np.ndarray], list[np.ndarray]] = ([], [])
         for side in (1.0, -1.0):

@@ -179,10 +179,12 @@ def _check_two_bogie_geometry(g: Car15Geometry, axle_offsets: tuple[float, ...],
 
 @dataclass(frozen=True, kw_only=True)
 class RigidWheelset(_Replaceable):
-    """A wheelset with its own lateral displacement, roll and yaw (guided by creep forces)."""
+    """A wheelset with its own lateral displacement, roll, yaw, longitudinal motion and spin (guided
+    by creep forces)."""
 
     mass: float = param(unit="kg", doc="mass", check=POSITIVE)
     inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+    inertia_spin: float = param(unit="kg m^2", doc="moment of inertia about the axle, y (spin)", check=POSITIVE)
     inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
 
 

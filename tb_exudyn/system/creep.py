@@ -11,9 +11,14 @@ Axes and signs (the project's): x along the track in the direction of travel, y 
 left, z up; rx roll, rz yaw, right-handed. The left wheel sits at y = +b0, the right at -b0 (b0 half
 the distance of the two contact points), the contact points r0 (rolling radius) below the axle.
 
-Wheelset coordinates w = (y, rx, rz): lateral displacement of the axle centre [m], roll [rad] and
-yaw [rad] (the leading end turned to the left for rz > 0). The contact point at rail level moves
-laterally by y + r0 rx.
+Wheelset coordinates w = (y, rx, rz, x, ry) (:data:`WHEEL_COORDINATES`): the lateral-plane ones
+first, lateral displacement of the axle centre [m], roll [rad] and yaw [rad] (the leading end
+turned to the left for rz > 0), then the longitudinal-plane ones, the axle centre's longitudinal
+displacement x [m] (from its place in the frame moving with the train at v) and the spin
+perturbation ry [rad] (the wheelset turns at v / r0 + ry' about +y: forward rolling turns it about
++y, the contact point r0 below the axle then moves backwards relative to the axle). The contact
+point at rail level moves laterally by y + r0 rx and longitudinally by x - r0 ry -/+ b0 rz (left /
+right wheel).
 
 Rail coordinates rho = (y_r, theta_r, psi_r) at the contact: the rail's lateral displacement at rail
 level [m] (alignment irregularity plus the bridge's lateral motion), the roll of the rail plane
@@ -27,21 +32,29 @@ v; linear, for small motions about steady rolling, as in Wickens' linear wheelse
 Garg & Dukkipati, "Dynamics of Railway Vehicle Systems", 1984; derived below):
 
     longitudinal, left / right wheel:
-        xi_x = -/+ [ lambda (y + r0 rx - y_r) / r0 + b0 (rz' - psi_r') / v ]
+        xi_x = (x' - r0 ry') / v  -/+ [ lambda (y + r0 rx - y_r) / r0 + b0 (rz' - psi_r') / v ]
     lateral (both wheels):
         xi_y = (y' + r0 rx' - y_r') / v - rz
     spin, left / right wheel (optional):
         phi = (rz' - psi_r') / v  (the static parts -/+ delta0 / r0 cancel between the wheels)
 
-Derivation. The wheel turns at the nominal rate v / r0; the left wheel rolls on the radius
-r0 + lambda e (e = y + r0 rx - y_r, the lateral displacement relative to the rail at rail level,
-lambda the equivalent conicity), the right one on r0 - lambda e, so their contact points slip
-forward by -/+ v lambda e / r0; the yaw rate moves the left contact point by -b0 rz' along x. The
-wheel's rolling direction is turned by rz against the track, so its contact point slips laterally
-by y' + r0 rx' - v rz. The rail's material velocity at the contact (the bridge moving) is
-subtracted from both; the rail's yaw rate psi_r' turns the two rails' contact points by -/+ b0
-psi_r' along x. With these, a wheelset that follows a (slowly) curved rail exactly (y = y_r,
-rz = psi_r) has no lateral creepage and the longitudinal creepage -/+ b0 y_r'' of a curve.
+Derivation. The wheel turns at the rate v / r0 + ry' about +y; a point r0 below the axle moves
+by (v / r0 + ry') r0 backwards relative to the axle, which moves forward at v + x', so the wheel's
+material point at the contact slips forward by x' - r0 ry' (the common longitudinal creepage of
+both wheels: a wheelset rolling faster than its speed, ry' > x' / r0, slips backwards). The left
+wheel rolls on the radius r0 + lambda e (e = y + r0 rx - y_r, the lateral displacement relative to
+the rail at rail level, lambda the equivalent conicity), the right one on r0 - lambda e, so their
+contact points slip forward by a further -/+ v lambda e / r0; the yaw rate moves the left contact
+point by -b0 rz' along x. The wheel's rolling direction is turned by rz against the track, so its
+contact point slips laterally by y' + r0 rx' - v rz. The rail's material velocity at the contact
+(the bridge moving) is subtracted from both; the rail's yaw rate psi_r' turns the two rails'
+contact points by -/+ b0 psi_r' along x. The rail's LONGITUDINAL velocity at the contact is
+neglected: the deck's axial motion at rail level is not among the coupling's rail coordinates
+(rho above), and the track is straight without a longitudinal irregularity, so nothing else moves
+the rail along x. With these, a wheelset that follows a (slowly) curved rail exactly (y = y_r,
+rz = psi_r, rolling at x' = r0 ry') has no lateral creepage and the longitudinal creepage -/+ b0
+y_r'' of a curve. Gyroscopic terms of the spinning wheelset (I_wy v / r0 coupling roll and yaw
+rates) are neglected, as in Wickens' linear wheelset.
 
 Forces on the wheel (Kalker's linear law, f11 etc. per wheel, see :func:`creep_coefficients`):
 
@@ -60,9 +73,12 @@ The rows of :func:`creep_rows`, all forces the rail exerts on the wheelset:
   knife-edge rails the wheelset rolls by lambda e / b0 against the track and epsilon = lambda). The
   term -W theta_r is the same normal load tilted with the rail plane (cross-level or deck roll):
   it points down the slope.
-- ``left.force_x``, ``right.force_x``: the longitudinal creep forces -f11 xi_x of each wheel (equal
-  and opposite: a yaw moment -2 b0 F_x,left; the wheels' common longitudinal creep, traction and
-  the wheelset's spin are not modelled).
+- ``left.force_x``, ``right.force_x``: the longitudinal creep forces -f11 xi_x of each wheel,
+  at the contact point: on the wheelset's x with lever 1, on its spin ry with -r0 (a force F_x
+  r0 below the axle: moment -r0 F_x about +y) and on its yaw with -/+ b0. Their common part
+  -f11 (x' - r0 ry') / v damps the wheelset's longitudinal motion against its spin; their
+  antisymmetric part gives the yaw moment -2 b0 F_x,left of Wickens' model (traction and braking
+  torques are not modelled: the axle carries no torque).
 - ``moment_z``: the spin creep moments of both wheels and the gravitational yaw moment:
   2 f23 xi_y - 2 f33 phi - K_gpsi (rz - psi_r). K_gpsi is data (0 by default: neglected, as in
   Wickens' simplest model).
@@ -70,8 +86,13 @@ The rows of :func:`creep_rows`, all forces the rail exerts on the wheelset:
 Each row is linear: f = -(K_w w + C_w w') + K_r rho + C_r rho'_mat, with C_w, C_r proportional to 1 / v.
 It is applied to the wheelset as the generalised force Q_w = A_w^T f and to the rail as the
 reaction Q_rho = -A_r^T f (virtual work: ``force_y`` acts at the contact point, y + r0 rx, and on
-the rail's lateral displacement; a longitudinal force at y = +/-b0 acts on the yaw as -/+ b0 F_x,
-and on the rail's yaw as the same lever; ``moment_z`` on rz and psi_r).
+the rail's lateral displacement; a longitudinal force at the contact point (x - r0 ry -/+ b0 rz)
+acts on x, ry and the yaw, and on the rail's yaw with the lever -/+ b0 (the rail's longitudinal
+motion is neglected, above); ``moment_z`` on rz and psi_r).
+
+On straight track the rows split into two subsystems of the wheelset: the lateral plane (y, rx, rz
+with the rail's y_r, theta_r, psi_r) and the longitudinal plane (x, ry): the common longitudinal
+creep reaches only x and ry and no rail coordinate, the antisymmetric part only rz.
 """
 
 from __future__ import annotations
@@ -86,8 +107,8 @@ from scipy.special import ellipe, ellipk
 
 from ..errors import SettingError
 
-#: wheelset coordinates of the rows (columns of K_w, C_w, A_w)
-WHEEL_COORDINATES: tuple[str, ...] = ("y", "rx", "rz")
+#: wheelset coordinates of the rows (columns of K_w, C_w, A_w): the lateral plane, then x and the spin
+WHEEL_COORDINATES: tuple[str, ...] = ("y", "rx", "rz", "x", "ry")
 #: rail coordinates at the contact (columns of K_r, C_r, A_r)
 RAIL_COORDINATES: tuple[str, ...] = ("y", "roll", "yaw")
 #: the rows (forces of the rail on the wheelset)
@@ -380,7 +401,7 @@ class CreepRows:
     Attributes
     ----------
     rows : row names (:data:`ROWS`)
-    K_w, C_w, A_w : (n_rows, 3) on the wheelset coordinates (y, rx, rz)
+    K_w, C_w, A_w : (n_rows, 5) on the wheelset coordinates (y, rx, rz, x, ry) (:data:`WHEEL_COORDINATES`)
     K_r, C_r, A_r : (n_rows, 3) on the rail coordinates (y_r, theta_r, psi_r)
     speed : v [m/s]
     """
@@ -396,19 +417,21 @@ class CreepRows:
 
     def forces(self, w: ArrayLike, w_dot: ArrayLike, rho: ArrayLike = (0.0, 0.0, 0.0),
                rho_dot: ArrayLike = (0.0, 0.0, 0.0)) -> NDArray[np.float64]:
-        """The row forces f [N, N m] for wheelset state (w, w') and rail motion (rho, rho'_mat)."""
+        """The row forces f [N, N m] for wheelset state (w, w') (5 entries each, (y, rx, rz, x, ry))
+        and rail motion (rho, rho'_mat) (3 entries each)."""
         w, wd, r, rd = (np.asarray(a, dtype=float) for a in (w, w_dot, rho, rho_dot))
         return -(self.K_w @ w + self.C_w @ wd) + self.K_r @ r + self.C_r @ rd
 
     @property
     def stiffness(self) -> NDArray[np.float64]:
-        """(3, 3) stiffness of the wheelset's equations of motion (left-hand side, rail at rest):
-        M w'' + C w' + K w = 0 with K = A_w^T K_w (not symmetric)."""
+        """(5, 5) stiffness of the wheelset's equations of motion on (y, rx, rz, x, ry) (left-hand
+        side, rail at rest): M w'' + C w' + K w = 0 with K = A_w^T K_w (not symmetric)."""
         return self.A_w.T @ self.K_w
 
     @property
     def damping(self) -> NDArray[np.float64]:
-        """(3, 3) damping A_w^T C_w of the wheelset's equations of motion (rail at rest)."""
+        """(5, 5) damping A_w^T C_w of the wheelset's equations of motion on (y, rx, rz, x, ry)
+        (rail at rest)."""
         return self.A_w.T @ self.C_w
 
 
@@ -421,25 +444,29 @@ def creep_rows(contact: WheelsetContact, speed: float) -> CreepRows:
     v = float(speed)
     kgy, kgp = contact.gravitational_stiffness, contact.gravitational_yaw_stiffness
     f23, f33 = (f.f23, f.f33) if contact.spin else (0.0, 0.0)
-    n = len(ROWS)
-    K_w, C_w, K_r, C_r = (np.zeros((n, 3)) for _ in range(4))
+    n, nw = len(ROWS), len(WHEEL_COORDINATES)
+    K_w, C_w = np.zeros((n, nw)), np.zeros((n, nw))
+    K_r, C_r = np.zeros((n, 3)), np.zeros((n, 3))
     # force_y = -2 f22 xi_y - 2 f23 phi - K_gy e - W theta_r
     #   xi_y = (y' + r0 rx' - y_r')/v - rz,  phi = (rz' - psi_r')/v,  e = y + r0 rx - y_r
-    K_w[0] = (kgy, kgy * r0, -2.0 * f.f22)
-    C_w[0] = (2.0 * f.f22 / v, 2.0 * f.f22 * r0 / v, 2.0 * f23 / v)
+    K_w[0, :3] = (kgy, kgy * r0, -2.0 * f.f22)
+    C_w[0, :3] = (2.0 * f.f22 / v, 2.0 * f.f22 * r0 / v, 2.0 * f23 / v)
     K_r[0] = (kgy, -W, 0.0)
     C_r[0] = (2.0 * f.f22 / v, 0.0, 2.0 * f23 / v)
-    # left.force_x = -f11 xi_x,left = f11 [lambda e / r0 + b0 (rz' - psi_r')/v]; right = -left
+    # left.force_x = -f11 xi_x,left = -f11 (x' - r0 ry')/v + f11 [lambda e / r0 + b0 (rz' - psi_r')/v];
+    # right: the same common part, the opposite antisymmetric part
     for i, s in ((1, 1.0), (2, -1.0)):
-        K_w[i] = (-s * f.f11 * lam / r0, -s * f.f11 * lam, 0.0)
-        C_w[i] = (0.0, 0.0, -s * f.f11 * b0 / v)
+        K_w[i, :3] = (-s * f.f11 * lam / r0, -s * f.f11 * lam, 0.0)
+        C_w[i] = (0.0, 0.0, -s * f.f11 * b0 / v, f.f11 / v, -f.f11 * r0 / v)
         K_r[i] = (-s * f.f11 * lam / r0, 0.0, 0.0)
         C_r[i] = (0.0, 0.0, -s * f.f11 * b0 / v)
     # moment_z = 2 f23 xi_y - 2 f33 phi - K_gpsi (rz - psi_r)
-    K_w[3] = (0.0, 0.0, kgp + 2.0 * f23)
-    C_w[3] = (-2.0 * f23 / v, -2.0 * f23 * r0 / v, 2.0 * f33 / v)
+    K_w[3, :3] = (0.0, 0.0, kgp + 2.0 * f23)
+    C_w[3, :3] = (-2.0 * f23 / v, -2.0 * f23 * r0 / v, 2.0 * f33 / v)
     K_r[3] = (0.0, 0.0, kgp)
     C_r[3] = (-2.0 * f23 / v, 0.0, 2.0 * f33 / v)
-    A_w = np.array([[1.0, r0, 0.0], [0.0, 0.0, -b0], [0.0, 0.0, b0], [0.0, 0.0, 1.0]])
+    # application (virtual work): force_y at y + r0 rx; F_x at x - r0 ry -/+ b0 rz; moment_z on rz
+    A_w = np.array([[1.0, r0, 0.0, 0.0, 0.0], [0.0, 0.0, -b0, 1.0, -r0], [0.0, 0.0, b0, 1.0, -r0],
+                    [0.0, 0.0, 1.0, 0.0, 0.0]])
     A_r = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -b0], [0.0, 0.0, b0], [0.0, 0.0, 1.0]])
     return CreepRows(rows=ROWS, K_w=K_w, C_w=C_w, A_w=A_w, K_r=K_r, C_r=C_r, A_r=A_r, speed=v)

@@ -65,9 +65,10 @@ COUPLING_ZERO = 1e-14
 REAL_SNAP = 1e-11
 #: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
 #: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
-#: wheelsets' antisymmetric longitudinal modes 1.3e-16; the least reached modes 2.9e-8 (the train's
-#: surge on the weak springs, through the bogies' pitch), 2e-5 (car body bounce by the vertical
-#: profile), 1.5e-5 (body roll by cross-level)
+#: wheelsets' antisymmetric longitudinal/spin modes 6e-17 to 2e-16; the least reached modes 1.3e-8
+#: (the wheelsets' slow spin roots, "rigid") and 2.7e-8 (the train's surge on the weak springs,
+#: through the bogies' pitch), 2e-5 (car body bounce by the vertical profile), 1.5e-5 (body roll by
+#: cross-level)
 REACH_ZERO = 1e-10
 
 Role = Literal["bridge", "vehicle", "wheelset"]
@@ -249,6 +250,16 @@ def _reach(y_v: NDArray[np.complex128], L: FloatArray | None, inputs: Sequence[F
     return out
 
 
+def _without_round_off(F: FloatArray) -> FloatArray:
+    """Input columns with the entries below :data:`COUPLING_ZERO` of their column's largest set to
+    zero, as :func:`independent_parts` treats the matrices: the reach is a cosine on each part's
+    coordinates, so a round-off entry (the left and right wheels' opposite creep inputs cancelling
+    on a wheelset's spin to 1e-18 of the column) would otherwise look like a full input of that
+    part."""
+    top = np.abs(F).max(axis=0, initial=0.0)
+    return np.where(np.abs(F) > COUPLING_ZERO * top, F, 0.0)
+
+
 def damped_modes(
     M: FloatArray, K: FloatArray, D: FloatArray, part_index: Sequence[int] | None = None,
     inputs: Sequence[FloatArray] | None = None,
@@ -263,8 +274,8 @@ def damped_modes(
     the largest over the group's columns f of the cosine between f and the velocity half of mode
     i's left eigenvector y_i in the first-order form B x' = A x + [0; f] u, in mass-normalised
     coordinates (:func:`_reach`; y_i^H [0; f] is the mode's modal input: Hautus' test). A mode no input of a group reaches (the wheelsets' antisymmetric
-    longitudinal mode of a symmetric bogie: no input pushes along x, and that mode moves nothing
-    else) has reach zero up to round-off (below :data:`REACH_ZERO`); the coordinates' graph cannot
+    longitudinal/spin mode of a symmetric bogie: no input pushes along x, and that mode moves
+    nothing else) has reach zero up to round-off (below :data:`REACH_ZERO`); the coordinates' graph cannot
     see that when the coordinates are connected (a bogie's pitch moves its axle boxes along x).
     """
     M, K, D = (np.asarray(a, dtype=float) for a in (M, K, D))
@@ -272,7 +283,7 @@ def damped_modes(
     if M.shape != (n, n) or K.shape != (n, n) or D.shape != (n, n):
         raise ValueError(f"M, K, D must be square and of one size, got {M.shape}, {K.shape}, {D.shape}")
     pidx = np.arange(n) if part_index is None else np.asarray(part_index, dtype=np.int64)
-    groups = None if inputs is None else [np.asarray(F, dtype=float).reshape(n, -1) for F in inputs]
+    groups = None if inputs is None else [_without_round_off(np.asarray(F, dtype=float).reshape(n, -1)) for F in inputs]
     lams, shares, reach = [], [], []
     for idx in independent_parts(M, K, D):
         sub = np.ix_(idx, idx)

@@ -129,10 +129,25 @@ def _both(with_creep: bool, source, options=None, dense_options=None):
     return got, ref, om
 
 
-def _worst(got: np.ndarray, ref: np.ndarray) -> float:
-    """Largest over channels of max |got - ref| / max |ref| (over columns and times)."""
-    scale = np.abs(ref).max(axis=(1, 2))
-    return float((np.abs(got - ref).max(axis=(1, 2)) / np.where(scale > 0, scale, 1.0)).max())
+def _worst(got: np.ndarray, ref: np.ndarray, om=None) -> float:  # noqa: ANN001
+    """Largest over channels of max |got - ref| / max |ref| (over columns and times). With the output
+    map ``om``, the wheelset's x and spin channels are checked apart and left out (the creep rows'
+    common longitudinal creep couples them only with each other; no input reaches them on
+    straight track): the batched engine
+    drops the part no input reaches (exact zeros), the dense engine integrates it on the full
+    matrices and leaves round-off (the left and right wheels' antisymmetric creep forces cancel on x
+    only to round-off): below 1e-12 of the largest lateral or vertical wheelset channel of the same
+    quantity (measured 1e-15)."""
+    keep = np.ones(ref.shape[0], dtype=bool)
+    if om is not None:
+        for q in ("disp", "vel", "acc"):
+            scale = max(np.abs(ref[om.names.index(f"axle.{q}_{c}")]).max() for c in ("y", "z", "rx", "rz"))
+            for c in ("x", "ry"):
+                i = om.names.index(f"axle.{q}_{c}")
+                assert not np.any(got[i]) and np.abs(ref[i]).max() < 1e-12 * scale, (q, c)
+                keep[i] = False
+    scale = np.abs(ref[keep]).max(axis=(1, 2))
+    return float((np.abs(got[keep] - ref[keep]).max(axis=(1, 2)) / np.where(scale > 0, scale, 1.0)).max())
 
 
 @pytest.mark.parametrize("with_creep", [False, True])
@@ -146,7 +161,7 @@ def test_general_rows_batched_equals_dense(with_creep):
     response) and their forces must be nonzero."""
     got, ref, om = _both(with_creep, _harmonic())
     assert np.abs(ref).max() > 0 and np.all(np.isfinite(got))
-    assert _worst(got, ref) < 1e-9
+    assert _worst(got, ref, om) < 1e-9
     lateral = np.abs(ref[om.names.index("axle.disp_y")]).max()
     if with_creep:  # the creep rows carry the alignment and cross-level to the wheelset's sway
         assert lateral > 1e-6 and all(np.abs(ref[om.names.index(f"row{r}")]).max() > 0 for r in (2, 3, 4, 5))
@@ -157,9 +172,9 @@ def test_general_rows_batched_equals_dense(with_creep):
 def test_general_rows_with_sampled_profiles_batched_equals_dense():
     """Exact problem: as above with five sampled profiles of each kind (Monte Carlo's column source,
     two real samples per complex column). Reference: the dense engine; tolerance as above."""
-    got, ref, _ = _both(True, _profiles())
+    got, ref, om = _both(True, _profiles())
     assert np.abs(ref).max() > 0
-    assert _worst(got, ref) < 1e-9
+    assert _worst(got, ref, om) < 1e-9
 
 
 @pytest.mark.parametrize("source", [_harmonic, _profiles])
@@ -241,6 +256,5 @@ def test_static_load_column_against_the_dense_mean():
 
     ref = dense._run(forcing, forces, np.zeros((lin.n, 1), dtype=complex), _Keep(steps.n_outputs),
                      np.arange(len(om.names)), lin, offset=u_s)["Y"].real[:, 0]
-    scale = np.abs(ref).max(axis=1)
     assert np.abs(ref[om.names.index("row0")]).max() > 5e4  # the wheel load is carried
-    assert (np.abs(got - ref).max(axis=1) / np.where(scale > 0, scale, 1.0)).max() < 1e-9
+    assert _worst(got[:, None], ref[:, None], om) < 1e-9

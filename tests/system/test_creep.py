@@ -116,19 +116,22 @@ def test_following_the_rail_gives_no_creep_force():
     """Exact problem: the wheelset follows the rail exactly. (1) The rail line is straight with slope
     psi0 (a kink of the alignment): the wheelset runs along it, y = psi0 v t, yaw psi0. (2) The rail
     (the bridge) sways laterally, y_r(t) = Y sin(w t) at every x, and the wheelset moves with it.
-    Reference: kinematics, rolling without slip: every creepage is zero, so every row force is zero
-    (the gravitational terms too: no offset from the rail, no rail roll). Tolerance: round-off
-    (1e-9 of the individual terms)."""
+    (3) The wheelset surges, x' = U, and its spin follows it rolling, ry' = U / r0. Reference:
+    kinematics, rolling without slip: every creepage is zero, so every row force is zero (the
+    gravitational terms too: no offset from the rail, no rail roll). Tolerance: round-off (1e-9 of
+    the individual terms). Wheelset coordinates (y, rx, rz, x, ry)."""
     contact = WheelsetContact(_coefficients(), R0, B0, LAM, W_AXLE, spin=True)
     v, psi0, t = 60.0, 2e-3, 0.37
     rows = creep_rows(contact, v)
     y = psi0 * v * t
-    f1 = rows.forces((y, 0.0, psi0), (psi0 * v, 0.0, 0.0), (y, 0.0, psi0), (0.0, 0.0, 0.0))
+    f1 = rows.forces((y, 0.0, psi0, 0.0, 0.0), (psi0 * v, 0.0, 0.0, 0.0, 0.0), (y, 0.0, psi0), (0.0, 0.0, 0.0))
     Y, om = 3e-3, 9.0
-    f2 = rows.forces((Y * np.sin(om * t), 0.0, 0.0), (Y * om * np.cos(om * t), 0.0, 0.0),
+    f2 = rows.forces((Y * np.sin(om * t), 0.0, 0.0, 0.0, 0.0), (Y * om * np.cos(om * t), 0.0, 0.0, 0.0, 0.0),
                      (Y * np.sin(om * t), 0.0, 0.0), (Y * om * np.cos(om * t), 0.0, 0.0))
+    U = 0.05
+    f3 = rows.forces((0.0, 0.0, 0.0, 1e-3, 2e-3), (0.0, 0.0, 0.0, U, U / R0))
     scale = 2 * contact.coefficients.f22 * psi0
-    assert np.abs(f1).max() <= 1e-9 * scale and np.abs(f2).max() <= 1e-9 * scale
+    assert max(np.abs(f1).max(), np.abs(f2).max(), np.abs(f3).max()) <= 1e-9 * scale
 
 
 def test_creep_force_directions():
@@ -139,22 +142,36 @@ def test_creep_force_directions():
     backward, and their yaw moment -2 b0 F_x,left turns the wheelset to the right (back to the
     centre); the gravitational stiffness pushes it back: force_y = -W epsilon e / b0. (3) Rail plane
     rolled by theta (left rail up): the normal load points down the slope, force_y = -W theta.
-    Reference: these hand results. Tolerance: round-off (1e-12 relative)."""
+    (4) The axle moves forward at x' = U, the wheels do not spin faster (ry' = 0): both contact
+    points slip forward by U, both creep forces point backward, -f11 U / v each; at the contact
+    point r0 below the axle they turn the wheelset forward about +y (the way it rolls):
+    Q_ry = -r0 (F_left + F_right) = +2 r0 f11 U / v, and they cancel in the yaw. Reference: these
+    hand results. Tolerance: round-off (1e-12 relative)."""
     f = _coefficients()
     contact = WheelsetContact(f, R0, B0, LAM, W_AXLE)
     rows = creep_rows(contact, 50.0)
     i = {name: k for k, name in enumerate(rows.rows)}
     psi, e, th = 1e-3, 2e-3, 1e-3
-    f1 = rows.forces((0.0, 0.0, psi), (0.0, 0.0, 0.0))
+    zero = np.zeros(5)
+    f1 = rows.forces((0.0, 0.0, psi, 0.0, 0.0), zero)
     assert f1[i["force_y"]] == pytest.approx(2 * f.f22 * psi, rel=1e-12)
-    f2 = rows.forces((e, 0.0, 0.0), (0.0, 0.0, 0.0))
+    f2 = rows.forces((e, 0.0, 0.0, 0.0, 0.0), zero)
     assert f2[i["left.force_x"]] == pytest.approx(f.f11 * LAM * e / R0, rel=1e-12)
     assert f2[i["right.force_x"]] == pytest.approx(-f.f11 * LAM * e / R0, rel=1e-12)
     assert f2[i["force_y"]] == pytest.approx(-W_AXLE * LAM / B0 * e, rel=1e-12)
-    Qw = rows.A_w.T @ f2  # generalised forces on (y, rx, rz)
+    Qw = rows.A_w.T @ f2  # generalised forces on (y, rx, rz, x, ry)
     assert Qw[2] == pytest.approx(-2 * B0 * f.f11 * LAM * e / R0, rel=1e-12) and Qw[2] < 0
-    f3 = rows.forces((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), (0.0, th, 0.0))
+    f3 = rows.forces(zero, zero, (0.0, th, 0.0))
     assert f3[i["force_y"]] == pytest.approx(-W_AXLE * th, rel=1e-12)
+    U = 0.05
+    f4 = rows.forces(zero, (0.0, 0.0, 0.0, U, 0.0))
+    assert f4[i["left.force_x"]] == pytest.approx(-f.f11 * U / 50.0, rel=1e-12)
+    assert f4[i["right.force_x"]] == pytest.approx(-f.f11 * U / 50.0, rel=1e-12)
+    assert f4[i["force_y"]] == 0.0 and f4[i["moment_z"]] == 0.0
+    Q4 = rows.A_w.T @ f4
+    assert Q4[3] == pytest.approx(-2 * f.f11 * U / 50.0, rel=1e-12)
+    assert Q4[4] == pytest.approx(2 * R0 * f.f11 * U / 50.0, rel=1e-12)
+    assert abs(Q4[2]) <= 1e-12 * abs(Q4[3])
 
 
 # ================================================================================== Klingel
@@ -262,7 +279,7 @@ def _assembled_bogie(v: float, contact: WheelsetContact, p: dict = BOGIE) -> tup
     for side in (1.0, -1.0):
         spring("frame", (0.0, side * p["bs"]), None, (0.0, side * p["bs"]), p["ksx"], p["ksy"])
     rows = creep_rows(contact, v)
-    keep = [0, 2]  # the module's (y, rx, rz) without the held roll
+    keep = [0, 2]  # the module's (y, rx, rz, x, ry): y and rz (roll held; x and spin not in this model)
     for w in ("w1", "w2"):
         j = bodies[w]
         K[j:j + 2, j:j + 2] += rows.stiffness[np.ix_(keep, keep)]

@@ -39,7 +39,7 @@ def _rows() -> object:
     return creep_rows(contact, SPEED)
 
 
-WHEEL_COORDS = (1, 3, 5)  # node coordinates of the module's (y, rx, rz)
+WHEEL_COORDS = (1, 3, 5, 0, 4)  # node coordinates of the module's (y, rx, rz, x, ry)
 
 
 def _coupling(with_creep: bool, excitation=None) -> WheelRailCoupling:  # noqa: ANN001
@@ -73,7 +73,7 @@ def test_creep_rows_in_the_coupling_match_the_module(t):
     a cross-level profile, at a random state. Reference: the module's rows evaluated in the test on
     the rail motion computed here from the bridge's rail shapes and the profiles:
     rho = (S_y q_b + y_a, S_rx q_b + theta_c, S_dy q_b + y_a'), rho'_mat = (S_y, S_rx, S_dy) q_b';
-    generalised forces Q_w = A_w^T f on (y, rx, rz), Q_b = -(S_y, S_rx, S_dy)^T A_r^T f, added to
+    generalised forces Q_w = A_w^T f on (y, rx, rz, x, ry), Q_b = -(S_y, S_rx, S_dy)^T A_r^T f, added to
     the penalty rows' (from the coupling without creep rows). The penalty rows' forces must be
     bitwise those of the coupling without creep rows. Tolerance 1e-12 of the largest term: the
     same linear algebra in another order (round-off)."""
@@ -147,6 +147,6 @@ def test_contact_force_history_has_the_creep_rows():
     t = 0.05
     x = cp.positions(t)
     val, slo = rail_inputs(exc, x, float(cp.axle_start[0]), B)
-    f_in = _rows().forces(np.zeros(3), np.zeros(3), (val[1, 0], val[2, 0], slo[1, 0]), np.zeros(3))
+    f_in = _rows().forces(np.zeros(5), np.zeros(5), (val[1, 0], val[2, 0], slo[1, 0]), np.zeros(3))
     st = cp.contact_state(t)
     assert st.f_lin == pytest.approx(f_in, rel=1e-12, abs=1e-12 * np.abs(f_in).max())

@@ -237,3 +237,21 @@ def test_envelope_growth_against_the_exact_covariance(zeta):
     tau = 1.0 / (zeta * w)
     assert 1.0 + envelope_growth(tau, t0, t1) == pytest.approx(exact, rel=0.01)
     assert envelope_growth(math.inf, t0, t1) == pytest.approx(math.sqrt(t1 / t0) - 1, rel=1e-12)
+
+
+def test_a_round_off_input_entry_does_not_reach_an_independent_part():
+    """Exact problem: two uncoupled oscillators (m 1, k 100 and m 2, k 900, light damping) and one
+    input column pushing the first with 1e6 N and the second with 1e-12 N (what the left and right
+    wheels' opposite creep inputs leave on a wheelset's spin: 1e-18 of the column). Reference: the
+    second oscillator is its own independent part, which the column reaches only by round-off:
+    its reach must be zero (entries below COUPLING_ZERO = 1e-14 of the column's largest are dropped,
+    as in the matrices), the first's is 1 (the cosine of a column with the mode itself). A column
+    with 1e-6 N on the second (1e-12 of the largest, above the threshold) reaches it. Exact."""
+    M, K, D = diag_system([1.0, 2.0], [100.0, 900.0], [0.1, 0.2])
+    dofs = [body("car 1 (x)", "body", "bounce", "car1.body"), body("car 1 (x)", "bogie1", "bounce", "car1.bogie1")]
+    for f2, reached in ((1e-12, False), (1e-6, True)):
+        t = mode_table(M, K, D, dofs, "two", {"vertical": np.array([[1e6], [f2]])})
+        second = np.flatnonzero(np.abs(t.frequency - math.sqrt(450.0) / (2 * math.pi)) < 1e-6)
+        assert second.size == 1 and bool(t.reached()[second[0]]) is reached
+        first = 1 - second[0]
+        assert t.reach[first, 0] == pytest.approx(1.0, rel=1e-9)
