@@ -233,22 +233,21 @@ def _drain(pool: Executor, todo, tasks, setup, setup_args, setup_key, work, fini
     pending: dict[Future, int] = {}
     queue = list(todo)
     try:
-        while queue or pending:
-            with _sigint_blocked() if own else nullcontext():  # a local pool spawns its workers in submit
-                while queue and len(pending) < window:
-                    i = queue.pop(0)
-                    pending[pool.submit(_execute, setup, setup_args, setup_key, work, tasks[i])] = i
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
-            for fut in sorted(done, key=lambda f: pending[f]):
-                i = pending.pop(fut)
-                try:
-                    result = fut.result()
-                except BrokenProcessPool:
-                    raise ResourceError(
-                        "a worker process ended abruptly: killed from outside, by the system for lack of memory (run "
-                        "again with resume and fewer workers: the finished tasks are kept), or it could not start (a "
-                        "script that starts workers must do so under 'if __name__ == \"__main__\":')") from None
-                finished(i, result)
+        try:
+            while queue or pending:
+                with _sigint_blocked() if own else nullcontext():  # a local pool spawns its workers in submit
+                    while queue and len(pending) < window:
+                        i = queue.pop(0)
+                        pending[pool.submit(_execute, setup, setup_args, setup_key, work, tasks[i])] = i
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in sorted(done, key=lambda f: pending[f]):
+                    i = pending.pop(fut)
+                    finished(i, fut.result())
+        except BrokenProcessPool:  # seen by a result or, when the pool broke between two results, by submit
+            raise ResourceError(
+                "a worker process ended abruptly: killed from outside, by the system for lack of memory (run "
+                "again with resume and fewer workers: the finished tasks are kept), or it could not start (a "
+                "script that starts workers must do so under 'if __name__ == \"__main__\":')") from None
     except BaseException:
         for fut in pending:
             fut.cancel()

@@ -95,3 +95,32 @@ def test_bad_task_keys_are_refused():
     with pytest.raises(ValueError, match="file-name safe"):
         run_tasks([Task("a/b", 0)], setup=setup_model, setup_args=(2, 1), work=work,
                   reduce=lambda *a: None, workers=1, progress=False)
+
+
+class _BreaksAfter(ThreadPoolExecutor):
+    """A thread pool that behaves like a process pool whose worker was killed after ``n`` submits:
+    submit raises BrokenProcessPool from then on (as ProcessPoolExecutor.submit does once a worker
+    has died, even before any result says so)."""
+
+    def __init__(self, n: int) -> None:
+        super().__init__(max_workers=2)
+        self.left = n
+
+    def submit(self, *args, **kwargs):
+        from concurrent.futures.process import BrokenProcessPool
+
+        if self.left == 0:
+            raise BrokenProcessPool("A child process terminated abruptly")
+        self.left -= 1
+        return super().submit(*args, **kwargs)
+
+
+@pytest.mark.parametrize("n", [0, 5])
+def test_a_pool_broken_at_submit_is_the_one_line_resource_error(tmp_path, n):
+    """The pool breaks between two results (seen first by submit, not by a result): the run ends
+    with the same ResourceError as a broken result, and the tasks finished before are on disk."""
+    from tb_exudyn.errors import ResourceError
+
+    with _BreaksAfter(n) as ex, pytest.raises(ResourceError, match="a worker process ended abruptly"):
+        _run(tmp_path, executor=ex, n_tasks=80)
+    assert len(list(tmp_path.glob("t*.npz"))) <= n
