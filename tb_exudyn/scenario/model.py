@@ -134,8 +134,28 @@ class Car15Geometry(_Replaceable):
     length: float = param(unit="m", doc="distance from the first axle to the next car's first axle", check=POSITIVE)
 
 
+class _TwoBogieCar(_Replaceable):
+    """What every car on two two-axle bogies has (Car15, CreepCar): its length, its axle positions
+    and the geometry check. Subclasses are dataclasses with a ``geometry: Car15Geometry`` field."""
+
+    geometry: Car15Geometry
+
+    @property
+    def length(self) -> float:
+        return self.geometry.length
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        g = self.geometry
+        a, s = g.half_wheelbase, g.half_bogie_spacing
+        return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
+
+    def _validate(self, ctx: Context) -> None:
+        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
+
+
 @dataclass(frozen=True, kw_only=True)
-class Car15(_Replaceable):
+class Car15(_TwoBogieCar):
     """The reference study's car: body and two bogies with y, z, roll, pitch, yaw; four wheelsets."""
 
     kind: ClassVar[str] = "car15"
@@ -151,18 +171,6 @@ class Car15(_Replaceable):
     source: str = param("", doc="citation of the data")
     notes: str = param("", doc="remarks, values marked [check]")
 
-    @property
-    def length(self) -> float:
-        return self.geometry.length
-
-    @property
-    def axle_offsets(self) -> tuple[float, ...]:
-        g = self.geometry
-        a, s = g.half_wheelbase, g.half_bogie_spacing
-        return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
-
-    def _validate(self, ctx: Context) -> None:
-        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
 
 
 def _check_two_bogie_geometry(g: Car15Geometry, axle_offsets: tuple[float, ...], ctx: Context) -> None:
@@ -252,7 +260,7 @@ class WheelRailContact(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class CreepCar(_Replaceable):
+class CreepCar(_TwoBogieCar):
     """A car with two two-axle bogies whose wheelsets are guided by linear Kalker creep forces:
     body and bogies as in car15; every wheelset with its own lateral displacement, roll and yaw;
     primary and secondary suspension in x, y and z at their lateral spans; yaw dampers."""
@@ -271,23 +279,10 @@ class CreepCar(_Replaceable):
     source: str = param("", doc="citation of the data")
     notes: str = param("", doc="remarks, values marked [check]")
 
-    @property
-    def length(self) -> float:
-        return self.geometry.length
-
-    @property
-    def axle_offsets(self) -> tuple[float, ...]:
-        g = self.geometry
-        a, s = g.half_wheelbase, g.half_bogie_spacing
-        return (0.0, 2 * a, 2 * s, 2 * s + 2 * a)
-
     def static_axle_load(self, gravity: float) -> float:
         """Static load of one wheelset on the rails [N]: a quarter of the body, half a bogie and
         the wheelset itself (symmetric car)."""
         return gravity * (self.body.mass / 4 + self.bogie.mass / 2 + self.wheelset.mass)
-
-    def _validate(self, ctx: Context) -> None:
-        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
 
 
 Vehicle = Union[MovingForce, SprungMass, Car15, CreepCar]
