@@ -24,7 +24,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..builder import build_model
+from ..builder import build_model, linear_system
 from ..scenario.model import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
 from ..results.derived_values import derived_values
@@ -213,11 +213,25 @@ def on_linear_system(cls: type, lin: Any, steps: Any, spectral_radius: float, ou
     engine = cls.__new__(cls)
     engine.scenario, engine.model, engine.wheel_forces = None, None, False
     engine.options, engine.lin, engine.steps, engine.outputs = options, lin, steps, outputs
-    engine.n_steps, engine.ratio = steps.n_steps, steps.ratio
-    engine.alpha = GeneralizedAlpha(float(spectral_radius), steps.h)
-    engine.output_time = steps.output_times
+    _time_stepping(engine, steps, spectral_radius)
     engine.output_channels = []
     return engine
 
 
-__all__ = ["Engine", "on_linear_system"]
+def init_linear(engine: Engine) -> None:
+    """What the linear engines (batched, dense) set up on a scenario's model: the linear system
+    about ``analysis.linearization`` and the time stepping (:func:`_time_stepping`)."""
+    engine.lin = linear_system(engine.model, engine.scenario.analysis.linearization)  # type: ignore[attr-defined]
+    _time_stepping(engine, engine.steps, engine.scenario.analysis.spectral_radius)
+
+
+def _time_stepping(engine: Any, steps: Any, spectral_radius: float) -> None:
+    """A linear engine's step count, output ratio, generalised-alpha constants and output times
+    from its :class:`~tb_exudyn.system.conventions.RunSteps` (one place for both engines and for
+    systems built by hand)."""
+    engine.n_steps, engine.ratio = steps.n_steps, steps.ratio
+    engine.alpha = GeneralizedAlpha(float(spectral_radius), steps.h)
+    engine.output_time = steps.output_times
+
+
+__all__ = ["Engine", "init_linear", "on_linear_system"]

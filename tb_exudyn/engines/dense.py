@@ -33,9 +33,7 @@ from ..builder import linear_system
 from ..errors import SettingError
 from ..execution.threads import single_threaded_blas
 from ..system.columns import linear_row_inputs
-from ..system.conventions import scenario_steps
-from .alpha import GeneralizedAlpha
-from .base import Engine, on_linear_system
+from .base import Engine, init_linear, on_linear_system
 
 MEANS: tuple[str, ...] = ("exudyn", "linear")
 
@@ -62,10 +60,7 @@ class DenseEngine(Engine):
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
         super().__init__(scenario, options, wheel_forces)
         self.options = _options(options)
-        self.lin = linear_system(self.model, scenario.analysis.linearization)
-        steps = scenario_steps(scenario)
-        self.n_steps, self.ratio = steps.n_steps, steps.ratio
-        self.alpha = GeneralizedAlpha(float(scenario.analysis.spectral_radius), steps.h)
+        init_linear(self)
         self.ci = np.concatenate((self.lin.bridge, self.lin.wheel))
 
     @classmethod

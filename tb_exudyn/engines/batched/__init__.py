@@ -39,13 +39,10 @@ from typing import Any
 
 import numpy as np
 
-from ...builder import linear_system
 from ...errors import CapabilityError, SettingError
 from ...execution.threads import single_threaded_blas
 from ...system.components import find_components
-from ...system.conventions import scenario_steps
-from ..alpha import GeneralizedAlpha
-from ..base import Engine, on_linear_system
+from ..base import Engine, init_linear, on_linear_system
 from .kernels import PRECISIONS
 from .loop import CHUNK_BYTES, MIN_CHUNK, chunks, integrate
 from .mean import linear_mean
@@ -96,11 +93,7 @@ class BatchedEngine(Engine):
         with single_threaded_blas():
             super().__init__(scenario, options, wheel_forces)
             self.options = _options(options)
-            self.lin = linear_system(self.model, scenario.analysis.linearization)
-            steps = scenario_steps(scenario)
-            self.n_steps, self.ratio = steps.n_steps, steps.ratio
-            self.alpha = GeneralizedAlpha(float(scenario.analysis.spectral_radius), steps.h)
-            self.output_time = steps.output_times
+            init_linear(self)
             self.components = find_components(self.lin, self.output_time)
 
     @classmethod
