@@ -1,6 +1,6 @@
 """Benchmark: the reference study's PEM, this checkout against another (today's main), side by side.
 
-    python benchmarks/bench_speed.py [--base PATH] [--repeat 3] [--workers 2] [--skip-dense] [--skip-exudyn]
+    python benchmarks/bench_speed.py [--base PATH] [--repeat 3] [--workers 2] [--no-grid-error] [--skip-dense] [--skip-exudyn]
 
 Everything runs in fresh child processes (``python this_file --child ...`` with PYTHONPATH set to
 the checkout, so each side imports its own tb_exudyn), alternating this checkout and ``--base``
@@ -8,7 +8,10 @@ the checkout, so each side imports its own tb_exudyn), alternating this checkout
 so both see the same load. Printed:
 
 1. the full study (scenario ``li_zhu_2011``: 4 cars, 3 spans, 200 frequencies x 3 irregularity
-   types, all 471 channels) with ``run_pem(engine="batched")`` on ``--workers`` processes: wall time
+   types, all 471 channels) with ``run_pem(engine="batched")`` on ``--workers`` processes (as
+   shipped, with its grid-error sweep on the cells' midpoints; ``--no-grid-error``: without it, the
+   work of a base that has none; a base from before the solver restructure runs
+   ``tb_exudyn.solvers.pem.run_pem``): wall time
    and CPU time of the whole process tree (this child and its workers), the peak resident memory
    of the process tree (sampled every 20 ms; shared libraries count once per process: an upper
    bound), the load average before and after; medians over ``--repeat`` runs of each side and their
@@ -80,16 +83,24 @@ def _cpu_seconds() -> float:
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
-def child_full(workers: int) -> dict:
-    """One full-study run; wall, CPU, peak memory, load."""
+def child_full(workers: int, grid_error: str = "default") -> dict:
+    """One full-study run; wall, CPU, peak memory, load. ``grid_error`` "off": without the grid-error
+    sweep (the same work as a checkout that has none); checkouts from before the solver restructure
+    (tb_exudyn.solvers) are run as they were."""
     import tb_exudyn as tbx
-    from tb_exudyn.methods import run_pem
+
+    try:
+        from tb_exudyn.methods import run_pem
+        kwargs = {"grid_error": False} if grid_error == "off" else {}
+    except ImportError:  # a checkout from before issue 13 (e.g. b901919)
+        from tb_exudyn.solvers.pem import run_pem
+        kwargs = {}
 
     sc = tbx.load_scenario("li_zhu_2011")
     load0 = os.getloadavg()[0]
     with PeakMemory() as mem:
         c0, t0 = _cpu_seconds(), time.perf_counter()
-        r = run_pem(sc, workers=workers, progress=False, engine="batched")
+        r = run_pem(sc, workers=workers, progress=False, engine="batched", **kwargs)
         wall, cpu = time.perf_counter() - t0, _cpu_seconds() - c0
     return {"wall": wall, "cpu": cpu, "peak_mib": mem.peak / 2**20, "load_before": load0, "load_after": os.getloadavg()[0],
             "mean_s": float(r.provenance.get("mean_seconds", float("nan"))), "psd_mib": r.psd.nbytes / 2**20}
@@ -201,6 +212,8 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3, help="full-study runs of each side (medians)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--precision", default="float64", help="precision of the flop-rate measurement")
+    parser.add_argument("--no-grid-error", action="store_true",
+                        help="this checkout without its grid-error sweep (the same work as a base that has none)")
     parser.add_argument("--skip-dense", action="store_true")
     parser.add_argument("--skip-exudyn", action="store_true")
     parser.add_argument("--child", default=None, help=argparse.SUPPRESS)
@@ -208,19 +221,20 @@ def main() -> None:
     a = parser.parse_args()
     warnings.simplefilter("ignore")
     if a.child:
-        fn = {"full": lambda: child_full(int(a.args[0])), "flops": lambda: child_flops(a.args[0]),
+        fn = {"full": lambda: child_full(int(a.args[0]), *a.args[1:]), "flops": lambda: child_flops(a.args[0]),
               "reduced": lambda: child_reduced(a.args[0])}[a.child]
         print(json.dumps(fn()))
         return
 
     sides = [("this", THIS)] + ([("base", a.base.resolve())] if a.base else [])
-    print(f"{os.cpu_count()} cores; load average {os.getloadavg()}; workers {a.workers}; sides: "
+    print(f"{os.cpu_count()} cores; load average {os.getloadavg()}; workers {a.workers}; "
+          f"grid-error sweep on this side: {'off' if a.no_grid_error else 'as shipped'}; sides: "
           + ", ".join(f"{n} = {p}" for n, p in sides))
     # 1. full study, alternating
     runs: dict[str, list[dict]] = {n: [] for n, _ in sides}
     for i in range(a.repeat):
         for name, repo in sides:
-            r = run_child(repo, "full", str(a.workers))
+            r = run_child(repo, "full", str(a.workers), "off" if a.no_grid_error and name == "this" else "default")
             runs[name].append(r)
             print(f"  run {i + 1} {name}: wall {r['wall']:.2f} s, CPU {r['cpu']:.2f} s, peak {r['peak_mib']:.0f} MiB, "
                   f"mean task {r['mean_s']:.2f} s, load {r['load_before']:.2f} -> {r['load_after']:.2f}", flush=True)
