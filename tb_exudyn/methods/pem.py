@@ -107,6 +107,7 @@ class ColumnTask:
     columns: tuple[PemTask, ...]
     keep_psd: bool
     midpoints: bool = False
+    psd_z: tuple[int, ...] | None = None  # the z rows whose PSD maps the task keeps (None: all)
 
 
 def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, str]:
@@ -161,16 +162,17 @@ def harmonic_columns(ptasks: Sequence[PemTask], scenario: Scenario) -> HarmonicC
 class PsdReducer(PseudoReduction):
     """PEM's reduction at an output time (:class:`~tb_exudyn.methods.reduction.PseudoReduction`): per
     result channel (the scenario's channels and its derived channels) |y~|^2 summed per type (sigma^2),
-    the PSD map with ``keep_psd`` (summed over types, divided by df), the time derivative's sums for
+    the PSD map with ``keep_psd`` (summed over types, divided by df; ``psd_z``: only of those z rows,
+    :func:`psd_z_rows`), the time derivative's sums for
     the Rice rate, the ratios' cross sums and the Sperling inputs' weighted power.
 
     columns : the task's columns; f_col : (m,) excitation frequency of each column [Hz]."""
 
     def __init__(self, columns: HarmonicColumns, plan: ReductionPlan, f_col: NDArray[np.float64], n_t: int,
-                 n_types: int, dt: float, keep_psd: bool) -> None:
+                 n_types: int, dt: float, keep_psd: bool, psd_z: Sequence[int] | None = None) -> None:
         self.columns = columns
         super().__init__(plan, f_col, columns.type_index, n_types, columns.freq_index.size, columns.df, n_t, dt,
-                         keep_psd)
+                         keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64))
 
     def result(self) -> dict[str, np.ndarray]:
         return {**super().result(), "freq_index": self.columns.freq_index}
@@ -190,7 +192,7 @@ def default_slices(cores: int) -> list[float]:
 
 
 def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
-                  midpoints: bool = False) -> list[Task]:
+                  midpoints: bool = False, psd_z: tuple[int, ...] | None = None) -> list[Task]:
     """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
     frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
     freqs = np.array(sorted({p.freq_index for p in ptasks}))
@@ -200,7 +202,7 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     for a, b in zip(edges[:-1], edges[1:]):
         chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints)))
+        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints, psd_z)))
     return out
 
 
@@ -217,6 +219,7 @@ class PemSizing:
     limit: MemoryLimit | None  # None: what the machine running the setup has available
     where: str
     psd_channels: int | None = None  # channels whose PSD map is kept (None: all)
+    psd_task_rows: int | None = None  # rows of a task's PSD map (psd_z_rows; None: one per output channel)
     where_option: str = ""  # the caller of the options ("command line": name them as flags)
 
 
@@ -231,7 +234,8 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
     psd = "--psd-channels" if s.where_option == "command line" else "psd_channels"
     remedy = ("a smaller analysis.n_freq, fewer analysis.channels or a larger analysis.output_step"
               + (f", fewer PSD maps ({psd}), or keep_psd=False" if s.keep_psd else ""))
-    task_map = 4 * n_ch * s.task_freqs * n_t if s.keep_psd else 0
+    n_task = n_ch if s.psd_task_rows is None else s.psd_task_rows
+    task_map = 4 * n_task * s.task_freqs * n_t if s.keep_psd else 0
     task_var = 8 * n_t * s.n_types * n_ch
     m = s.task_freqs * s.n_types
     n_kept = n_ch if s.psd_channels is None else s.psd_channels
@@ -244,7 +248,7 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
         Part("the interpreter and its libraries", PROCESS_BYTES),
     )
     worker = (
-        Part(f"a task's PSD map ({describe_counts(channels=n_ch, frequencies=s.task_freqs, output_times=n_t)}, "
+        Part(f"a task's PSD map ({describe_counts(channels=n_task, frequencies=s.task_freqs, output_times=n_t)}, "
              "float32" + (", and its copy sent back" if pool else "") + ")",
              (2 if pool else 1) * task_map + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
         Part(f"the state of a task's {m} columns", m * column_bytes(engine) + task_var, *n_f, remedy),
@@ -270,7 +274,7 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     columns = harmonic_columns(data.columns, engine.scenario)
     n_types = len(engine.scenario.track.irregularities)
     reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
-                         engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd)
+                         engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd, data.psd_z)
     result = engine.integrate(columns, reducer)
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
@@ -296,6 +300,23 @@ def psd_rows(names: Sequence[str], psd_channels: str | Sequence[str]) -> list[in
     pats = [p for _, group in default_patterns(names) for p in group] if psd_channels == "key" else (
         [psd_channels] if isinstance(psd_channels, str) else list(psd_channels))
     return [i for i, n in enumerate(names) if any(fnmatch.fnmatchcase(n, p) for p in pats)]
+
+
+def psd_z_rows(plan: ReductionPlan, psd_rows: Sequence[int] | None) -> IntArray | None:
+    """The z rows a task must keep PSD maps of for the result rows ``psd_rows`` (None: all rows, all
+    z): a linear row's own z, a ratio's numerator and denominator (its cross term is kept for every
+    ratio); Sperling rows have none. What :func:`~tb_exudyn.methods.reduction.finish_pem_task` reads, so a worker builds and
+    sends only these maps."""
+    if psd_rows is None:
+        return None
+    ratio_at = {int(r[0]): (int(r[1]), int(r[2])) for r in plan.ratios}
+    z: set[int] = set()
+    for r in psd_rows:
+        if plan.result_z[int(r)] >= 0:
+            z.add(int(plan.result_z[int(r)]))
+        elif int(r) in ratio_at:
+            z.update(ratio_at[int(r)])
+    return np.array(sorted(z), dtype=np.int64)
 
 
 def check_psd_channels(names: Sequence[str] | None, psd_channels: Any, where: str) -> None:
@@ -334,29 +355,31 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         scenario_to_toml(scenario), method="pem", engine=engine, engine_options=cls.describe_options(options),
         method_options={"keep_psd": keep_psd, "psd_channels": psd_spec, "grid_error": grid_error, "grid": grid.f.tolist(),
                         "reduction": REDUCTION_FORMAT}, spectra=scenario.track.irregularities)
-    ptasks = pem_tasks(scenario, grid)
-    mid = midpoint_grid(grid) if grid_error else None
-    mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
-    tasks = [Task("pem-mean", MeanTask())]
-    if cls.single_columns:
-        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd)) for p in ptasks]
-        tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
-    else:
-        weights = default_slices(execution.cores) if execution.slices is None else execution.slices
-        tasks += column_slices(ptasks, weights, keep_psd)
-        if mid_tasks:
-            tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     n_types = len(spectra)
     model = setup.model
     plan = model_plan(model)  # the workers' engines have the same outputs and derived channels
     rows_kept = psd_rows(plan.names, psd_spec) if keep_psd else []
     if keep_psd:
         check_psd_channels(plan.names, psd_spec, execution.where)
+    z_kept = psd_z_rows(plan, rows_kept)
+    psd_z = tuple(int(z) for z in z_kept) if keep_psd and z_kept is not None else None  # a task keeps only these maps
+    ptasks = pem_tasks(scenario, grid)
+    mid = midpoint_grid(grid) if grid_error else None
+    mid_tasks = pem_tasks(scenario, mid) if mid is not None else []
+    tasks = [Task("pem-mean", MeanTask())]
+    if cls.single_columns:
+        tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_z=psd_z)) for p in ptasks]
+        tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
+    else:
+        weights = default_slices(execution.cores) if execution.slices is None else execution.slices
+        tasks += column_slices(ptasks, weights, keep_psd, psd_z=psd_z)
+        if mid_tasks:
+            tasks += column_slices(mid_tasks, weights, False, "pemm", True)
     sizing = PemSizing(
         n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
         task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
         output_step=scenario.analysis.output_step, limit=execution.worker_limit(), where=scenario_where(scenario),
-        psd_channels=len(rows_kept), where_option=execution.where)
+        psd_channels=len(rows_kept), psd_task_rows=None if psd_z is None else len(psd_z), where_option=execution.where)
     state: dict[str, Any] = {}
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
@@ -461,4 +484,4 @@ def _result(scenario: Scenario, grid: FrequencyGrid, spectra: dict[str, Any], pl
 
 
 __all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices",
-           "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "run"]
+           "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "psd_z_rows", "run"]

@@ -267,14 +267,14 @@ def ratio_coefficients(plan: ReductionPlan, rows: MeanRows) -> RatioCoefficients
 class PseudoReduction:
     """PEM's sums over a task's columns at every output time (module docstring); ``result()`` returns
     the raw sums, which :func:`finish_pem_task` turns into per-channel arrays.
-
     f_col : (m,) excitation frequency [Hz] of each column; type_index : (m,) its irregularity type;
     n_types : types of the scenario; n_freq : frequencies of the task (columns frequency-major, all
-    types of a frequency side by side); df : (n_freq,) their widths [Hz]; dt : output step [s].
+    types of a frequency side by side); df : (n_freq,) their widths [Hz]; dt : output step [s];
+    psd_z : the z rows whose PSD maps are kept (pem.psd_z_rows; None: all).
     """
 
     def __init__(self, plan: ReductionPlan, f_col: FloatArray, type_index: IntArray, n_types: int, n_freq: int,
-                 df: FloatArray, n_t: int, dt: float, keep_psd: bool) -> None:
+                 df: FloatArray, n_t: int, dt: float, keep_psd: bool, psd_z: IntArray | None = None) -> None:
         m = f_col.size
         self.plan, self.n_t, self.dt, self.n_f = plan, n_t, float(dt), n_freq
         self.per_freq = m // n_freq if n_freq else 1
@@ -290,7 +290,8 @@ class PseudoReduction:
         self.W = np.array([weighting_response(plan.weighting[z], f_col) for z in self.w_rows]).reshape(-1, m)  # type: ignore[arg-type]
         self.var = np.zeros((n_t, n_types, nz))
         self.lam = np.zeros((n_t, 2, nz))
-        self.psd = np.zeros((nz, n_freq, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
+        self.psd_z = None if psd_z is None else np.asarray(psd_z, dtype=np.int64)  # z rows of the kept maps (None: all)
+        self.psd = np.zeros((nz if psd_z is None else self.psd_z.size, n_freq, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
         # derivative rows: the recorded ones then the pseudo ones
         self.d_rows = np.concatenate((plan.recorded, plan.pseudo)).astype(np.int64)
         self.n_rec = plan.recorded.size
@@ -328,7 +329,7 @@ class PseudoReduction:
         self.var[i] = (P @ self.type_sum).T
         self.lam[i] = (P @ self.w12).T
         if self.psd is not None:
-            self.psd[:, :, i] = self._freq_sum(P)
+            self.psd[:, :, i] = self._freq_sum(P if self.psd_z is None else P[self.psd_z])
         if self.ratio_n.size:
             X = (Z[self.ratio_n].conj() * Z[self.ratio_d]).real
             self.nd_type[i] = (X @ self.type_sum).T
@@ -381,6 +382,7 @@ class PseudoReduction:
                "nd_type": self.nd_type, "nd_lam": self.nd_lam, "nd_pairs": self.nd_pairs, "sperling_power": self.sp}
         if self.psd is not None:
             out["psd_z"] = self.psd
+            out["psd_z_rows"] = np.arange(self.plan.n_z) if self.psd_z is None else self.psd_z
         if self.nd_psd is not None:
             out["nd_psd"] = self.nd_psd
         return out
@@ -413,9 +415,11 @@ def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: Ratio
     at_row = {int(r): i for i, r in enumerate(range(n_res) if psd_rows is None else psd_rows)}
     if "psd_z" in raw:
         psd = np.zeros((len(at_row),) + raw["psd_z"].shape[1:], dtype=PSD_TRANSPORT)
-        kept = [(at_row[int(r)], int(z)) for r, z in zip(direct, zr) if int(r) in at_row]
+        z_rows = raw.get("psd_z_rows", np.arange(raw["psd_z"].shape[0]))
+        at_z = {int(z): k for k, z in enumerate(z_rows)}  # z row -> its row of psd_z
+        kept = [(at_row[int(r)], at_z[int(z)]) for r, z in zip(direct, zr) if int(r) in at_row]
         if kept:
-            psd[[i for i, _ in kept]] = raw["psd_z"][[z for _, z in kept]]
+            psd[[i for i, _ in kept]] = raw["psd_z"][[k for _, k in kept]]
     if plan.ratios:
         assert coef is not None
         a, b, ar, br = (x.T for x in (coef.a, coef.b, coef.a_rate, coef.b_rate))  # (n_t, n_ratio)
@@ -441,7 +445,8 @@ def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: Ratio
         if psd is not None and "nd_psd" in raw:
             for k in (k for k, r in enumerate(idx) if int(r) in at_row):  # one ratio row at a time: no temporaries
                 at, bt = coef.a[k][None, :], coef.b[k][None, :]  # (1, n_t)
-                psd[at_row[int(idx[k])]] = at**2 * raw["psd_z"][zn[k]] + bt**2 * raw["psd_z"][zd[k]] + 2 * at * bt * raw["nd_psd"][k]
+                psd[at_row[int(idx[k])]] = (at**2 * raw["psd_z"][at_z[int(zn[k])]] + bt**2 * raw["psd_z"][at_z[int(zd[k])]]
+                                            + 2 * at * bt * raw["nd_psd"][k])
     out = {"var_t": var, "lam": lam, "dvar": dvar, "dcov": dcov, "sperling_power": raw["sperling_power"]}
     if psd is not None:
         out["psd"] = psd
