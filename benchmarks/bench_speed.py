@@ -115,10 +115,10 @@ class _Null:
 
 
 def _all_columns(sc):  # noqa: ANN001, ANN202
-    from tb_exudyn.methods.pem import harmonic_columns, pem_tasks, prepare_sweep
+    from tb_exudyn.methods.common import analysis_setup
+    from tb_exudyn.methods.pem import harmonic_columns, pem_tasks
 
-    grid, _ = prepare_sweep(sc)
-    return harmonic_columns(pem_tasks(sc, grid), sc)
+    return harmonic_columns(pem_tasks(sc, analysis_setup(sc).grid), sc)
 
 
 def child_flops(precision: str) -> dict:
