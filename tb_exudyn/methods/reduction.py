@@ -298,13 +298,12 @@ class PseudoReduction:
         self.Ld = plan.Ld[plan.recorded] if plan.recorded.size else None
         self.w_rec = [(j, np.flatnonzero(self.w_rows == z)[0]) for j, z in enumerate(plan.recorded) if plan.weighting[z]]
         nd = self.d_rows.size
-        self.dvar = np.zeros((n_t, nd))
-        self.dcov = np.zeros((n_t, nd))
+        self.dvar, self.dcov = np.zeros((n_t, nd)), np.zeros((n_t, nd))
         self.ring = np.zeros((3, nd, m), dtype=complex)  # z of the derivative rows at the last 3 times
         self.ring_d = np.zeros((3, max(self.n_rec, 0), m), dtype=complex)  # recorded derivatives
+        self.d_buf, self.iw = (np.empty((nd, m), dtype=complex), np.empty((nd - self.n_rec, m), dtype=complex)), 1j * w
         pos = {int(z): j for j, z in enumerate(self.d_rows)}
-        self.ratio_n = np.array([r[1] for r in plan.ratios], dtype=np.int64)
-        self.ratio_d = np.array([r[2] for r in plan.ratios], dtype=np.int64)
+        self.ratio_n, self.ratio_d = (np.array([r[k] for r in plan.ratios], dtype=np.int64) for k in (1, 2))
         self.ratio_nd = np.array([pos[int(z)] for z in self.ratio_n], dtype=np.int64)
         self.ratio_dd = np.array([pos[int(z)] for z in self.ratio_d], dtype=np.int64)
         nr = len(plan.ratios)
@@ -340,13 +339,12 @@ class PseudoReduction:
             self.sp[i] = np.einsum("ij,ij->i", P[self.sp_rows], self.sp_w)
         if not self.d_rows.size:
             return
-        slot = i % 3
-        self.ring[slot] = Z[self.d_rows]
+        self.ring[i % 3] = Z[self.d_rows]
         if self.n_rec:
             Zd = np.asarray(self.Ld @ Yr)
             for j, wj in self.w_rec:
                 Zd[j] *= self.W[wj]
-            self.ring_d[slot] = Zd
+            self.ring_d[i % 3] = Zd
         if i >= 1:
             self._derivative(i - 1, i)
         if i == self.n_t - 1:
@@ -354,28 +352,30 @@ class PseudoReduction:
 
     def _derivative(self, j: int, latest: int) -> None:
         """Derivative statistics at time j (latest: the newest time recorded)."""
-        z_j = self.ring[j % 3]
-        d = np.empty_like(z_j)
-        nr = self.n_rec
+        z_j, nr = self.ring[j % 3], self.n_rec
+        d, buf = self.d_buf  # no temporaries: the formulas' operations in their order (bitwise the same)
         if nr:
             d[:nr] = self.ring_d[j % 3]
-        if self.d_rows.size > nr:
-            y = z_j[nr:]
-            rot, iw, dt = self.rot, 1j * self.omega, self.dt
-            if j == 0:
-                d[nr:] = (self.ring[1][nr:] * rot - y) / dt + iw * y
-            elif j == latest:  # the last time: backward difference
-                d[nr:] = (y - self.ring[(j - 1) % 3][nr:] * rot.conj()) / dt + iw * y
+        if self.d_rows.size > nr:  # (z_next rot - z_prev rot*) / (2 dt) + i w y; one-sided at the ends
+            y, out = z_j[nr:], d[nr:]
+            if j > 0:
+                np.multiply(self.ring[(j - 1) % 3][nr:], self.rot.conj(), out=buf)
+            if j == 0 or j < latest:
+                np.multiply(self.ring[(j + 1) % 3][nr:], self.rot, out=out)
+                out -= y if j == 0 else buf
             else:
-                d[nr:] = (self.ring[(j + 1) % 3][nr:] * rot - self.ring[(j - 1) % 3][nr:] * rot.conj()) / (2 * dt) + iw * y
-        self.dvar[j] = (d.real**2 + d.imag**2).sum(axis=1)
-        self.dcov[j] = (z_j.conj() * d).real.sum(axis=1)
+                np.subtract(y, buf, out=out)
+            out /= self.dt if j == 0 or j == latest else 2 * self.dt
+            np.multiply(y, self.iw, out=buf)
+            out += buf
+        # Re(conj(a) b) summed over the columns = the dot product of the float views (one pass, no temporaries)
+        zf, df = z_j.view(np.float64), d.view(np.float64)
+        np.einsum("ij,ij->i", df, df, out=self.dvar[j])
+        np.einsum("ij,ij->i", zf, df, out=self.dcov[j])
         if self.ratio_n.size:
-            zn, zd = z_j[self.ratio_nd], z_j[self.ratio_dd]
-            dn, dd = d[self.ratio_nd], d[self.ratio_dd]
-            self.nd_pairs[j, 0] = (zn.conj() * dd).real.sum(axis=1)
-            self.nd_pairs[j, 1] = (zd.conj() * dn).real.sum(axis=1)
-            self.nd_pairs[j, 2] = (dn.conj() * dd).real.sum(axis=1)
+            for k, (a, b) in enumerate(((zf[self.ratio_nd], df[self.ratio_dd]), (zf[self.ratio_dd], df[self.ratio_nd]),
+                                        (df[self.ratio_nd], df[self.ratio_dd]))):
+                np.einsum("ij,ij->i", a, b, out=self.nd_pairs[j, k])
 
     def result(self) -> dict[str, np.ndarray]:
         out = {"var_z": self.var, "lam_z": self.lam, "dvar_z": self.dvar, "dcov_z": self.dcov,
