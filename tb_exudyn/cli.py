@@ -512,6 +512,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     except OSError as exc:  # a file or folder the user named cannot be read or written
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
+    except MemoryError as exc:  # the memory estimate's margin was not enough: the size, not a bug
+        print(f"tb-exudyn: error: command {args.command!r}: out of memory ({exc or 'an allocation failed'}): the run's "
+              "estimate did not foresee it (allowed: a run this machine can hold: fewer --workers, a smaller "
+              "analysis.n_freq or fewer analysis.channels, or --psd-channels key; finished tasks are kept for --resume)",
+              file=sys.stderr)
+        return EXIT_USER_ERROR
     except KeyboardInterrupt:
         print("tb-exudyn: interrupted; finished tasks are kept (run again with --resume)", file=sys.stderr)
         return 130

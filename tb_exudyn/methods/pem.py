@@ -252,10 +252,20 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
              "float32" + (", and its copy sent back" if pool else "") + ")",
              (2 if pool else 1) * task_map + task_map // max(1, n_t) * PSD_BLOCK, *n_f, remedy),
         Part(f"the state of a task's {m} columns", m * column_bytes(engine) + task_var, *n_f, remedy),
+        Part(f"the reduction's buffers of a task's {m} columns", m * reducer_column_bytes(engine_plan(engine), n_ch),
+             *n_f, remedy),
         Part("the model", model_bytes(engine)),
         Part("the interpreter and its libraries", PROCESS_BYTES),
     )
     return MemoryEstimate(parent, worker, s.workers)
+
+
+def reducer_column_bytes(plan: ReductionPlan, n_out: int) -> int:
+    """Bytes per complex column of :class:`PsdReducer` at an output time: the gathered outputs and
+    their z rows (complex), |z|^2, the derivative rows of the last three times, the derivative and
+    its buffer (complex), the recorded derivatives of the last three times."""
+    n_d, n_rec = plan.recorded.size + plan.pseudo.size, plan.recorded.size
+    return 16 * (n_out + plan.n_z) + 8 * plan.n_z + 16 * (3 * n_d + 2 * n_d + 3 * n_rec)
 
 
 def _setup(engine: str, scenario: Scenario, options: Any, sizing: PemSizing | None = None) -> Any:
@@ -484,4 +494,4 @@ def _result(scenario: Scenario, grid: FrequencyGrid, spectra: dict[str, Any], pl
 
 
 __all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices",
-           "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "psd_z_rows", "run"]
+           "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "psd_z_rows", "reducer_column_bytes", "run"]

@@ -61,9 +61,19 @@ def py(code, timeout=120, limit_gb=None):
         return "timeout", "", (e.stderr or b"").decode() if isinstance(e.stderr, bytes) else (e.stderr or "")
 
 
+def _keeps_checkpoints() -> list[str]:
+    """["--keep-checkpoint"] where the tree removes a checkpoint after a successful save (the
+    checkpoint trials damage a finished run's checkpoint, so it must stay), else []."""
+    p = subprocess.run([PY, "-m", "tb_exudyn", "run", "--help"], cwd=CODE, env=ENV, capture_output=True, text=True)
+    return ["--keep-checkpoint"] if "--keep-checkpoint" in p.stdout else []
+
+
+KEEP = _keeps_checkpoints()
+
+
 def pem_run(out, sc=TINY, *extra, engine="batched", workers=1, timeout=120, **kw):
     return run(["run", sc, "--engine", engine, "--workers", workers, "--out", out, "--no-figures", "--no-progress",
-                *extra], timeout=timeout, **kw)
+                *KEEP, *extra], timeout=timeout, **kw)
 
 
 def std_of(folder):
@@ -216,7 +226,7 @@ def c_rescaled():
     def dmg(d):
         p = d / TASK
         code = (f"import numpy as np; p={str(p)!r}; z=dict(np.load(p)); "
-                "z['var_t']=z['var_t']*2; z['psd']=z['psd']*2; np.savez(p, **z)")
+                "[z.__setitem__(k, z[k] * 2) for k in ('var_t', 'psd', 'var_z', 'psd_z') if k in z]; np.savez(p, **z)")
         subprocess.run([PY, "-c", code], check=True)
         return p
     return resume_case("c_rescale", dmg)

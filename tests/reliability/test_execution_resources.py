@@ -126,6 +126,39 @@ def test_workers_beyond_the_cores_are_capped_with_a_notice():
     assert len(notices) == 1 and "--workers = 1000" in notices[0] and f"{ex.cores} cores" in notices[0]
 
 
+def test_the_reductions_buffers_count_in_the_estimate(tmp_path):
+    """quick as shipped (key PSD maps) on 100 000 frequencies in one process: the PSD map is small
+    (12 maps), but a task of 120 000 columns needs its columns' state (1.9 GB) and the PEM
+    reduction's buffers at an output time (the derivative rows of the last three times, the
+    derivative, the z rows: 0.95 GB). With --max-memory 4GB the run (4.6 GB) is refused naming
+    analysis.n_freq before anything large is allocated; without the buffers in the estimate (3.5 GB)
+    it was let through and failed with an allocation error part-way."""
+    text = (ROOT / "models" / "scenarios" / "quick.toml").read_text(encoding="utf-8")
+    sc = tmp_path / "big.toml"
+    sc.write_text(re.sub(r"(?m)^n_freq = .*$", "n_freq = 100000", text), encoding="utf-8")
+    proc, peak = child_peak_bytes_of(run_args(sc, tmp_path / "out", "--max-memory", "4GB", "--workers", "1"))
+    assert_one_line_error(proc, "key 'analysis.n_freq' = 100000", "--max-memory of 4 GB")
+    assert peak < 600e6, f"the refusal came after {peak / 1e6:.0f} MB were allocated"
+
+
+def test_an_allocation_the_estimate_missed_is_one_line(monkeypatch, capsys):
+    """The last net: a MemoryError anywhere in a command is exit 2 with one line naming the command
+    and what to change, not a traceback (the estimate has a margin, not a guarantee)."""
+    from tb_exudyn import cli as cli_module
+
+    def boom(args):
+        raise MemoryError("Unable to allocate 106. MiB for an array with shape (58, 120000)")
+
+    args = cli_module.build_parser().parse_args(["run", "quick"])
+    args.func = boom  # the command itself fails; parsing and the checks of the arguments are the real ones
+    monkeypatch.setattr(cli_module, "build_parser", lambda: type("P", (), {"parse_args": lambda self, argv: args})())
+    code = cli_module.main(["run", "quick"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith("tb-exudyn: error: command 'run': out of memory (Unable to allocate 106. MiB"), err
+    assert "--workers" in err[0] and "--resume" in err[0] and "Traceback" not in err[0]
+
+
 def test_the_estimate_is_close_to_the_measured_peak(tmp_path):
     """quick with 1000 frequencies, in one process: the estimate (the kept PSD map in float32, the
     task's map and columns, the interpreter and model) against the child's own peak resident memory
