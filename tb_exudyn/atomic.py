@@ -20,12 +20,22 @@ def write_atomic(path: str | Path, write: Callable[[BinaryIO], object]) -> Path:
     The file gets the usual permissions (0666 less the umask), not mkstemp's private 0600. On any
     error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was.
     """
+    def by_name(tmp: Path) -> None:
+        with open(tmp, "wb") as fh:
+            write(fh)
+
+    return write_atomic_named(path, by_name)
+
+
+def write_atomic_named(path: str | Path, write: Callable[[Path], object]) -> Path:
+    """:func:`write_atomic` for writers that need a file name, not a file object (e.g. a NetCDF
+    library): ``write(temporary path)`` beside ``path``, then the rename into place."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    os.close(fd)
     try:
-        with os.fdopen(fd, "wb") as fh:
-            write(fh)
+        write(Path(tmp))
         os.chmod(tmp, 0o666 & ~_umask())
         os.replace(tmp, path)
     except BaseException:

@@ -37,16 +37,14 @@ from __future__ import annotations
 
 import io
 import json
-import os
-import tempfile
 from pathlib import Path
-from typing import Any, Callable, Literal, Sequence, Union
+from typing import Any, Literal, Sequence, Union
 
 import numpy as np
 import scipy.io
 
 from .._version import __version__
-from ..atomic import write_atomic, write_text_atomic
+from ..atomic import write_atomic, write_atomic_named, write_text_atomic
 from ..errors import CapabilityError, SettingError
 from ..scenario import scenario_to_toml
 from ..system.labels import channel_label
@@ -156,25 +154,6 @@ def to_xarray(result: Result):
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _write_path_atomic(path: Path, write: Callable[[Path], object]) -> Path:
-    """``write(temporary path)`` beside ``path``, then rename it into place (for writers that need
-    a file name, not a file object); on any error the temporary file is removed."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        write(Path(tmp))
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(tmp, 0o666 & ~mask)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
-
-
 def export_netcdf(result: Result, path: str | Path, engine: str = "h5netcdf", complevel: int = 1) -> Path:
     """Write :func:`to_xarray` of the result as NetCDF (see the module docstring for the backend),
     atomically. ``engine``: "h5netcdf" (NetCDF4, compressed), "netcdf4" (the same, through
@@ -197,7 +176,7 @@ def export_netcdf(result: Result, path: str | Path, engine: str = "h5netcdf", co
                 encoding[name] = {"zlib": True, "complevel": complevel, "shuffle": True, "chunksizes": chunks}
     else:  # NetCDF3 has no string or int64 arrays of this kind: JSON-safe attributes only
         ds.attrs["band_hz"] = list(ds.attrs.get("band_hz", []))
-    return _write_path_atomic(Path(path), lambda tmp: ds.to_netcdf(tmp, engine=engine, encoding=encoding or None))
+    return write_atomic_named(path, lambda tmp: ds.to_netcdf(tmp, engine=engine, encoding=encoding or None))
 
 
 # ============================================================================================ CSV
