@@ -82,13 +82,20 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy import optimize, special
 
 from ..errors import SettingError
+
+
+def _ndtr(x: Any) -> Any:
+    """The standard normal distribution function (scipy.special.ndtr, imported on first use: scipy's
+    special functions cost 0.2 s at import, which every worker process would pay)."""
+    from scipy.special import ndtr
+
+    return ndtr(x)
 
 Method = Literal["poisson", "vanmarcke"]
 LevelKind = Literal["symmetric", "upper", "lower"]
@@ -302,7 +309,7 @@ def _positive_part_mean(m: NDArray[np.float64], s: NDArray[np.float64]) -> NDArr
     """E[max(X, 0)] for X ~ N(m, s^2): s phi(m/s) + m Phi(m/s); max(m, 0) where s = 0."""
     with np.errstate(divide="ignore", invalid="ignore"):
         x = m / s
-        val = s * np.exp(-0.5 * x * x) / _SQRT_2PI + m * special.ndtr(x)
+        val = s * np.exp(-0.5 * x * x) / _SQRT_2PI + m * _ndtr(x)
     return np.where(s > 0, np.maximum(val, 0.0), np.maximum(m, 0.0))
 
 
@@ -378,7 +385,7 @@ def _probability_outside(lo: float, hi: float, mean: NDArray, sigma: NDArray) ->
     with np.errstate(divide="ignore", invalid="ignore"):
         z_lo = (lo - mean) / sigma
         z_hi = (hi - mean) / sigma
-        p = special.ndtr(z_lo) + special.ndtr(-z_hi)
+        p = _ndtr(z_lo) + _ndtr(-z_hi)
     det = ((mean < lo) | (mean > hi)).astype(float)
     return np.where(sigma > 0, np.clip(p, 0.0, 1.0), det)
 
@@ -524,7 +531,9 @@ def exceedance_level(response: GaussianResponse, probability: float, *, kind: Le
         lo_b = 0.0
         if excess(0.0) < 0.0:  # y is 0 for sure: every positive level is exceeded with probability < p
             return ExceedanceLevel(kind, 0.0, p, method, (float(r.time[0]), float(r.time[-1])), channel)
-    level = optimize.brentq(excess, lo_b, hi_b, xtol=1e-12 * scale, rtol=1e-12, maxiter=500)
+    from scipy.optimize import brentq  # on first use: scipy.optimize costs 0.3 s at import
+
+    level = brentq(excess, lo_b, hi_b, xtol=1e-12 * scale, rtol=1e-12, maxiter=500)
     return ExceedanceLevel(kind, float(level), p, method, (float(r.time[0]), float(r.time[-1])), channel)
 
 

@@ -102,8 +102,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
-from scipy.special import ellipe, ellipk
 
 from ..errors import SettingError
 
@@ -188,6 +186,8 @@ def _elliptic_differences(m: float) -> tuple[float, float]:
     if m < 0.1:
         powers = m ** np.arange(_K_MINUS_E.size - 1)
         return 0.5 * math.pi * float(_K_MINUS_E[1:] @ powers), 0.5 * math.pi * float(_E_OVER_1M_MINUS_K[1:] @ powers)
+    from scipy.special import ellipe, ellipk  # on first use (creep cars): scipy.special costs 0.2 s at import
+
     K, E = float(ellipk(m)), float(ellipe(m))
     return (K - E) / m, (E / (1.0 - m) - K) / m
 
@@ -226,6 +226,8 @@ def hertz_ellipse(normal_load: float, A: float, B: float, E_star: float) -> Hert
         hi = 1.0 - 1e-15
         if _ellipse_ratio(hi) < ratio:
             raise SettingError("hertz_ellipse", "B/A", ratio, "a curvature ratio below 1e13", "ellipse too slender")
+        from scipy.optimize import brentq  # on first use (creep cars): scipy.optimize costs 0.3 s at import
+
         m = brentq(lambda mm: _ellipse_ratio(mm) - ratio, 0.0, hi, xtol=1e-300, rtol=4 * np.finfo(float).eps,
                    maxiter=500)
     kme_over_m = _elliptic_differences(m)[0]

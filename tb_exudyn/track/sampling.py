@@ -10,11 +10,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.fft import ifft, next_fast_len
-from scipy.interpolate import CubicSpline
 
 from .bands import check_band
 from .spectra import HALF_RAIL_DISTANCE, Spectrum, SpectrumError
@@ -104,7 +103,7 @@ class GridProfile(TrackProfile):
     dx: float = 1.0
     values: NDArray[np.float64] = field(default_factory=lambda: np.zeros(2))
     interpolation: str = "cubic"
-    _spline: CubicSpline | None = field(init=False, repr=False, default=None)
+    _spline: Any = field(init=False, repr=False, default=None)  # a scipy CubicSpline, built on first use
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "values", _frozen(self.values))
@@ -114,6 +113,8 @@ class GridProfile(TrackProfile):
             raise ValueError(f"interpolation must be 'linear' or 'cubic', got {self.interpolation!r}")
         if self.interpolation == "cubic":
             x = self.x_start + self.dx * np.arange(self.values.size)
+            from scipy.interpolate import CubicSpline  # on first use: keeps 0.2 s out of every import
+
             object.__setattr__(self, "_spline", CubicSpline(x, self.values))
 
     @property
@@ -259,6 +260,8 @@ def fft_profile(spectrum: Spectrum, rng: np.random.Generator, length: float, dx:
         raise SpectrumError(f"band upper limit {hi:g} rad/m exceeds the Nyquist limit pi/dx = {math.pi / dx:g} "
                             f"rad/m of dx = {dx:g} m")
     n_points = int(math.ceil(length / dx - 1e-9)) + 1
+    from scipy.fft import ifft, next_fast_len  # on first use: keeps 0.4 s out of every import
+
     n_fft = next_fast_len(n_points)
     k, w, node = fft_bins(lo, hi, n_fft, dx)
     coef = np.zeros(n_fft, dtype=complex)
