@@ -108,6 +108,13 @@ class Engine(ABC):
         """The options as plain data (for provenance and checkpoint fingerprints)."""
         return {}
 
+    @classmethod
+    def mean_cost_columns(cls, options: Any) -> float | None:
+        """What the mean task costs in columns of the engine's sweep (to size the slices that share a
+        worker with it: :func:`tb_exudyn.methods.pem.default_slices`); None: not known (an Exudyn run,
+        about half a slice)."""
+        return None
+
     # ------------------------------------------------------------------ outputs
     @property
     def n_selected(self) -> int:

@@ -16,8 +16,9 @@ irregularity (PSD zero there).
 
 Tasks: an engine that runs columns separately (``single_columns``) gets one task per column; the
 others get slices of contiguous frequencies (every type of a frequency in the same slice), one per
-core and a half one (:func:`default_slices`): on as many workers as cores, the worker that runs the
-mean takes a full slice after it and another the half slice. A result never depends on the number of
+core (:func:`default_slices`), the last one shorter by the mean's cost (the engine's hint; a half
+slice where it is not known): on as many workers as cores, the worker that runs the mean takes the
+last slice after it and every worker's load is about equal. A result never depends on the number of
 workers, the executor or a resume (bitwise), and on the slicing only at round-off.
 """
 
@@ -70,6 +71,7 @@ def grid_error_messages(error: GridError, tolerance: float = GRID_ERROR_TOLERANC
             f"changes by more than {100 * tolerance:g} % when the grid is refined (largest "
             f"{100 * error.rel_error_max_sigma[i]:+.2g} % on {error.channels[i]}; e.g. {', '.join(bad[:3])}); "
             "use analysis.freq_spacing = 'adaptive' or more frequencies (analysis.n_freq)"]
+from .pseudo_reduction import reducer_column_bytes
 from .reduction import (REDUCTION_FORMAT, PseudoReduction, ReductionPlan, engine_plan, finish_pem, finish_pem_task,
                         mean_rows, model_plan, ratio_coefficients)
 
@@ -169,10 +171,11 @@ class PsdReducer(PseudoReduction):
     columns : the task's columns; f_col : (m,) excitation frequency of each column [Hz]."""
 
     def __init__(self, columns: HarmonicColumns, plan: ReductionPlan, f_col: NDArray[np.float64], n_t: int,
-                 n_types: int, dt: float, keep_psd: bool, psd_z: Sequence[int] | None = None) -> None:
+                 n_types: int, dt: float, keep_psd: bool, psd_z: Sequence[int] | None = None,
+                 variance_only: bool = False) -> None:
         self.columns = columns
         super().__init__(plan, f_col, columns.type_index, n_types, columns.freq_index.size, columns.df, n_t, dt,
-                         keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64))
+                         keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64), variance_only)
 
     def result(self) -> dict[str, np.ndarray]:
         return {**super().result(), "freq_index": self.columns.freq_index}
@@ -185,10 +188,28 @@ def column_frequencies(ptasks: Sequence[PemTask], columns: HarmonicColumns) -> N
 
 
 # ---------------------------------------------------------------------------------- tasks
-def default_slices(cores: int) -> list[float]:
-    """Slice weights: one per core and a half one (see the module docstring: the mean costs about half
-    a slice's share, one Exudyn run against the batched columns)."""
-    return [1.0] * max(1, cores) + [0.5]
+def default_slices(cores: int, mean_share: float | None = None) -> list[float]:
+    """Slice weights for ``cores`` workers that take the tasks in order, the mean first: the mean's
+    worker takes the last slice after it, so that slice is shorter by the mean, ``mean_share`` (the
+    mean's cost as a share of a full slice; None: not known, a half slice, the cost of an Exudyn run).
+    With a known share: ``cores`` slices, the last one 1 - share (every worker's load equal); without:
+    ``cores`` full slices and a half one (module docstring)."""
+    n = max(1, cores)
+    if mean_share is None:
+        return [1.0] * n + [0.5]
+    if n == 1:
+        return [1.0]
+    return [1.0] * (n - 1) + [min(1.0, max(0.1, 1.0 - mean_share))]
+
+
+def slice_weights(cls: Any, options: Any, cores: int, n_columns: int) -> list[float]:
+    """:func:`default_slices` with the mean's share from the engine's cost hint
+    (``cls.mean_cost_columns``, in columns) and a sweep of ``n_columns`` columns: a full slice is then
+    (n_columns + cost) / cores columns and the mean's worker takes the last slice, shorter by the mean."""
+    cost = cls.mean_cost_columns(options) if hasattr(cls, "mean_cost_columns") else None
+    if cost is None or n_columns <= 0:
+        return default_slices(cores)
+    return default_slices(cores, float(cost) / ((n_columns + float(cost)) / max(1, cores)))
 
 
 def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
@@ -260,14 +281,6 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
     return MemoryEstimate(parent, worker, s.workers)
 
 
-def reducer_column_bytes(plan: ReductionPlan, n_out: int) -> int:
-    """Bytes per complex column of :class:`PsdReducer` at an output time: the gathered outputs and
-    their z rows (complex), |z|^2, the derivative rows of the last three times, the derivative and
-    its buffer (complex), the recorded derivatives of the last three times."""
-    n_d, n_rec = plan.recorded.size + plan.pseudo.size, plan.recorded.size
-    return 16 * (n_out + plan.n_z) + 8 * plan.n_z + 16 * (3 * n_d + 2 * n_d + 3 * n_rec)
-
-
 def _setup(engine: str, scenario: Scenario, options: Any, sizing: PemSizing | None = None) -> Any:
     """Build the engine (and its model) once per worker; with ``sizing``, refuse (ResourceError) a
     sweep whose memory estimate exceeds its limit, before any task allocates."""
@@ -284,7 +297,7 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     columns = harmonic_columns(data.columns, engine.scenario)
     n_types = len(engine.scenario.track.irregularities)
     reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
-                         engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd, data.psd_z)
+                         engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd, data.psd_z, data.midpoints)
     result = engine.integrate(columns, reducer)
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
@@ -381,10 +394,11 @@ def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any =
         tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_z=psd_z)) for p in ptasks]
         tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
     else:
-        weights = default_slices(execution.cores) if execution.slices is None else execution.slices
+        weights = slice_weights(cls, options, execution.cores, len(ptasks)) if execution.slices is None else execution.slices
         tasks += column_slices(ptasks, weights, keep_psd, psd_z=psd_z)
-        if mid_tasks:
-            tasks += column_slices(mid_tasks, weights, False, "pemm", True)
+        if mid_tasks:  # after the loads are level: equal slices
+            mid_weights = [1.0] * max(1, execution.cores) if execution.slices is None else execution.slices
+            tasks += column_slices(mid_tasks, mid_weights, False, "pemm", True)
     sizing = PemSizing(
         n_freq=int(grid.f.size), n_types=n_types, keep_psd=keep_psd, workers=execution.worker_processes(len(tasks)),
         task_freqs=max((len({p.freq_index for p in t.data.columns}) for t in tasks[1:]), default=0),
@@ -493,5 +507,5 @@ def _result(scenario: Scenario, grid: FrequencyGrid, spectra: dict[str, Any], pl
     )
 
 
-__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices",
+__all__ = ["ColumnTask", "PemSizing", "PemTask", "PsdReducer", "column_frequencies", "column_slices", "default_slices", "slice_weights",
            "harmonic_columns", "kind_and_unit", "pem_memory", "pem_tasks", "prepare_sweep", "psd_rows", "psd_z_rows", "reducer_column_bytes", "run"]

@@ -63,6 +63,7 @@ from ..results.comfort import apply_weighting, sperling_index, sperling_power_we
 from ..results.derived_values import window_series
 from ..results.statistics import bandwidth_from_moments
 from ..system.derived import DerivedChannel, derivative_name
+from .pseudo_reduction import PSD_TRANSPORT, PseudoReduction
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -70,8 +71,6 @@ IntArray = NDArray[np.int64]
 
 #: what a task's result holds (in the checkpoints' fingerprint: checkpoints of another layout are refused)
 REDUCTION_FORMAT = 2
-#: precision of a task's PSD map on its way to the parent (see tb_exudyn.methods.pem.PSD_TRANSPORT)
-PSD_TRANSPORT = np.float32
 
 
 # ============================================================================================ the plan
@@ -264,130 +263,6 @@ def ratio_coefficients(plan: ReductionPlan, rows: MeanRows) -> RatioCoefficients
 
 
 # ============================================================================================ PEM
-class PseudoReduction:
-    """PEM's sums over a task's columns at every output time (module docstring); ``result()`` returns
-    the raw sums, which :func:`finish_pem_task` turns into per-channel arrays.
-    f_col : (m,) excitation frequency [Hz] of each column; type_index : (m,) its irregularity type;
-    n_types : types of the scenario; n_freq : frequencies of the task (columns frequency-major, all
-    types of a frequency side by side); df : (n_freq,) their widths [Hz]; dt : output step [s];
-    psd_z : the z rows whose PSD maps are kept (pem.psd_z_rows; None: all).
-    """
-
-    def __init__(self, plan: ReductionPlan, f_col: FloatArray, type_index: IntArray, n_types: int, n_freq: int,
-                 df: FloatArray, n_t: int, dt: float, keep_psd: bool, psd_z: IntArray | None = None) -> None:
-        m = f_col.size
-        self.plan, self.n_t, self.dt, self.n_f = plan, n_t, float(dt), n_freq
-        self.per_freq = m // n_freq if n_freq else 1
-        self.type_sum = np.zeros((m, n_types))
-        self.type_sum[np.arange(m), type_index] = 1.0
-        w = 2.0 * np.pi * np.asarray(f_col, dtype=float)
-        self.omega = w
-        self.w12 = np.stack([w, w * w], axis=1)  # (m, 2)
-        self.rot = np.exp(-1j * w * self.dt)  # e^{-i w dt}: one output step of demodulation
-        self.inv_df = 1.0 / np.asarray(df, dtype=float)
-        nz = plan.n_z
-        self.w_rows = np.array([z for z, x in enumerate(plan.weighting) if x], dtype=np.int64)
-        self.W = np.array([weighting_response(plan.weighting[z], f_col) for z in self.w_rows]).reshape(-1, m)  # type: ignore[arg-type]
-        self.var = np.zeros((n_t, n_types, nz))
-        self.lam = np.zeros((n_t, 2, nz))
-        self.psd_z = None if psd_z is None else np.asarray(psd_z, dtype=np.int64)  # z rows of the kept maps (None: all)
-        self.psd = np.zeros((nz if psd_z is None else self.psd_z.size, n_freq, n_t), dtype=PSD_TRANSPORT) if keep_psd else None
-        # derivative rows: the recorded ones then the pseudo ones
-        self.d_rows = np.concatenate((plan.recorded, plan.pseudo)).astype(np.int64)
-        self.n_rec = plan.recorded.size
-        self.Ld = plan.Ld[plan.recorded] if plan.recorded.size else None
-        self.w_rec = [(j, np.flatnonzero(self.w_rows == z)[0]) for j, z in enumerate(plan.recorded) if plan.weighting[z]]
-        nd = self.d_rows.size
-        self.dvar, self.dcov = np.zeros((n_t, nd)), np.zeros((n_t, nd))
-        self.ring = np.zeros((3, nd, m), dtype=complex)  # z of the derivative rows at the last 3 times
-        self.ring_d = np.zeros((3, max(self.n_rec, 0), m), dtype=complex)  # recorded derivatives
-        self.d_buf, self.iw = (np.empty((nd, m), dtype=complex), np.empty((nd - self.n_rec, m), dtype=complex)), 1j * w
-        pos = {int(z): j for j, z in enumerate(self.d_rows)}
-        self.ratio_n, self.ratio_d = (np.array([r[k] for r in plan.ratios], dtype=np.int64) for k in (1, 2))
-        self.ratio_nd = np.array([pos[int(z)] for z in self.ratio_n], dtype=np.int64)
-        self.ratio_dd = np.array([pos[int(z)] for z in self.ratio_d], dtype=np.int64)
-        nr = len(plan.ratios)
-        self.nd_type = np.zeros((n_t, n_types, nr))
-        self.nd_lam = np.zeros((n_t, 2, nr))
-        self.nd_psd = np.zeros((nr, n_freq, n_t), dtype=PSD_TRANSPORT) if keep_psd and nr else None
-        self.nd_pairs = np.zeros((n_t, 3, nr))  # (N, D'), (D, N'), (N', D')
-        self.sp_rows = np.array([s[1] for s in plan.sperling], dtype=np.int64)
-        self.sp_w = np.array([sperling_power_weights(f_col, s[2]) for s in plan.sperling]).reshape(-1, m)  # type: ignore[arg-type]
-        self.sp = np.zeros((n_t, len(plan.sperling)))
-
-    def _freq_sum(self, p: FloatArray) -> FloatArray:
-        """(rows, m) -> (rows, n_freq) summed over the types of each frequency, per Hz."""
-        return p.reshape(p.shape[0], self.n_f, self.per_freq).sum(axis=2) * self.inv_df
-
-    def record(self, i: int, Y: ComplexArray, ext: IntArray) -> None:
-        Yr = Y[ext]
-        Z = np.asarray(self.plan.L @ Yr)
-        if self.w_rows.size:
-            Z[self.w_rows] *= self.W
-        P = Z.real**2 + Z.imag**2
-        self.var[i] = (P @ self.type_sum).T
-        self.lam[i] = (P @ self.w12).T
-        if self.psd is not None:
-            self.psd[:, :, i] = self._freq_sum(P if self.psd_z is None else P[self.psd_z])
-        if self.ratio_n.size:
-            X = (Z[self.ratio_n].conj() * Z[self.ratio_d]).real
-            self.nd_type[i] = (X @ self.type_sum).T
-            self.nd_lam[i] = (X @ self.w12).T
-            if self.nd_psd is not None:
-                self.nd_psd[:, :, i] = self._freq_sum(X)
-        if self.sp_rows.size:
-            self.sp[i] = np.einsum("ij,ij->i", P[self.sp_rows], self.sp_w)
-        if not self.d_rows.size:
-            return
-        self.ring[i % 3] = Z[self.d_rows]
-        if self.n_rec:
-            Zd = np.asarray(self.Ld @ Yr)
-            for j, wj in self.w_rec:
-                Zd[j] *= self.W[wj]
-            self.ring_d[i % 3] = Zd
-        if i >= 1:
-            self._derivative(i - 1, i)
-        if i == self.n_t - 1:
-            self._derivative(i, i)
-
-    def _derivative(self, j: int, latest: int) -> None:
-        """Derivative statistics at time j (latest: the newest time recorded)."""
-        z_j, nr = self.ring[j % 3], self.n_rec
-        d, buf = self.d_buf  # no temporaries: the formulas' operations in their order (bitwise the same)
-        if nr:
-            d[:nr] = self.ring_d[j % 3]
-        if self.d_rows.size > nr:  # (z_next rot - z_prev rot*) / (2 dt) + i w y; one-sided at the ends
-            y, out = z_j[nr:], d[nr:]
-            if j > 0:
-                np.multiply(self.ring[(j - 1) % 3][nr:], self.rot.conj(), out=buf)
-            if j == 0 or j < latest:
-                np.multiply(self.ring[(j + 1) % 3][nr:], self.rot, out=out)
-                out -= y if j == 0 else buf
-            else:
-                np.subtract(y, buf, out=out)
-            out /= self.dt if j == 0 or j == latest else 2 * self.dt
-            np.multiply(y, self.iw, out=buf)
-            out += buf
-        # Re(conj(a) b) summed over the columns = the dot product of the float views (one pass, no temporaries)
-        zf, df = z_j.view(np.float64), d.view(np.float64)
-        np.einsum("ij,ij->i", df, df, out=self.dvar[j])
-        np.einsum("ij,ij->i", zf, df, out=self.dcov[j])
-        if self.ratio_n.size:
-            for k, (a, b) in enumerate(((zf[self.ratio_nd], df[self.ratio_dd]), (zf[self.ratio_dd], df[self.ratio_nd]),
-                                        (df[self.ratio_nd], df[self.ratio_dd]))):
-                np.einsum("ij,ij->i", a, b, out=self.nd_pairs[j, k])
-
-    def result(self) -> dict[str, np.ndarray]:
-        out = {"var_z": self.var, "lam_z": self.lam, "dvar_z": self.dvar, "dcov_z": self.dcov,
-               "nd_type": self.nd_type, "nd_lam": self.nd_lam, "nd_pairs": self.nd_pairs, "sperling_power": self.sp}
-        if self.psd is not None:
-            out["psd_z"] = self.psd
-            out["psd_z_rows"] = np.arange(self.plan.n_z) if self.psd_z is None else self.psd_z
-        if self.nd_psd is not None:
-            out["nd_psd"] = self.nd_psd
-        return out
-
-
 def finish_pem_task(raw: dict[str, np.ndarray], plan: ReductionPlan, coef: RatioCoefficients | None,
                     psd_rows: Sequence[int] | None = None) -> dict[str, np.ndarray]:
     """A task's raw sums (:class:`PseudoReduction`) as per result channel arrays (n_res rows; Sperling

@@ -174,3 +174,36 @@ def test_nonstationary_sprung_mass_over_span_matches_independent_modal_pem():
         sel = ref > 0.05 * ref.max()
         err = np.max(np.abs(got[sel] / ref[sel] - 1))
         assert err < 1e-4, (name, err)
+
+
+def _loads(weights, mean_cost, workers):
+    """Loads of ``workers`` that take the tasks in order (the mean, of cost ``mean_cost``, first; then
+    the slices, of total cost 1 in proportion to ``weights``), each the next task as soon as it is free."""
+    costs = [mean_cost] + [w / sum(weights) for w in weights]
+    loads = [0.0] * workers
+    for c in costs:
+        loads[loads.index(min(loads))] += c
+    return loads
+
+
+def test_default_slices_level_the_workers_loads():
+    """Problem: the mean task first, then the column slices, on as many workers as cores, each taking
+    the next task when free (the process pool's order). Reference: that schedule simulated here, with
+    the columns' total cost 1 and the mean's cost its hint over the number of columns. With the hint
+    (the batched engine's linear mean) every worker's load is equal (to round-off of the weights,
+    1e-12) wherever the mean costs less than 0.9 of a slice (600 and 6000 columns; with 60 columns on
+    3 cores it costs more and its worker's last slice is kept at a tenth); without one (an Exudyn mean, assumed half a slice) the rule of a full slice per core and
+    a half one, as before."""
+    from tb_exudyn.engines import engine_class
+    from tb_exudyn.engines.batched import BatchedOptions
+    from tb_exudyn.methods.pem import default_slices, slice_weights
+
+    cls = engine_class("batched")
+    for cores in (2, 3, 4, 8):
+        for n_columns in (600, 6000):
+            weights = slice_weights(cls, None, cores, n_columns)
+            loads = _loads(weights, cls.mean_cost_columns(None) / n_columns, cores)
+            assert len(weights) == cores and max(loads) - min(loads) <= 1e-12, (cores, n_columns, loads)
+    assert slice_weights(cls, None, 1, 600) == [1.0]
+    assert default_slices(2) == [1.0, 1.0, 0.5]
+    assert slice_weights(cls, BatchedOptions(mean="exudyn"), 2, 600) == [1.0, 1.0, 0.5]

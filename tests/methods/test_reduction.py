@@ -253,3 +253,65 @@ def test_plan_dedupes_rows_and_names_every_derivative():
     assert plan.sperling[0][1] == plan.result_z[plan.names.index("car1.body.acc_z")]
     assert set(plan.derivative_sources()) == set(plan.names)
     assert plan.derivative_sources()["car1.body.sperling_z"].startswith("none")
+
+
+def _plain_pem_sums(plan, hist, f_col, types, n_types, df):
+    """The PEM sums of the module docstring written plainly from L @ y[ext] per time: sigma^2 by type,
+    the PSD map (per Hz, summed over types) and the ratios' cross sums by type."""
+    n_f = df.size
+    var, psd, nd = [], [], []
+    zn = [r[1] for r in plan.ratios]
+    zd = [r[2] for r in plan.ratios]
+    for i in range(hist.shape[2]):
+        Z = np.asarray(plan.L @ hist[:, :, i])
+        P = Z.real**2 + Z.imag**2
+        var.append(np.stack([P[:, types == t].sum(axis=1) for t in range(n_types)]))
+        psd.append(P.reshape(P.shape[0], n_f, -1).sum(axis=2) / df)
+        X = (Z[zn].conj() * Z[zd]).real
+        nd.append(np.stack([X[:, types == t].sum(axis=1) for t in range(n_types)]))
+    return np.array(var), np.moveaxis(np.array(psd), 0, 2), np.array(nd)
+
+
+def test_reducer_in_its_own_row_order_gives_the_plain_sums():
+    """Problem: the reducer reads the engine's outputs in the engine's row order (``ext``, here a
+    random permutation: the batched engine's internal channel order), forms the z rows in its own
+    order (recorded-derivative rows, pseudo-derivative rows, the rest; within each, the rows that
+    copy one output first, gathered, the others by the sparse map) and keeps the last three times by
+    reference. Reference: the plain sums of L @ y[ext] per time written in this test (sigma^2 by type,
+    the PSD map, the ratios' cross sums by type) and, for the derivative's sums, the same reducer fed
+    in the identity order. The operations per value are the same, so sigma^2 and the cross sums agree
+    to round-off of the summation over columns (1e-13 relative); the derivative's sums are bitwise
+    equal between the two row orders. The PSD travels as float32 (1e-6)."""
+    f, f_col, types, df = _columns(n_f=6)
+    hist = _pseudo_histories(f_col, seed=7)
+    plan = reduction_plan(OUTPUTS, SELECTED, [RATIO, UNLOAD])
+    ext = np.random.default_rng(3).permutation(len(OUTPUTS))
+    red = PseudoReduction(plan, f_col, types, 2, f.size, df, N_T, DT, keep_psd=True)
+    for i in range(N_T):  # the engine's row ext[k] holds output k
+        Y = np.empty_like(hist[:, :, i])
+        Y[ext] = hist[:, :, i]
+        red.record(i, Y, ext)
+    raw = red.result()
+    var, psd, nd = _plain_pem_sums(plan, hist, f_col, types, 2, df)
+    assert np.max(np.abs(raw["var_z"] - var)) <= 1e-13 * np.abs(var).max()
+    assert np.max(np.abs(raw["nd_type"] - nd)) <= 1e-13 * np.abs(nd).max()
+    assert np.max(np.abs(raw["psd_z"] - psd)) <= 1e-6 * np.abs(psd).max()
+    same = _feed(PseudoReduction(plan, f_col, types, 2, f.size, df, N_T, DT, keep_psd=True), hist)
+    for key in ("var_z", "dvar_z", "dcov_z", "nd_pairs", "lam_z", "nd_lam", "psd_z"):
+        assert np.array_equal(raw[key], same[key]), key
+
+
+def test_variance_only_reduction_is_the_full_one_for_sigma():
+    """Problem: the grid error's midpoint sweep needs sigma^2 only (by type, ratios through their
+    parts' cross sums). Reference: the full reduction of the same columns. sigma^2 by type and the
+    ratios' cross sums are the same operations on the same values: bitwise equal; everything else
+    stays zero."""
+    f, f_col, types, df = _columns()
+    hist = _pseudo_histories(f_col, seed=5)
+    plan = reduction_plan(OUTPUTS, SELECTED, [RATIO, UNLOAD])
+    full = _feed(PseudoReduction(plan, f_col, types, 2, f.size, df, N_T, DT, keep_psd=False), hist)
+    var_only = _feed(PseudoReduction(plan, f_col, types, 2, f.size, df, N_T, DT, keep_psd=False,
+                                     variance_only=True), hist)
+    assert np.array_equal(var_only["var_z"], full["var_z"]) and np.array_equal(var_only["nd_type"], full["nd_type"])
+    for key in ("dvar_z", "dcov_z", "lam_z", "nd_lam", "nd_pairs", "sperling_power"):
+        assert not np.any(var_only[key]), key
