@@ -298,7 +298,7 @@ def _work(engine: Any, task: Task) -> dict[str, np.ndarray]:
     n_types = len(engine.scenario.track.irregularities)
     reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
                          engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd, data.psd_z, data.midpoints)
-    result = engine.integrate(columns, reducer)
+    result = (engine.integrate_estimate if data.midpoints else engine.integrate)(columns, reducer)
     result["describe"] = np.array(json.dumps(engine.describe()))
     return result
 
@@ -487,7 +487,9 @@ def _result(scenario: Scenario, grid: FrequencyGrid, spectra: dict[str, Any], pl
     if grid_error:
         plain = np.sqrt(var_by_type.sum(axis=0))
         refined = np.sqrt(refined_variance(var_by_type.sum(axis=0), state["var_mid"].sum(axis=0)))
-        error = grid_error_from_sigma(mean["time"], channels, plain, refined)
+        precision = state.get("describe", {}).get("grid_error_precision")
+        method = GridError.method + (f" (the midpoints in {precision})" if precision else "")
+        error = grid_error_from_sigma(mean["time"], channels, plain, refined, method)
         for message in grid_error_messages(error):
             warnings.warn(message, GridErrorWarning, stacklevel=4)
     provenance = merge_provenance(mean, state.get("describe", {"engine": engine}), {

@@ -260,3 +260,48 @@ def test_batched_dask_executor_gives_the_same_result():
                 got = run_pem(sc, engine="batched", executor=client.get_executor(), progress=False, slices=(1, 1), psd_channels="all")
     for name in ("time", "mean", "std", "psd", "var_by_type"):
         assert np.array_equal(getattr(got, name), getattr(ref, name)), name
+
+
+def test_grid_error_midpoints_in_float32_change_the_estimate_by_round_off_only():
+    """The grid error's midpoint sweep runs in ``BatchedOptions.grid_error_precision`` (default
+    float32; the grid's own columns stay float64).
+
+    Problem: scenario 'quick' (one ICE motor car over one 32 m span, 250 km/h, its 51 channels) on a
+    linear grid of 24 frequencies, PEM with the grid-error estimate, once with the midpoints in
+    float64 (the reference) and once in float32. Expected: the grid's sigma bitwise the same (its
+    columns are float64 in both), and the refined largest sigma per channel within 1e-4 of the
+    float64 one. Tolerance: float32 round-off (6e-8) grows in the step's remainder of nearly balanced
+    forces to about 1e-5 of a channel's largest sigma (1.1e-5 measured on the reference study,
+    docs/speed.md); 1e-4 is a 10x margin and still 100x below the 1 % the estimate is read against.
+    The float32 run must differ from float64 at all (else the option did nothing)."""
+    import tb_exudyn as tbx
+    from tb_exudyn.engines.batched import BatchedOptions
+
+    sc = tbx.load_scenario("quick")
+    sc = sc.replace(analysis=sc.analysis.replace(n_freq=24, freq_spacing="linear"))
+    runs = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for p in ("float64", "float32"):
+            runs[p] = tbx.run_pem(sc, engine="batched", workers=1, progress=False, grid_error=True,
+                                  options=BatchedOptions(grid_error_precision=p))
+    ref, f32 = runs["float64"], runs["float32"]
+    np.testing.assert_array_equal(f32.std, ref.std)
+    e64, e32 = (r.provenance["grid_error"]["channels"] for r in (ref, f32))
+    assert f32.provenance["grid_error"]["method"].endswith("(the midpoints in float32)")
+    assert ref.provenance["grid_error"]["method"].endswith("(the midpoints in float64)")
+    # refined max sigma = max sigma / (1 + rel_error): compare the refined values relative to themselves
+    s = ref.std.max(axis=1)
+    refined = {p: s / (1.0 + np.array([e[c]["rel_error_max_sigma"] for c in ref.channels])) for p, e in
+               (("float64", e64), ("float32", e32))}
+    rel = np.abs(refined["float32"] - refined["float64"]) / np.maximum(refined["float64"], 1e-300)
+    assert rel.max() < 1e-4
+    assert rel.max() > 1e-12  # the midpoints did run in float32
+
+
+def test_grid_error_precision_must_be_a_known_precision():
+    """An unknown grid_error_precision is refused, naming the key and what is allowed."""
+    from tb_exudyn.engines.batched import BatchedOptions
+
+    with pytest.raises(SettingError, match="grid_error_precision.*float64.*float32"):
+        BatchedOptions(grid_error_precision="float16")
