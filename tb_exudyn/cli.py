@@ -262,6 +262,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         if not args.line_speed_kmh > 0:
             raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed > 0 km/h")
         speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
+    if args.freq_spacing is not None and args.freq_spacing not in sweep.FREQ_SPACINGS:
+        raise SettingError("command line", "--freq-spacing", args.freq_spacing, " or ".join(sweep.FREQ_SPACINGS))
     out = check_writable(args.out)
     options = None
     if args.precision != "float64":
@@ -275,7 +277,7 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
     result = methods.sweep.run_sweep(scenario, speeds, workers=args.workers, out=out, resume=args.resume,
                                      progress=not args.no_progress, n_freq=args.n_freq, options=options,
                                      channels=args.channels, overwrite=args.overwrite,
-                                     keep_checkpoint=args.keep_checkpoint)
+                                     keep_checkpoint=args.keep_checkpoint, freq_spacing=args.freq_spacing)
     for row in result.rows():
         parts = [f"{row['speed_kmh']:7g} km/h"] + [
             f"{key} {row[f'{key}_max_abs_mean_plus_3sigma']:.4g}" for key, _, _ in result.quantities]
@@ -413,7 +415,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--keep-checkpoint", dest="keep_checkpoint", action="store_true",
                    help="keep --out/checkpoint-sweep after the table is written")
     p.add_argument("--n-freq", dest="n_freq", default=None,
-                   help="PEM frequencies per speed (default: the scenario's n_freq)")
+                   help="PEM frequencies per speed (default: the scenario's n_freq; with --freq-spacing adaptive the "
+                        "least, raised at each speed to what the grid's rules need)")
+    p.add_argument("--freq-spacing", dest="freq_spacing", default=None, metavar="SPACING",
+                   help="linear, log or adaptive (converged grids: fine at the system's modes and for the run's "
+                        "length, docs/adaptive_grid.md; default: the scenario's freq_spacing)")
     p.add_argument("--channels", nargs="+", default=None,
                    help="channel patterns of the key quantities (default: deck and car body accelerations, wheel forces)")
     p.add_argument("--precision", choices=("float64", "float32"), default="float64",

@@ -22,6 +22,7 @@ from ..scenario import Scenario
 from ..system.damping_guard import DampingWarning, merged_messages
 from ..system.modes import ModeTable
 from ..track import get_spectrum
+from .adaptive_grid import points_needed, scenario_grid_problem
 from .grid import FrequencyGrid, scenario_grid
 
 
@@ -42,12 +43,15 @@ class AnalysisSetup:
     damping : the damping guard's warnings (:func:`tb_exudyn.builder.system_modes.damping_guard`)
     model : the built model they come from (in the parent process only: its channels, outputs and
         derived channels are the workers')
+    scenario : the scenario analysed: the one given or, with ``least_count``, its adaptive grid's
+        ``analysis.n_freq`` raised to what the grid's rules need
     """
 
     modes: ModeTable
     grid: FrequencyGrid
     damping: tuple[DampingWarning, ...]
     model: Any = None
+    scenario: Any = None
 
     def messages(self) -> list[str]:
         """The damping guard's warnings, one line per set of equal modes."""
@@ -67,10 +71,13 @@ class AnalysisSetup:
         return {"damping_warnings": [dataclasses.asdict(w) for w in self.damping], "damped_modes": rows}
 
 
-def analysis_setup(scenario: Scenario, *, warn: bool = True) -> AnalysisSetup:
+def analysis_setup(scenario: Scenario, *, warn: bool = True, least_count: bool = False) -> AnalysisSetup:
     """The modes, the grid and the damping guard of ``scenario`` (one model build and two modal
     analyses, about a second for the reference study); with ``warn`` the guard's warnings are issued
-    as :class:`LightlyDampedModeWarning`."""
+    as :class:`LightlyDampedModeWarning`. With ``least_count`` an adaptive grid whose
+    ``analysis.n_freq`` is below what its rules need gets that count instead of the error (a speed
+    sweep: the band, the run and the train's spread change with the speed); ``setup.scenario`` is
+    the scenario analysed."""
     model = build_model(scenario, warn=False)
     table = system_modes(scenario, model=model)
     modes = None
@@ -78,9 +85,13 @@ def analysis_setup(scenario: Scenario, *, warn: bool = True) -> AnalysisSetup:
         centred = system_modes(scenario, (scenario.bridge.length + scenario.train.length) / 2, model=model)
         modes = [(float(f), float(z)) for tab in (table, centred)
                  for f, z, kind in zip(tab.frequency, tab.damping_ratio, tab.kind) if kind in ("vehicle", "bridge")]
+        if least_count:
+            needed = points_needed(scenario_grid_problem(scenario, modes))
+            if scenario.analysis.n_freq < needed:
+                scenario = scenario.replace(analysis=scenario.analysis.replace(n_freq=needed))
     grid = scenario_grid(scenario, modes)
     setup = AnalysisSetup(modes=table, grid=grid, damping=tuple(damping_guard(scenario, table=table, model=model)),
-                          model=model)
+                          model=model, scenario=scenario)
     if warn:
         for message in setup.messages():
             warnings.warn(message, LightlyDampedModeWarning, stacklevel=3)

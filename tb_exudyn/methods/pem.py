@@ -360,13 +360,16 @@ def check_psd_channels(names: Sequence[str] | None, psd_channels: Any, where: st
 
 def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True,
         psd_channels: str | Sequence[str] = "key",
-        grid_error: bool | None = None) -> RandomResponse:
-    """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`."""
+        grid_error: bool | None = None, least_count: bool = False) -> RandomResponse:
+    """The PEM sweep of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_pem`. ``least_count``:
+    an adaptive grid gets at least the count its rules need (:func:`.common.analysis_setup`; the
+    result's scenario then has that ``analysis.n_freq``)."""
     t0 = _time.perf_counter()
     check_run_length(scenario)
     cls = check_engine(engine, scenario, options)
     spectra = prepare_sweep(scenario)
-    setup = analysis_setup(scenario)
+    setup = analysis_setup(scenario, least_count=least_count)
+    scenario = setup.scenario
     grid = setup.grid
     check_grid_against_spectra(grid, scenario, spectra)
     if grid_error is None:  # cheap where the columns are integrated together

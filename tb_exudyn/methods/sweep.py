@@ -5,8 +5,12 @@ and analysis, with
 
 - the PEM band over the track's wavelength band at that speed: freq_min = v / wavelength_max,
   freq_max = min(v / wavelength_min, 0.1 / time_step) (the highest frequency the time step resolves,
-  as ``Analysis`` requires), the base's number of frequencies and spacing (pass ``n_freq`` to refine:
-  the study's 200 linear points are not converged for every channel, docs/findings.md);
+  as ``Analysis`` requires), the base's number of frequencies and spacing (pass ``n_freq`` to refine,
+  ``freq_spacing="adaptive"`` for converged grids: the study's 200 linear points are not converged
+  for every channel, docs/findings.md). With the adaptive spacing each speed's grid has at least
+  ``n_freq`` nodes and at least what the grid's rules need at that speed (its band, run length and
+  train spread follow the speed: :func:`tb_exudyn.methods.adaptive_grid.points_needed`); the count
+  used is in the speed's result (``result.scenario.analysis.n_freq``) and in the table;
 - an approach at least the base's in metres and in seconds (a faster train gets a longer lead-in,
   so that the runs, started at rest, have settled as well as at the base speed);
 - the output channels of the key quantities (:data:`KEY_QUANTITIES`, or those given).
@@ -14,7 +18,8 @@ and analysis, with
 Each speed is one task on the sweep's executor (the local process pool, a Dask executor: the
 same :class:`~tb_exudyn.execution.Execution` as a sweep over frequencies), running the whole PEM of
 that speed in its worker with the column slices of a separate run on this machine, so that a
-sweep's result at a speed is bitwise that of ``run_pem(sweep_scenario(base, v), ...)``. With an
+sweep's result at a speed is bitwise that of ``run_pem(sweep_scenario(base, v), ...)`` (with an
+adaptive grid: of ``run_pem`` on the speed's result's scenario, whose n_freq is the count used). With an
 output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`` and
 ``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
 sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
@@ -37,6 +42,7 @@ import importlib
 import json
 import math
 import time as _time
+import typing
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -51,11 +57,11 @@ from ..execution import Execution, RunFiles, Task
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
-from ..scenario.model import KMH
+from ..scenario.model import KMH, Analysis
 from ..structure import modal_bridge
 from ..system.modes import DIRECTIONS, nth_frequency
 from .common import fingerprint_identity
-from .pem import default_slices, prepare_sweep
+from .pem import GRID_ERROR_TOLERANCE, default_slices, prepare_sweep
 from . import pem
 
 #: the key quantities of a sweep: (column name, channel pattern, what it is); those that match no
@@ -72,6 +78,8 @@ KEY_QUANTITIES: tuple[tuple[str, str, str], ...] = (
 EN1991_SPEED_FACTOR = 1.2
 #: sigma multiple of the design value max |mean| + K sigma in the table
 K_SIGMA = 3.0
+#: the grid spacings a sweep may ask for: those of ``Analysis.freq_spacing`` (read from the schema)
+FREQ_SPACINGS: tuple[str, ...] = typing.get_args(typing.get_type_hints(Analysis)["freq_spacing"])
 #: the sweep's table in its output folder
 SWEEP_TABLE = "speed_sweep.csv"
 
@@ -132,17 +140,18 @@ def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None) -> t
 
 
 def sweep_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str] | None = None,
-                   n_freq: int | None = None) -> Scenario:
+                   n_freq: int | None = None, freq_spacing: str | None = None) -> Scenario:
     """The scenario of a sweep at ``speed_kmh`` (the module docstring): the grid over the track's
-    wavelength band at that speed, an approach at least the base's in metres and in seconds, the
-    channels ``patterns`` (default: those of :func:`key_patterns`)."""
+    wavelength band at that speed (``n_freq`` nodes spaced ``freq_spacing``, default the base's),
+    an approach at least the base's in metres and in seconds, the channels ``patterns`` (default:
+    those of :func:`key_patterns`)."""
     lead_in = max(base.track.lead_in, base.track.lead_in * speed_kmh / base.speed_kmh)
     sc = base.replace(speed_kmh=float(speed_kmh), track=base.track.replace(lead_in=lead_in))
     v, tr, an = sc.speed, sc.track, sc.analysis
     patterns = tuple(patterns) if patterns is not None else tuple(q[1] for q in key_patterns(base))
     return sc.replace(analysis=an.replace(
         freq_min=v / tr.wavelength_max, freq_max=min(v / tr.wavelength_min, 0.1 / an.time_step),
-        n_freq=int(n_freq or an.n_freq), channels=patterns))
+        n_freq=int(n_freq or an.n_freq), freq_spacing=freq_spacing or an.freq_spacing, channels=patterns))
 
 
 # ------------------------------------------------------------------------------------- resonances
@@ -214,7 +223,8 @@ def _work(_: Any, task: Task) -> dict[str, np.ndarray]:
                           overwrite=st.overwrite and not st.resume, keep_checkpoint=st.keep_checkpoint)
     with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
         warnings.simplefilter("always")
-        result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd)
+        result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
+                         least_count=st.scenario.analysis.freq_spacing == "adaptive")
     summary = speed_summary(result)
     summary["warnings"] = np.array(list(dict.fromkeys(f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)"
                                                       for w in caught)), dtype=str).reshape(-1)
@@ -225,6 +235,7 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
     """What the table needs of one speed's result, as plain arrays (checkpointable)."""
     peak = np.abs(result.mean).max(axis=1)
     return {
+        "grid_error": grid_errors(result),
         "channels": np.array(result.channels, dtype=str), "units": np.array(result.units, dtype=str),
         "max_abs_mean": peak, "max_sigma": result.std.max(axis=1),
         "max_design": (np.abs(result.mean) + K_SIGMA * result.std).max(axis=1),
@@ -232,6 +243,18 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
         "seconds": np.array(float(result.provenance.get("seconds", math.nan))),
         "checks": np.array(json.dumps(check_columns(result))),
     }
+
+
+def grid_errors(result: RandomResponse) -> np.ndarray:
+    """Per channel the estimated grid error of the result (the larger of |relative error of max sigma|
+    and the largest relative deviation over time, :class:`tb_exudyn.methods.grid_error.GridError`);
+    NaN where it was not estimated."""
+    ge = result.provenance.get("grid_error")
+    if not isinstance(ge, dict):
+        return np.full(len(result.channels), np.nan)
+    rows = ge.get("channels", {})
+    return np.array([max(abs(float(rows[c]["rel_error_max_sigma"])), float(rows[c]["rel_deviation"]))
+                     if c in rows else np.nan for c in result.channels])
 
 
 def check_columns(result: RandomResponse) -> dict[str, float]:
@@ -274,8 +297,9 @@ class SweepResult:
 
 def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
     """The table: one row per speed; per key quantity the largest |mean|, sigma and |mean| + 3
-    sigma over its channels and time, and the channel of the largest |mean| + 3 sigma; then the
-    check hook's columns."""
+    sigma over its channels and time, the channel of the largest |mean| + 3 sigma and the largest
+    estimated grid error of its channels (:func:`grid_errors`; NaN: not estimated); the number of
+    channels whose grid error exceeds GRID_ERROR_TOLERANCE; then the check hook's columns."""
     rows = []
     for v, s in zip(result.speeds, result.summaries):
         names = list(s["channels"])
@@ -288,6 +312,10 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
             row[f"{key}_max_sigma"] = float(s["max_sigma"][idx].max())
             row[f"{key}_max_abs_mean_plus_3sigma"] = float(s["max_design"][j])
             row[f"{key}_channel"] = names[j]
+            row[f"{key}_grid_error"] = float(np.max(s["grid_error"][idx]))
+        ge = np.asarray(s["grid_error"], dtype=float)
+        row["channels_grid_error_over_tolerance"] = float("nan") if np.all(np.isnan(ge)) else \
+            int(np.sum(ge > GRID_ERROR_TOLERANCE))
         row.update(json.loads(str(s["checks"])))
         row["seconds"] = float(s["seconds"])
         rows.append(row)
@@ -298,7 +326,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
               executor: Any = None, out: str | Path | None = None, resume: bool = False, progress: bool = True,
               channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
               keep_psd: bool = False, slices: Sequence[float] | None = None, overwrite: bool = False,
-              keep_checkpoint: bool = False) -> SweepResult:
+              keep_checkpoint: bool = False, freq_spacing: str | None = None) -> SweepResult:
     """PEM of ``scenario`` at each of ``speeds_kmh`` (see the module docstring).
 
     Parameters
@@ -310,7 +338,9 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     out : folder: ``out/<speed>/`` (each speed's PEM result and checkpoint), ``out/checkpoint-sweep``
     resume : reuse finished speeds and tasks
     channels : patterns of the key quantities (default :data:`KEY_QUANTITIES`)
-    n_freq : frequencies per speed (default the base's analysis.n_freq)
+    n_freq : frequencies per speed (default the base's analysis.n_freq; with the adaptive spacing the
+        least, raised at each speed to what the grid's rules need there)
+    freq_spacing : "linear", "log" or "adaptive" (default the base's analysis.freq_spacing)
     keep_psd : keep each speed's PSD map (default False: sigma only)
     slices : the column slices of every speed's PEM (default: a separate run's on this machine)
     overwrite : replace an earlier sweep's table, checkpoint and speeds in ``out`` (without it or
@@ -322,12 +352,14 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     speeds = tuple(float(v) for v in speeds_kmh)
     if not speeds or min(speeds) <= 0 or len(set(speeds)) != len(speeds):
         raise SettingError("run_sweep", "speeds_kmh", list(speeds), "distinct positive speeds [km/h]")
+    if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
+        raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
-    scenarios = [sweep_scenario(scenario, v, patterns, n_freq) for v in speeds]
+    scenarios = [sweep_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
     for sc in scenarios:  # every speed's grid and spectra checked before any run
         prepare_sweep(sc)
     root = execution.output_folder()
@@ -339,6 +371,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     identity = fingerprint_identity(
         scenario_to_toml(scenario), method="pem_sweep", engine=engine, engine_options=cls.describe_options(options),
         method_options={"keep_psd": keep_psd, "channels": [q[1] for q in quantities], "n_freq": n_freq,
+                        "freq_spacing": freq_spacing,
                         "slices": list(cuts), "speeds_kmh": list(speeds)}, spectra=scenario.track.irregularities)
     summaries: list[dict[str, np.ndarray]] = [{} for _ in tasks]
 
@@ -364,6 +397,6 @@ def write_sweep(result: SweepResult, folder: str | Path) -> Path:
     return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
 
 
-__all__ = ["EN1991_SPEED_FACTOR", "KEY_QUANTITIES", "SWEEP_TABLE", "Resonance", "SpeedTask", "SweepResult", "check_columns",
+__all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "SWEEP_TABLE", "Resonance", "SpeedTask", "SweepResult", "check_columns", "grid_errors",
            "en1991_speeds", "key_patterns", "parse_speeds", "resonance_speeds", "run_sweep", "speed_label",
            "speed_range", "speed_summary", "sweep_rows", "sweep_scenario", "train_distances", "write_sweep"]

@@ -55,6 +55,46 @@ def test_sweep_scenario_follows_the_speed():
         assert sc.analysis.freq_min == ms / 120.0 and sc.analysis.freq_max == min(ms / 1.0, 100.0)
         assert sc.track.lead_in == max(20.0, 20.0 * v / 300.0)
     assert sweep_scenario(base, 200.0, CHANNELS, n_freq=9).analysis.n_freq == 9
+    assert sweep_scenario(base, 200.0, CHANNELS, freq_spacing="adaptive").analysis.freq_spacing == "adaptive"
+    assert sweep_scenario(base, 200.0, CHANNELS).analysis.freq_spacing == base.analysis.freq_spacing
+    with pytest.raises(SettingError, match="freq_spacing.*adaptive"):
+        run_sweep(base, (200.0,), freq_spacing="uniform", workers=1, progress=False)
+
+
+@pytest.mark.exudyn
+def test_adaptive_sweep_takes_at_each_speed_the_least_count_its_grid_needs():
+    """Problem: the sprung mass at 200 and 320 km/h with freq_spacing 'adaptive' and n_freq 6, far
+    below what the adaptive rules need. Reference: run_pem itself: at each speed the count the sweep
+    used (its result's scenario) is the smallest that run_pem accepts (one node fewer is the
+    ScenarioError naming analysis.n_freq), and run_pem with that count gives the sweep's sigma
+    bitwise (tolerance zero: the same tasks in the same order). The table carries that count and,
+    per key quantity, the largest grid error of its channels as the result's provenance states it."""
+    from tb_exudyn.errors import ScenarioError
+    from tb_exudyn.methods.sweep import grid_errors
+
+    base = _base()
+    speeds = (200.0, 320.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sweep = run_sweep(base, speeds, workers=1, progress=False, channels=CHANNELS, freq_spacing="adaptive",
+                          slices=default_slices(2))
+        for v, row in zip(speeds, sweep.rows()):
+            sc = sweep_scenario(base, v, CHANNELS, freq_spacing="adaptive")
+            n = row["n_freq"]
+            assert n > 6
+            with pytest.raises(ScenarioError, match="analysis.n_freq"):
+                run_pem(sc.replace(analysis=sc.analysis.replace(n_freq=n - 1)), engine="batched", workers=1,
+                        progress=False, keep_psd=False)
+            ref = run_pem(sc.replace(analysis=sc.analysis.replace(n_freq=n)), engine="batched", workers=1,
+                          progress=False, keep_psd=False, slices=default_slices(2))
+            assert ref.freq.size == n
+            i = ref.channels.index("bridge.span1.mid.acc_z")
+            assert row["deck_acc_z_max_sigma"] == ref.std[i].max()
+            errors = grid_errors(ref)
+            ge = ref.provenance["grid_error"]["channels"]["bridge.span1.mid.acc_z"]
+            assert errors[i] == max(abs(ge["rel_error_max_sigma"]), ge["rel_deviation"])
+            assert row["deck_acc_z_grid_error"] == errors[i]
+            assert row["channels_grid_error_over_tolerance"] == int(np.sum(errors > 0.01))
 
 
 @pytest.mark.exudyn
