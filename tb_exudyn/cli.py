@@ -174,10 +174,11 @@ def _methods():  # noqa: ANN202
 
 
 def _figures():  # noqa: ANN202
-    """plot_folder and write_report (matplotlib): imported when a command draws."""
+    """The report package (plot_folder, write_report, save_figure, write_sweep_report; matplotlib):
+    imported when a command draws or reports."""
     from . import report
 
-    return report.plot_folder, report.write_report, report.save_figure
+    return report
 
 
 def _folder_lock(folder):  # noqa: ANN001, ANN202
@@ -225,10 +226,10 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         write_text_atomic(table, _summary_table(result) + "\n")
         print(_short_summary(result, table))
     if not args.no_figures:
-        plot_folder, write_report, _ = _figures()
+        reporting = _figures()
         found = find_results(out)
-        figures = plot_folder(out, found=found, progress=not args.no_progress)
-        report = write_report(out, found=found)
+        figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
+        report = reporting.write_report(out, found=found)
         print(f"{len(figures)} figures and the report: {report}")
     print(f"results in {out.resolve()}")
     return EXIT_OK
@@ -284,11 +285,14 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
         print("  ".join(parts))
     print(f"(max |mean| + 3 sigma per key quantity; {len(speeds)} speeds in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
-    figure = ""
+    figure, png = "", None
+    reporting = _figures()
     if not args.no_figures:
-        _figures()[2](result.plot(), out / "speed_sweep.png")
-        figure = " and speed_sweep.png"
-    print(f"speed_sweep.csv{figure} in {out.resolve()}; each speed's result in {out.resolve()}/<speed>/pem")
+        reporting.save_figure(result.plot(), out / "speed_sweep.png")
+        figure, png = ", speed_sweep.png", (out / "speed_sweep.png").read_bytes()
+    page = reporting.write_sweep_report(result, out, png, methods.pem.GRID_ERROR_TOLERANCE)
+    print(f"speed_sweep.csv{figure} and {page.name} in {out.resolve()}; each speed's result in "
+          f"{out.resolve()}/<speed>/pem")
     return EXIT_OK
 
 
@@ -298,20 +302,18 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 
 def _cmd_plot(args: argparse.Namespace) -> int:
-    plot_folder, _, _ = _figures()
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
-        paths = plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
+        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
     for p in paths:
         print(p)
     return EXIT_OK
 
 
 def _cmd_report(args: argparse.Namespace) -> int:
-    _, write_report, _ = _figures()
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
-        print(write_report(args.folder, args.html, found=found))
+        print(_figures().write_report(args.folder, args.html, found=found))
     return EXIT_OK
 
 
@@ -425,7 +427,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--precision", choices=("float64", "float32"), default="float64",
                    help="float32: about 15 %% faster, sigma within 1e-5 of each channel's largest (docs/speed.md)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.add_argument("--no-figures", action="store_true", help="no figure (the report is written without it)")
     p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")

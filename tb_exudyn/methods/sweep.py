@@ -41,6 +41,7 @@ import fnmatch
 import importlib
 import json
 import math
+import re
 import time as _time
 import typing
 import warnings
@@ -289,6 +290,21 @@ class SweepResult:
 
     def rows(self) -> list[dict[str, Any]]:
         return sweep_rows(self)
+
+    def quantity_text(self, key: str) -> str:
+        """What key quantity ``key`` is, without the SI unit its description ends with (figures and
+        the report show it in display units)."""
+        what = next(q[2] for q in self.quantities if q[0] == key)
+        return re.sub(r" *\[[^]]*\]$", "", what)
+
+    def quantity_unit(self, key: str) -> str:
+        """The SI unit of key quantity ``key``'s channels ("" when no speed has one)."""
+        pattern = next(q[1] for q in self.quantities if q[0] == key)
+        for s in self.summaries:
+            for name, unit in zip(s["channels"], s["units"]):
+                if fnmatch.fnmatchcase(str(name), pattern):
+                    return str(unit)
+        return ""
 
     def plot(self, **options: Any) -> Any:
         """The sweep's figure (:func:`tb_exudyn.plotting.plot_speed_sweep`, a matplotlib Figure)."""

@@ -11,6 +11,7 @@ the bridge.
 
 from __future__ import annotations
 
+import textwrap
 from typing import Sequence
 
 import numpy as np
@@ -21,6 +22,7 @@ from matplotlib.ticker import LogFormatter, NullLocator
 
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
+from ..system.labels import display_unit
 from . import data
 
 _EVENT_STYLE = {  # key: (colour, line style)
@@ -261,24 +263,34 @@ def plot_time_history(th: TimeHistory, channels: str | Sequence[str], *, fig: Fi
 __all__ = ["mark_crossing", "plot_bounds", "plot_pem_vs_mc", "plot_psd_map", "plot_psd_slices", "plot_time_history"]
 
 
-def plot_speed_sweep(sweep, *, fig: Figure | None = None) -> Figure:  # noqa: ANN001 - a methods.sweep.SweepResult
-    """Each key quantity of a speed sweep against speed: the largest |mean| + 3 sigma, sigma and
-    |mean| over its channels and time, with the resonance speeds v = f_n d / i of the bridge's first
-    modes marked (solid: d the car length, dotted: the bogie spacing; gid ``resonance.<direction>``)."""
+def plot_speed_sweep(sweep, *, fig: Figure | None = None, grid_tolerance: float = 0.01) -> Figure:  # noqa: ANN001 - a methods.sweep.SweepResult
+    """Each key quantity of a speed sweep against speed, in display units: the largest |mean| + 3
+    sigma, sigma and |mean| over its channels and time, with the resonance speeds v = f_n d / i of
+    the bridge's first modes marked (solid: d the car length, dotted: the bogie spacing; gid
+    ``resonance.<direction>``) and the speeds where the quantity's estimated grid error exceeds
+    ``grid_tolerance`` crossed out in red (gid ``grid_error``: those numbers depend on the grid)."""
     rows = sweep.rows()
     fig, axes = _figure(fig, nrows=len(sweep.quantities), height=2.4)
     v = np.array([r["speed_kmh"] for r in rows])
     colours = {"vertical": "tab:blue", "lateral": "tab:red", "torsion": "tab:green"}
     for ax, (key, pattern, what) in zip(axes, sweep.quantities):
-        ax.plot(v, [r[f"{key}_max_abs_mean_plus_3sigma"] for r in rows], "o-", ms=3, color="k", label="max |mean| + 3 sigma")
-        ax.plot(v, [r[f"{key}_max_sigma"] for r in rows], "s--", ms=3, color="0.4", label="max sigma")
-        ax.plot(v, [r[f"{key}_max_abs_mean"] for r in rows], ":", color="0.4", label="max |mean|")
+        unit = display_unit(sweep.quantity_unit(key))
+        design = np.array([r[f"{key}_max_abs_mean_plus_3sigma"] for r in rows]) * unit.factor
+        ax.plot(v, design, "o-", ms=3, color="k", label="max |mean| + 3 sigma")
+        ax.plot(v, np.array([r[f"{key}_max_sigma"] for r in rows]) * unit.factor, "s--", ms=3, color="0.4",
+                label="max sigma")
+        ax.plot(v, np.array([r[f"{key}_max_abs_mean"] for r in rows]) * unit.factor, ":", color="0.4", label="max |mean|")
+        bad = np.array([r.get(f"{key}_grid_error", np.nan) for r in rows], dtype=float) > grid_tolerance
+        if bad.any():
+            ax.plot(v[bad], design[bad], "x", ms=8, mew=1.5, color="tab:red", gid="grid_error",
+                    label=f"grid error > {100 * grid_tolerance:g} %")
+            ax.legend(fontsize="x-small", loc="upper left")
         for res in sweep.resonances:
             if v.min() <= res.speed_kmh <= v.max():
                 ax.axvline(res.speed_kmh, color=colours.get(res.direction, "0.5"), lw=0.8, alpha=0.7,
                            ls="-" if res.distance_name == "car length" else ":", gid=f"resonance.{res.direction}")
-        ax.set_ylabel(key, fontsize="small")
-        ax.set_title(f"{what} ({pattern})", fontsize="small")
+        ax.set_ylabel(f"{key} [{unit.unit}]" if unit.unit else key, fontsize="small")
+        ax.set_title(f"{sweep.quantity_text(key)} ({pattern})", fontsize="small")
         ax.grid(True, alpha=0.3)
     axes[-1].set_xlabel("speed [km/h]")
     axes[0].legend(fontsize="x-small", loc="upper left")
@@ -286,6 +298,6 @@ def plot_speed_sweep(sweep, *, fig: Figure | None = None) -> Figure:  # noqa: AN
                      for n, d in sorted({(r.distance_name, r.distance) for r in sweep.resonances}))
     marks = ", ".join(f"{d} {f:.3g} Hz ({colours.get(d, 'grey').replace('tab:', '')})"
                       for d, f in sorted({(r.direction, r.frequency) for r in sweep.resonances}))
-    fig.suptitle(f"{sweep.base.name}: speed sweep\nresonance speeds v = f1 d / i, i = 1, 2, 3: d = {dist}; "
-                 f"f1 = {marks}", fontsize="x-small")
+    note = textwrap.fill(f"resonance speeds v = f1 d / i, i = 1, 2, 3: d = {dist}; f1 = {marks}", 110)
+    fig.suptitle(f"{sweep.base.name}: speed sweep\n{note}", fontsize="x-small")
     return fig

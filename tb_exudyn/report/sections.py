@@ -138,8 +138,9 @@ class Raw:
     html: str
 
 
-def html_table(tid: str, header: Sequence[str], rows: Iterable[Sequence[Any]], classes: Sequence[str] = ()) -> str:
-    out = [f'<table id="{esc(tid)}"><thead><tr>' + "".join(f"<th>{esc(h)}</th>" for h in header) + "</tr></thead><tbody>"]
+def html_table(tid: str, header: Sequence[Any], rows: Iterable[Sequence[Any]], classes: Sequence[str] = ()) -> str:
+    out = [f'<table id="{esc(tid)}"><thead><tr>' + "".join(f"<th>{h.html if isinstance(h, Raw) else esc(h)}</th>"
+                                                       for h in header) + "</tr></thead><tbody>"]
     for row in rows:
         cells = []
         for i, cell in enumerate(row):

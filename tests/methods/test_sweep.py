@@ -181,7 +181,9 @@ def test_sweep_command(tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["sweep", str(path), "--speeds-kmh", "250:300:50", "--out", str(out), "--workers", "1",
                  "--no-progress", "--channels", *CHANNELS]) == 0
-    for name in ("speed_sweep.csv", "speed_sweep.png", "250/pem/meta.json", "300/pem/meta.json"):
+    for name in ("speed_sweep.csv", "speed_sweep.png", "speed_sweep.html", "250/pem/meta.json", "300/pem/meta.json"):
         assert (out / name).exists(), name
+    page = (out / "speed_sweep.html").read_text()
+    assert "<h2>Frequency grid by speed</h2>" in page and "data:image/png;base64," in page
     assert main(["sweep", str(path), "--speeds-kmh", "300:250:10", "--out", str(out)]) == 2
     assert "speeds-kmh" in capsys.readouterr().err
