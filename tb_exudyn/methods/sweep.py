@@ -241,6 +241,7 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
         "max_abs_mean": peak, "max_sigma": result.std.max(axis=1),
         "max_design": (np.abs(result.mean) + K_SIGMA * result.std).max(axis=1),
         "band": np.array(result.band, dtype=float), "n_freq": np.array(result.freq.size),
+        "freq_spacing": np.array(result.scenario.analysis.freq_spacing if result.scenario is not None else ""),
         "seconds": np.array(float(result.provenance.get("seconds", math.nan))),
         "checks": np.array(json.dumps(check_columns(result))),
     }
@@ -258,20 +259,29 @@ def grid_errors(result: RandomResponse) -> np.ndarray:
                      if c in rows else np.nan for c in result.channels])
 
 
-def check_columns(result: RandomResponse) -> dict[str, float]:
+def check_columns(result: RandomResponse) -> dict[str, Any]:
     """The table columns of one speed's code checks (:meth:`RandomResponse.checks`, the default
     limits and target probability): per criterion that applies, at its deciding location
-    (``ChecksTable.worst``), ``"<criterion>_utilisation"`` (the estimate over the limit) and
+    (``ChecksTable.worst``), ``"<criterion>_utilisation"`` (the estimate over the limit),
     ``"<criterion>_probability"`` (of exceeding the limit in one passage; NaN where the criterion is
-    not a random process), and ``"checks_exceeding"``, the number of criteria whose verdict is
-    EXCEEDS. The one place that turns checks into sweep columns (rows, CSV and figure)."""
+    not a random process), ``_estimate`` and ``_limit`` (SI, in ``_unit``), ``_channel``,
+    ``_verdict``, ``_title`` (what the criterion checks) and ``_caveats`` (the kinds of the caveats that could change the verdict, "; "
+    separated: e.g. a lightly damped mode), ``_reason`` (why a criterion was not evaluated), and
+    ``"checks_exceeding"``, the number of criteria whose
+    verdict is EXCEEDS. The one place that turns checks into sweep columns (rows, CSV, figure and
+    report)."""
     table = result.checks()
-    out: dict[str, float] = {}
+    out: dict[str, Any] = {}
     worst = table.worst()
     for r in worst:
         ratio = r.estimate / r.limit if math.isfinite(r.limit) and r.limit != 0 else math.nan
-        out[f"{r.criterion}_utilisation"] = float(ratio)
-        out[f"{r.criterion}_probability"] = math.nan if r.probability is None else float(r.probability)
+        c = r.criterion
+        out[f"{c}_utilisation"] = float(ratio)
+        out[f"{c}_probability"] = math.nan if r.probability is None else float(r.probability)
+        out[f"{c}_estimate"], out[f"{c}_limit"], out[f"{c}_unit"] = float(r.estimate), float(r.limit), str(r.unit)
+        out[f"{c}_channel"], out[f"{c}_verdict"], out[f"{c}_title"] = str(r.channel), str(r.verdict), str(r.title)
+        out[f"{c}_caveats"] = "; ".join(dict.fromkeys(k.kind for k in r.caveats if k.changes_verdict))
+        out[f"{c}_reason"] = "; ".join(k.text for k in r.caveats if k.kind == "statistic") if r.verdict == "NOT EVALUATED" else ""
     out["checks_exceeding"] = float(sum(r.verdict == "EXCEEDS" for r in worst))
     return out
 

@@ -34,6 +34,7 @@ import numpy as np
 from .._version import __version__
 from ..atomic import write_text_atomic
 from ..system.labels import display_unit, format_number
+from ..results.checks_table import SMALLEST_SHOWN
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
 esc = html.escape
@@ -41,6 +42,8 @@ esc = html.escape
 #: the sweep's report in its output folder
 SWEEP_REPORT = "speed_sweep.html"
 #: a warning raised at one speed ends with this (tb_exudyn.methods.sweep: "... (at 250 km/h)")
+#: a percentage in a message: the same warning at another speed differs in them (a mode's growth over the run)
+_NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)? %")
 _AT_SPEED = re.compile(r"^(?P<text>.*) \(at (?P<speed>[0-9.]+) km/h\)$", re.S)
 
 
@@ -60,33 +63,66 @@ def _criteria(rows: list[dict[str, Any]]) -> list[str]:
     return out
 
 
-def _utilisation_cell(u: float, p: float) -> Raw:
-    if u is None or not math.isfinite(u):
-        return Raw("-")
-    cls = "exceeds" if u > 1.0 else "ok"
-    prob = "" if p is None or not math.isfinite(p) else f"<br><small>P = {esc(f'{p:.3g}')}</small>"
-    return Raw(f'<span class="{verdict_class(cls)}">{esc(format_number(u, 3))}</span>{prob}')
+def _probability(p: float) -> str:
+    """As the run's report shows it: 3 digits, "< 1e-09" below SMALLEST_SHOWN."""
+    if p is None or not math.isfinite(p):
+        return "-"
+    return f"< {SMALLEST_SHOWN:.0e}" if p < SMALLEST_SHOWN else f"{p:.3g}"
+
+
+def _verdict_cell(row: dict[str, Any], c: str) -> Raw:
+    verdict = str(row.get(f"{c}_verdict", ""))
+    u, p = row.get(f"{c}_utilisation", math.nan), row.get(f"{c}_probability", math.nan)
+    mark = " &dagger;" if row.get(f"{c}_caveats") else ""
+    if verdict == "NOT EVALUATED" or u is None or not math.isfinite(u):
+        return Raw(f'<span class="not-evaluated">not evaluated</span>{mark}')
+    cls = verdict_class(verdict) if verdict else ("exceeds" if u > 1.0 else "ok")
+    shown = _probability(p)
+    prob = "" if p is None or not math.isfinite(p) else f"<br><small>P {esc(shown if shown.startswith('<') else '= ' + shown)}</small>"
+    return Raw(f'<span class="{cls}">{esc(format_number(u, 3))}</span>{mark}{prob}')
 
 
 def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
     """Per speed: the number of criteria that EXCEED, then per criterion the utilisation (estimate
-    over limit; above 1 exceeds) with the probability of exceeding in one passage below it."""
+    over limit; above 1 exceeds) with the probability of exceeding in one passage below it; per
+    criterion a folded table of the estimate, the limit, the deciding channel and the caveats."""
     criteria = _criteria(rows)
     out = ['<section id="verdicts"><h2>Verdicts by speed</h2>']
     if not criteria:
         out.append("<p>No code check applies to the key quantities of this sweep.</p></section>")
         return "\n".join(out)
-    out.append("<p>Per criterion at its deciding location: utilisation = estimate / limit (above 1: the "
-               "limit is exceeded), and P, the probability of exceeding the limit in one passage.</p>")
+    out.append("<p>Per code criterion at its deciding location (the worst of its channels): the utilisation "
+               "is the estimate, the level exceeded with the target probability in one passage (as in a run's "
+               "report), over the limit; above 1 the criterion EXCEEDS. P is the probability of exceeding the "
+               f"limit in one passage (shown as &lt; {SMALLEST_SHOWN:.0e} below that). &dagger;: conditional, a "
+               "caveat could change the verdict (a lightly damped mode, a loss of contact: see the Warnings and "
+               "the criterion's table below).</p>")
     body = []
     for row in rows:
         n = row.get("checks_exceeding", math.nan)
-        body.append([format_number(row["speed_kmh"]), "-" if not math.isfinite(n) else str(int(n))]
-                    + [_utilisation_cell(row.get(f"{c}_utilisation", math.nan), row.get(f"{c}_probability", math.nan))
-                       for c in criteria])
+        body.append([format_number(row["speed_kmh"]), "-" if not math.isfinite(n) else f"{int(n)} of {len(criteria)}"]
+                    + [_verdict_cell(row, c) for c in criteria])
     heads = [Raw(esc(c).replace("/", "/<wbr>").replace("_", "_<wbr>")) for c in criteria]  # long names may wrap
     out.append(html_table("sweep-verdicts", ["speed [km/h]", "criteria exceeding"] + heads, body,
                           ["num", "num"] + ["num"] * len(criteria)))
+    for c in criteria:
+        reasons = list(dict.fromkeys(str(r[f"{c}_reason"]) for r in rows if r.get(f"{c}_reason")))
+        if reasons:
+            out.append(f'<p class="meta">{esc(c)} not evaluated: {esc("; ".join(reasons))}</p>')
+    for c in criteria:
+        title = next((str(r[f"{c}_title"]) for r in rows if r.get(f"{c}_title")), "")
+        unit = next((str(r[f"{c}_unit"]) for r in rows if r.get(f"{c}_unit")), "")
+        du = display_unit(unit)
+        detail = [[format_number(r["speed_kmh"]), str(r.get(f"{c}_verdict", "")),
+                   format_number(r.get(f"{c}_estimate", math.nan) * du.factor),
+                   format_number(r.get(f"{c}_limit", math.nan) * du.factor),
+                   format_number(r.get(f"{c}_utilisation", math.nan), 3), _probability(r.get(f"{c}_probability", math.nan)),
+                   str(r.get(f"{c}_channel", "")), str(r.get(f"{c}_caveats", "")).replace("_", " ")] for r in rows]
+        out.append(f"<details><summary>{esc(c)}: {esc(title)}</summary>"
+                   + html_table(f"sweep-verdicts-{c.replace('/', '-')}",
+                                ["speed [km/h]", "verdict", f"estimate [{du.unit}]", f"limit [{du.unit}]", "utilisation",
+                                 "P", "deciding channel", "caveats that could change the verdict"],
+                                detail, ["num", "", "num", "num", "num", "num", "", ""]) + "</details>")
     out.append("</section>")
     return "\n".join(out)
 
@@ -97,9 +133,10 @@ def quantities_by_speed(result: Any) -> str:
     rows = result.rows()
     units = {key: display_unit(result.quantity_unit(key)) for key, _, _ in result.quantities}
     out = ['<section id="quantities"><h2>Key quantities by speed</h2>',
-           "<p>The largest max |mean| + 3 sigma over each quantity's channels and the run; the grid error "
-           "is the largest estimated grid error of the quantity's channels (not estimated: no grid-error "
-           "sweep).</p>"]
+           "<p>The largest max |mean| + 3 sigma over each quantity's channels and the run (a screening value, "
+           "not a verdict: the verdicts above use each criterion's own estimate). In each quantity's table the "
+           "largest |mean|, sigma and |mean| + 3 sigma may come from different channels; the channel is that "
+           "of the largest |mean| + 3 sigma, and the grid error the largest of the quantity's channels.</p>"]
     head = ["speed [km/h]"] + [f"{key} [{units[key].unit}]" for key, _, _ in result.quantities]
     body = [[format_number(r["speed_kmh"])] + [format_number(r[f"{key}_max_abs_mean_plus_3sigma"] * units[key].factor)
                                                for key, _, _ in result.quantities] for r in rows]
@@ -113,20 +150,27 @@ def quantities_by_speed(result: Any) -> str:
         out.append(f"<details><summary>{esc(key)}: {esc(result.quantity_text(key))} [{esc(u.unit)}] "
                    f"(channels {esc(pattern)})</summary>"
                    + html_table(f"sweep-{key}", ["speed [km/h]", f"max |mean| [{u.unit}]", f"max sigma [{u.unit}]",
-                                                 f"max |mean| + 3 sigma [{u.unit}]", "channel", "grid error"],
+                                                 f"max |mean| + 3 sigma [{u.unit}]",
+                                                 "channel (of the largest |mean| + 3 sigma)", "grid error"],
                                 body, ["num", "num", "num", "num", "", "num"]) + "</details>")
     out.append("</section>")
     return "\n".join(out)
 
 
 def resonances_section(result: Any) -> str:
+    lo, hi = min(result.speeds), max(result.speeds)
     out = ['<section id="resonances"><h2>Resonance speeds</h2>',
-           "<p>v = f_n d / i: loads spaced d apart pass a bridge mode of frequency f_n every i-th period "
-           "(the first vertical, lateral and torsion modes of the bridge alone).</p>"]
-    rows = [[r.direction, format_number(r.frequency), f"{r.distance_name} {format_number(r.distance)} m", str(r.order),
-             format_number(r.speed_kmh)] for r in sorted(result.resonances, key=lambda r: r.speed_kmh)]
-    out.append(html_table("sweep-resonances", ["mode", "f_n [Hz]", "d", "i", "speed [km/h]"], rows,
-                          ["", "num", "", "num", "num"]) if rows else "<p>None found.</p>")
+           "<p>At v = f_n d / i, loads spaced d apart (the cars, the bogies) pass a bridge mode of frequency "
+           "f_n once every i periods, so that their effects add up (the first vertical, lateral and torsion "
+           f"modes of the bridge alone). Those within the swept {format_number(lo)}-{format_number(hi)} km/h "
+           "are marked in the figure; all are listed below.</p>"]
+    ordered = sorted(result.resonances, key=lambda r: r.speed_kmh)
+    rows = [[r.direction, format_number(r.frequency), r.distance_name, format_number(r.distance), str(r.order),
+             Raw(f"<b>{esc(format_number(r.speed_kmh))}</b>") if lo <= r.speed_kmh <= hi else format_number(r.speed_kmh),
+             "yes" if lo <= r.speed_kmh <= hi else ""] for r in ordered]
+    out.append(html_table("sweep-resonances", ["mode", "f_n [Hz]", "spacing", "d [m]", "i", "speed [km/h]",
+                                               "within the sweep"], rows,
+                          ["", "num", "", "num", "num", "num", ""]) if rows else "<p>None found.</p>")
     out.append("</section>")
     return "\n".join(out)
 
@@ -134,10 +178,24 @@ def resonances_section(result: Any) -> str:
 def grid_section(result: Any, tolerance: float) -> str:
     """Per speed the band, the number of frequencies and how many channels' grid error exceeds
     ``tolerance`` (with the largest)."""
+    spacing = {str(s.get("freq_spacing", "")) for s in result.summaries} - {""}
     out = ['<section id="grid"><h2>Frequency grid by speed</h2>',
-           f"<p>The grid follows the speed (the track's wavelength band). A channel whose estimated grid error "
-           f"exceeds {100 * tolerance:g} % changes by more than that when the grid is refined: its numbers above "
-           "depend on the grid.</p>"]
+           f"<p>The grid follows the speed (the track's wavelength band){'; spacing ' + ', '.join(sorted(spacing)) if spacing else ''}. "
+           f"The grid error of a channel is estimated from the same sweep on the cells' midpoints: a channel whose "
+           f"estimate exceeds {100 * tolerance:g} % changes by more than that when the grid is refined, so its numbers "
+           "above depend on the grid.</p>"]
+    everywhere = [np.asarray(s.get("grid_error", np.array([math.nan])), dtype=float) for s in result.summaries]
+    known = np.concatenate([g[np.isfinite(g)] for g in everywhere]) if everywhere else np.array([])
+    bad = [format_number(v) for v, g in zip(result.speeds, everywhere) if np.any(g > tolerance)]
+    if not known.size:
+        out.append('<p class="warn">The grid error was not estimated: nothing says whether the grids are converged.</p>')
+    elif not bad:
+        out.append(f"<p><b>Converged at every speed</b>: the largest estimated grid error is {_percent(float(known.max()))}, "
+                   f"below {100 * tolerance:g} %.</p>")
+    else:
+        out.append(f'<p class="warn"><b>Not converged at {len(bad)} of {len(result.speeds)} speeds</b> '
+                   f"({', '.join(bad)} km/h): the largest estimated grid error is {_percent(float(known.max()))}. Use "
+                   "--freq-spacing adaptive or more frequencies (--n-freq).</p>")
     body = []
     for r, s in zip(result.rows(), result.summaries):
         ge = np.asarray(s.get("grid_error", np.array([math.nan])), dtype=float)
@@ -155,21 +213,24 @@ def grid_section(result: Any, tolerance: float) -> str:
 
 
 def warnings_by_message(result: Any) -> str:
-    """Each distinct warning once, with the speeds it was raised at."""
-    seen: dict[str, list[str]] = {}
+    """Each warning once: messages that differ only in their percentages (the same mode's growth at
+    another speed) are one, shown as first raised, with the speeds they were raised at."""
+    seen: dict[str, tuple[str, list[str], list[bool]]] = {}
     for v, s in zip(result.speeds, result.summaries):
         for w in s.get("warnings", ()):
             m = _AT_SPEED.match(str(w))
             text, speed = (m.group("text"), m.group("speed")) if m else (str(w), format_number(v))
-            seen.setdefault(text, [])
-            if speed not in seen[text]:
-                seen[text].append(speed)
+            first, speeds, varied = seen.setdefault(_NUMBER.sub("#", text), (text, [], [False]))
+            varied[0] |= text != first
+            if speed not in speeds:
+                speeds.append(speed)
     out = ['<section id="warnings"><h2>Warnings</h2>']
     if not seen:
         out.append("<p>None recorded.</p>")
-    for text, speeds in seen.items():
+    for text, speeds, varied in seen.values():
         where = "all speeds" if len(speeds) == len(result.speeds) else ", ".join(speeds) + " km/h"
-        out.append(f'<p class="warn">{esc(text)} <small>(at {esc(where)})</small></p>')
+        note = f"; as raised at {speeds[0]} km/h: the percentages vary with the speed" if varied[0] else ""
+        out.append(f'<p class="warn">{esc(text)} <small>(at {esc(where)}{esc(note)})</small></p>')
     out.append("</section>")
     return "\n".join(out)
 
@@ -196,7 +257,10 @@ def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance:
             f"full result is in its folder (&lt;speed&gt;/pem).</p>",
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
             verdicts_by_speed(result.rows()), quantities_by_speed(result), figure, resonances_section(result),
-            grid_section(result, tolerance), warnings_by_message(result), scenario_section([sc])]
+            grid_section(result, tolerance), warnings_by_message(result),
+            '<p class="meta" id="base-scenario">The scenario below is the sweep\'s base: at each speed the sweep sets '
+            "the speed, the band, the grid and the approach (the grid table above); each speed's own scenario is in its "
+            "result.</p>", scenario_section([sc])]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<meta name=\"viewport\" content=\"width=device-width\"><title>{esc(title)}</title>"
             f"<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")

@@ -38,12 +38,22 @@ def _sweep() -> SweepResult:
     base = sprung_mass_scenario(lead_in=20.0, run_out=5.0, f_min=2.0, f_max=20.0, n_freq=6, channels=("*",))
     base = base.replace(description="beam <script>alert(1)</script> & co")
     quantities = tuple(q for q in KEY_QUANTITIES if q[0] in ("deck_acc_z", "wheel_force_z"))
-    light = "lightly damped mode at 8.342 Hz <b>"
+    light = "lightly damped mode at 8.342 Hz <b>: sigma grows by about {} % on the bridge"
+    checks = [{"deck/acc_z_utilisation": 0.4, "deck/acc_z_probability": 1e-12, "deck/acc_z_verdict": "OK",
+               "deck/acc_z_estimate": 0.7, "deck/acc_z_limit": 1.75, "deck/acc_z_unit": "m/s^2",
+               "force/y_utilisation": math.nan, "force/y_probability": math.nan, "force/y_verdict": "NOT EVALUATED",
+               "force/y_unit": "N", "force/y_estimate": math.nan, "force/y_limit": 62e3,
+               "force/y_reason": "no such channel <yet>",
+               "checks_exceeding": 0.0},
+              {"deck/acc_z_utilisation": 1.25, "deck/acc_z_probability": 0.2, "deck/acc_z_verdict": "EXCEEDS",
+               "deck/acc_z_caveats": "lightly_damped_mode", "deck/acc_z_estimate": 2.1875, "deck/acc_z_limit": 1.75,
+               "deck/acc_z_unit": "m/s^2", "deck/acc_z_title": "deck acceleration", "force/y_utilisation": 0.5,
+               "force/y_probability": 1e-3, "force/y_verdict": "OK", "force/y_unit": "N", "force/y_estimate": 31e3,
+               "force/y_limit": 62e3, "checks_exceeding": 1.0}]
     summaries = (
-        _summary(200.0, 60e3, (0.002, 0.004), [light], {"deck/acc_z_utilisation": 0.4, "deck/acc_z_probability": 1e-7,
-                                                       "checks_exceeding": 0.0}),
-        _summary(300.0, 80e3, (0.03, math.nan), [light, "grid error 3 % on car1.axle1.left.force_z"],
-                 {"deck/acc_z_utilisation": 1.25, "deck/acc_z_probability": 0.2, "checks_exceeding": 1.0}),
+        _summary(200.0, 60e3, (0.002, 0.004), [light.format(69)], checks[0]),
+        _summary(300.0, 80e3, (0.03, math.nan), [light.format(50), "grid error 3 % on car1.axle1.left.force_z"],
+                 checks[1]),
     )
     res = (Resonance("vertical", 4.2, "car length", 26.4, 1, 4.2 * 26.4 * 3.6),)
     return SweepResult(base=base, speeds=(200.0, 300.0), summaries=summaries, quantities=quantities, resonances=res,
@@ -64,12 +74,21 @@ def test_sweep_report_sections_numbers_and_escaping(tmp_path):
     # grid: the 300 km/h speed has one channel above 1 % (NaN is not counted), shown as exceeding
     assert "1 of 2" in text and "0 of 2" in text
     assert '<span class="exceeds">3 %' in text
-    # verdicts: the utilisation above 1 is marked, its probability shown
-    assert '<span class="exceeds">1.25</span>' in text and "P = 0.2" in text
-    assert '<span class="ok">0.4</span>' in text
-    # warnings: each message once, with the speeds it came from; escaped
+    assert "Not converged at 1 of 2 speeds</b> (300 km/h)" in text
+    # verdicts: the utilisation above 1 marked by its verdict, conditional (a caveat), its probability
+    # shown; below SMALLEST_SHOWN as "< 1e-09"; a criterion not evaluated says so
+    assert '<span class="exceeds">1.25</span> &dagger;<br><small>P = 0.2</small>' in text
+    assert '<span class="ok">0.4</span><br><small>P &lt; 1e-09</small>' in text
+    assert '<span class="not-evaluated">not evaluated</span>' in text
+    assert "force/y not evaluated: no such channel &lt;yet&gt;" in text
+    assert "1 of 2" in text and "deck/acc_z: deck acceleration" in text
+    # the criterion's table: estimate and limit in display units (kN for the force)
+    assert "<td class=\"num\">31</td><td class=\"num\">62</td>" in text and "estimate [kN]" in text
+    assert "lightly damped mode" in text.split("deck/acc_z: deck acceleration")[1].split("</details>")[0]
+    # warnings: one message that differs only in its percentages, with the speeds, as first raised; escaped
     assert text.count("lightly damped mode at 8.342 Hz") == 1
-    assert "lightly damped mode at 8.342 Hz &lt;b&gt; <small>(at all speeds)</small>" in text
+    assert ("lightly damped mode at 8.342 Hz &lt;b&gt;: sigma grows by about 69 % on the bridge <small>(at all "
+            "speeds; as raised at 200 km/h: the percentages vary with the speed)</small>") in text
     assert "<small>(at 300 km/h)</small>" in text
     assert "<script>alert" not in text and html.escape("<script>alert(1)</script>") in text
     assert "data:image/png;base64," in text
