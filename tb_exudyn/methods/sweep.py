@@ -25,7 +25,8 @@ output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`
 sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
 
 The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output folder; the figure is
-:func:`tb_exudyn.plotting.plot_speed_sweep`): one row per speed with, per key quantity, the
+:func:`tb_exudyn.plotting.plot_speed_sweep`, the page :func:`tb_exudyn.report.write_sweep_report`,
+``speed_sweep.html``, both written by ``tb-exudyn sweep``): one row per speed with, per key quantity, the
 largest |mean|, sigma and |mean| + 3 sigma over its channels and time, and the channel; the code
 checks' estimates and exceedance probabilities enter through :func:`check_columns` (the hook for
 ``RandomResponse.checks()``, issue 16). :func:`resonance_speeds` gives v = f_n d / i for the
