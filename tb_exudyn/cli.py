@@ -290,7 +290,7 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
     if not args.no_figures:
         reporting.save_figure(result.plot(), out / "speed_sweep.png")
         figure, png = ", speed_sweep.png", (out / "speed_sweep.png").read_bytes()
-    page = reporting.write_sweep_report(result, out, png, methods.pem.GRID_ERROR_TOLERANCE)
+    page = reporting.write_sweep_report(result, out, png)
     print(f"speed_sweep.csv{figure} and {page.name} in {out.resolve()}; each speed's result in "
           f"{out.resolve()}/<speed>/pem")
     return EXIT_OK

@@ -42,6 +42,7 @@ from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
                                    check_run_length, column_bytes, describe_counts, memory_limit, model_bytes,
                                    scenario_where)
+from ..results.checks import GRID_ERROR_TOLERANCE  # grid errors above it are warned about and reported
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import HarmonicColumns
@@ -53,8 +54,6 @@ from .common import MeanTask, analysis_setup, fingerprint_identity, merge_proven
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, midpoint_grid, refined_variance
 from .grid_error import GridError, grid_error_from_sigma
 
-#: grid errors of max sigma above this are warned about (and reported)
-GRID_ERROR_TOLERANCE = 0.01
 
 
 class GridErrorWarning(UserWarning):

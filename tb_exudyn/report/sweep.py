@@ -34,6 +34,7 @@ import numpy as np
 from .._version import __version__
 from ..atomic import write_text_atomic
 from ..system.labels import display_unit, format_number
+from ..results.checks import GRID_ERROR_TOLERANCE
 from ..results.checks_table import SMALLEST_SHOWN
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
@@ -235,10 +236,11 @@ def warnings_by_message(result: Any) -> str:
     return "\n".join(out)
 
 
-def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance: float = 0.01) -> str:
+def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance: float = GRID_ERROR_TOLERANCE) -> str:
     """The HTML text of the report on a sweep (see the module docstring); ``figure_png``: the
     sweep's figure (:func:`tb_exudyn.plotting.plot_speed_sweep`) as PNG bytes, or None;
-    ``tolerance``: the grid error above which a channel is counted (PEM's GRID_ERROR_TOLERANCE)."""
+    ``tolerance``: the grid error above which a channel is counted (default: the one the checks and PEM's
+    warnings use)."""
     sc = result.base
     prov = result.provenance
     title = f"tb_exudyn speed sweep: {sc.name}"
@@ -266,7 +268,8 @@ def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance:
             f"<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
-def write_sweep_report(result: Any, folder: str | Path, figure_png: bytes | None = None, tolerance: float = 0.01) -> Path:
+def write_sweep_report(result: Any, folder: str | Path, figure_png: bytes | None = None,
+                       tolerance: float = GRID_ERROR_TOLERANCE) -> Path:
     """Write :func:`render_sweep_report` to ``folder/speed_sweep.html``, atomically."""
     out = Path(folder) / SWEEP_REPORT
     write_text_atomic(out, render_sweep_report(result, figure_png, tolerance))
