@@ -15,7 +15,8 @@ is at least the study's 100 m and at least its 1.64 s (longer at higher speeds),
 rest settle before the bridge as they do at 220 km/h. Writes ``speed_sweep.csv`` (one row per
 speed: band, max |mean|, max sigma, max |mean| + 3 sigma per channel, run time) and
 ``speed_sweep.png`` (with the resonance speeds v = f1 d / i of the bridge's first modes, d the car
-length and the bogie spacing); each speed's result goes to ``OUT/<speed>/pem`` (sigma only, no PSD
+length and the bogie spacing) and ``speed_sweep.html`` (the sweep's page: verdicts, key quantities
+and grid error by speed, warnings); each speed's result goes to ``OUT/<speed>/pem`` (sigma only, no PSD
 maps) with its checkpoint, and ``--resume`` reuses the speeds already done.
 
     python examples/speed_sweep.py [--quick] [--speeds 160:350:10] [--n-freq N] [--workers N] [--out DIR]
@@ -85,8 +86,12 @@ def main(argv: list[str] | None = None) -> int:
     try:
         from tb_exudyn.plotting import plot_speed_sweep, save_figure
 
-        save_figure(plot_speed_sweep(sweep), Path(args.out) / "speed_sweep.png")
-        figure = " and speed_sweep.png"
+        from tb_exudyn.report import write_sweep_report
+
+        png = Path(args.out) / "speed_sweep.png"
+        save_figure(plot_speed_sweep(sweep), png)
+        write_sweep_report(sweep, args.out, png.read_bytes())  # the page tb-exudyn sweep writes
+        figure = ", speed_sweep.png and speed_sweep.html"
     except ImportError:  # plotting is optional (matplotlib)
         figure = ""
     print(f"{len(speeds)} speeds in {time.perf_counter() - t0:.1f} s; speed_sweep.csv{figure} in {Path(args.out).resolve()}")

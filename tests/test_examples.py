@@ -42,7 +42,8 @@ EXPECTED: dict[str, tuple[str, ...]] = {
         "figures/fig7.car1.body.acc_y.bounds.png", "figures/fig8.car1.axle1.force_y.bounds.png",
         "figures/fig8.car1.axle1.left.force_z.bounds.png",
     ),
-    "speed_sweep.py": ("speed_sweep.csv", "speed_sweep.png", "220/pem/meta.json", "350/pem/meta.json"),
+    "speed_sweep.py": ("speed_sweep.csv", "speed_sweep.png", "speed_sweep.html", "220/pem/meta.json",
+                       "350/pem/meta.json"),
     "li_zhu_2011_verification.py": ("comparison.txt", "pem/meta.json", "mc/meta.json", "figures/*.pem_vs_mc.png"),
     "creep_car_stability.py": ("stability.txt",),
 }
