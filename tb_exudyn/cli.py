@@ -19,6 +19,7 @@ from typing import Sequence
 from .engines import ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
+from .execution.output import SWEEP_FIGURE
 from ._version import __version__
 from .atomic import write_text_atomic
 from .results import find_results
@@ -288,8 +289,8 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
     figure, png = "", None
     reporting = _figures()
     if not args.no_figures:
-        reporting.save_figure(result.plot(), out / "speed_sweep.png")
-        figure, png = ", speed_sweep.png", (out / "speed_sweep.png").read_bytes()
+        reporting.save_figure(result.plot(), out / SWEEP_FIGURE)
+        figure, png = f", {SWEEP_FIGURE}", (out / SWEEP_FIGURE).read_bytes()
     page = reporting.write_sweep_report(result, out, png)
     print(f"speed_sweep.csv{figure} and {page.name} in {out.resolve()}; each speed's result in "
           f"{out.resolve()}/<speed>/pem")

@@ -29,6 +29,9 @@ from ..errors import OutputFolderError
 FOLDER_FIGURES = "figures"
 COMPARISON_FIGURE = ".pem_vs_mc."
 REPORT = "report.html"
+#: a speed sweep's figure and page, drawn from its table (``tb-exudyn sweep``)
+SWEEP_FIGURE = "speed_sweep.png"
+SWEEP_PAGE = "speed_sweep.html"
 #: a result's own figures (``<result>/figures/``)
 RESULT_FIGURES = "figures"
 
@@ -36,10 +39,12 @@ RESULT_FIGURES = "figures"
 @dataclass(frozen=True)
 class RunFiles:
     """The entries of an output folder a run writes: its result folder and its checkpoint folder
-    (names inside the output folder; no checkpoint for the deterministic run)."""
+    (names inside the output folder; no checkpoint for the deterministic run), and the files drawn
+    from that result beside it (``drawn``: a sweep's figure and page), removed when it is overwritten."""
 
     result: str
     checkpoint: str | None = None
+    drawn: tuple[str, ...] = ()
 
 
 def _options(where: str) -> dict[str, str]:
@@ -80,8 +85,8 @@ def remove_entry(path: Path) -> None:
 
 
 def clear_run(folder: Path, files: RunFiles) -> None:
-    """Remove the old run's checkpoint and figures, and the folder's comparison figures and report
-    (the result itself is replaced when the new one is saved)."""
+    """Remove the old run's checkpoint, figures and drawn files, and the folder's comparison figures
+    and report (the result itself is replaced when the new one is saved)."""
     if files.checkpoint is not None:
         remove_entry(folder / files.checkpoint)
     result = folder / files.result
@@ -94,6 +99,9 @@ def clear_run(folder: Path, files: RunFiles) -> None:
                 f.unlink()
     if os.path.lexists(folder / REPORT):
         remove_entry(folder / REPORT)
+    for name in files.drawn:
+        if os.path.lexists(folder / name):
+            remove_entry(folder / name)
 
 
 def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
@@ -122,4 +130,4 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
     clear_run(folder, files)
 
 
-__all__ = ["RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry"]
+__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry"]

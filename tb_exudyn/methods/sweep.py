@@ -56,6 +56,7 @@ from ..builder.model import channel_list
 from ..engines import check_engine
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
+from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
@@ -407,7 +408,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
         for message in result.get("warnings", ()):
             warnings.warn(str(message), stacklevel=4)
 
-    with execution.claim(RunFiles(SWEEP_TABLE, "checkpoint-sweep")) as root:
+    with execution.claim(RunFiles(SWEEP_TABLE, "checkpoint-sweep", drawn=(SWEEP_FIGURE, SWEEP_PAGE))) as root:
         checkpoint = execution.checkpoint("checkpoint-sweep", identity)
         stats = execution.run(tasks, setup=_setup, setup_args=(), work=_work, reduce=reduce, checkpoint=checkpoint,
                               desc=f"speed sweep ({engine})")

@@ -33,6 +33,7 @@ import numpy as np
 
 from .._version import __version__
 from ..atomic import write_text_atomic
+from ..execution.output import SWEEP_PAGE
 from ..system.labels import display_unit, format_number
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..results.checks_table import SMALLEST_SHOWN
@@ -40,8 +41,8 @@ from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verd
 
 esc = html.escape
 
-#: the sweep's report in its output folder
-SWEEP_REPORT = "speed_sweep.html"
+#: the sweep's page in its output folder
+SWEEP_REPORT = SWEEP_PAGE
 #: a warning raised at one speed ends with this (tb_exudyn.methods.sweep: "... (at 250 km/h)")
 #: a percentage in a message: the same warning at another speed differs in them (a mode's growth over the run)
 _NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)? %")

@@ -153,6 +153,27 @@ def test_sweep_resumes_per_speed(tmp_path):
             assert np.array_equal(a[key], b[key])
 
 
+@pytest.mark.exudyn
+def test_sweep_overwrite_removes_the_old_figure_and_page(tmp_path):
+    """A sweep's figure and page are drawn from its table: without --overwrite a folder holding an
+    earlier sweep is refused and nothing changes; with it the old figure and page go (a new sweep
+    through run_sweep writes neither: they would describe the old one) and the new table is written."""
+    from tb_exudyn.errors import OutputFolderError
+
+    base = _base()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run_sweep(base, (250.0,), workers=1, out=tmp_path, progress=False, channels=CHANNELS)
+        for name in ("speed_sweep.png", "speed_sweep.html"):
+            (tmp_path / name).write_text("old")
+        with pytest.raises(OutputFolderError, match="overwrite"):
+            run_sweep(base, (300.0,), workers=1, out=tmp_path, progress=False, channels=CHANNELS)
+        assert (tmp_path / "speed_sweep.html").read_text() == "old"
+        run_sweep(base, (300.0,), workers=1, out=tmp_path, progress=False, channels=CHANNELS, overwrite=True)
+    assert not (tmp_path / "speed_sweep.png").exists() and not (tmp_path / "speed_sweep.html").exists()
+    assert "300" in (tmp_path / "speed_sweep.csv").read_text().splitlines()[1]
+
+
 def test_resonance_speeds_of_a_simple_span():
     """Exact problem: the resonance speeds of the sprung mass's 25 m simply supported beam. Reference:
     v = f1 d / i with the closed-form first bending frequency of the scenario's beam,
