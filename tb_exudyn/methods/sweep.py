@@ -57,6 +57,7 @@ from ..engines import check_engine
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
+from ..results.checks import grid_error_of
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
@@ -251,14 +252,10 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
 
 def grid_errors(result: RandomResponse) -> np.ndarray:
     """Per channel the estimated grid error of the result (the larger of |relative error of max sigma|
-    and the largest relative deviation over time, :class:`tb_exudyn.methods.grid_error.GridError`);
-    NaN where it was not estimated."""
-    ge = result.provenance.get("grid_error")
-    if not isinstance(ge, dict):
-        return np.full(len(result.channels), np.nan)
-    rows = ge.get("channels", {})
-    return np.array([max(abs(float(rows[c]["rel_error_max_sigma"])), float(rows[c]["rel_deviation"]))
-                     if c in rows else np.nan for c in result.channels])
+    and the largest relative deviation over time: :func:`tb_exudyn.results.checks.grid_error_of`, the
+    checks' own hook); NaN where it was not estimated."""
+    values = (grid_error_of(result.provenance, c) for c in result.channels)
+    return np.array([np.nan if v is None else v for v in values], dtype=float)
 
 
 def check_columns(result: RandomResponse) -> dict[str, Any]:
