@@ -98,7 +98,9 @@ def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
                "report), over the limit; above 1 the criterion EXCEEDS. P is the probability of exceeding the "
                f"limit in one passage (shown as &lt; {SMALLEST_SHOWN:.0e} below that). &dagger;: conditional, a "
                "caveat could change the verdict (a lightly damped mode, a loss of contact: see the Warnings and "
-               "the criterion's table below).</p>")
+               "the criterion's table below). Only the criteria whose channels are among the sweep's key "
+               "quantities are checked (e.g. no deck twist, derailment or unloading check without those channels); "
+               "a run at one speed (tb-exudyn run) checks every criterion of its channels.</p>")
     body = []
     for row in rows:
         n = row.get("checks_exceeding", math.nan)
