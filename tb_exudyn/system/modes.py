@@ -61,8 +61,21 @@ LABEL_SHARE = 0.2
 DEGENERATE_RTOL = 1e-8
 #: matrix entries below this fraction of the matrix's largest entry do not connect coordinates
 COUPLING_ZERO = 1e-14
-#: an eigenvalue with |Im lambda| below this fraction of |lambda| is real (:func:`_part_modes`)
-REAL_SNAP = 1e-11
+#: an eigenvalue with |Im lambda| below this fraction of |lambda| is real (:func:`_part_modes`): a
+#: critically damped motion's double root (a weak spring at zeta = 1) is split by round-off into a
+#: pair lambda (1 +- d) or lambda +- i d |lambda| with d of order sqrt(eps) = 1.5e-8, which of the two
+#: depending on the BLAS kernel; both become two real rows. |Im| / |lambda| = sqrt(1 - zeta^2), so a
+#: mode is snapped only if zeta >= 1 - 5e-13.
+REAL_SNAP = 1e-6
+#: the eigenvalues' absolute round-off, in units of eps times the first-order matrix's norm: an
+#: eigenvalue's real or imaginary part below ROUND_OFF * eps * ||A|| is zero (:func:`_part_modes`).
+#: A tiny root (a wheelset's slow spin root, -7e-4 1/s, on a matrix of norm 2e6 from the 2e9 N/m
+#: contacts) carries an error of eps ||A|| = 4e-10 in each part, far more than eps |lambda|: a
+#: double root of two identical wheelsets came as a pair -7e-4 +- 2.5e-14 i on one kernel (one
+#: row) and as two reals on another (two rows); an undamped bogie yaw mode's real part as +-1e-14
+#: (a damping ratio of either sign). 1e3 eps ||A|| is 3e-7 1/s there: a mode of 1 Hz loses a
+#: damping ratio below 5e-8.
+ROUND_OFF = 1e3
 #: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
 #: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
 #: wheelsets' antisymmetric longitudinal/spin modes 6e-17 to 2e-16; the least reached modes 1.3e-8
@@ -181,6 +194,25 @@ def _first_order(M: FloatArray, K: FloatArray, D: FloatArray
     return np.block([[zero, eye], [-(Li @ K @ Li.T), -(Li @ D @ Li.T)]]), None, L
 
 
+def _snap_round_off(lam: NDArray[np.complex128], A: FloatArray, B: FloatArray | None) -> NDArray[np.complex128]:
+    """The eigenvalues with what round-off decides set to zero, so that the rows of a mode table do
+    not depend on the BLAS kernel: an imaginary part below :data:`REAL_SNAP` |lambda| plus the
+    absolute floor ROUND_OFF eps ||A|| (:data:`ROUND_OFF`) and a real part below the floor. A double
+    real eigenvalue (two equal, independent motions, such as the two bogies' overdamped pitch, or a
+    critically damped motion's double root) comes either as two reals or as a conjugate pair
+    lambda +- i d: snapped, both members are real with Im = 0 and both are kept, two rows on every
+    kernel. ``B`` (the singular-M pencil's right side) scales the floor by ||B^-1|| >= 1 / ||B||,
+    which a floor of eps ||A|| / ||B|| bounds from below."""
+    fin = np.isfinite(lam)
+    scale = np.linalg.norm(A, 1) / (1.0 if B is None else max(np.linalg.norm(B, 1), 1.0))
+    floor = ROUND_OFF * np.finfo(float).eps * scale
+    re, im = lam.real.copy(), lam.imag.copy()
+    mod = np.where(fin, np.abs(lam), 0.0)
+    im[fin & (np.abs(im) <= REAL_SNAP * mod + floor)] = 0.0
+    re[fin & (np.abs(re) <= floor)] = 0.0
+    return np.where(fin, re + 1j * im, lam)
+
+
 def _part_modes(
     M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64],
     inputs: Sequence[FloatArray] | None = None,
@@ -195,10 +227,7 @@ def _part_modes(
     else:
         lam, vec = la.eig(A, B)
         vl = None
-    # a double real eigenvalue of two equal, independent motions (the two bogies' overdamped pitch)
-    # may come as a pair lambda +- i 1e-14 |lambda|: two real modes (a critically damped single
-    # motion's double root splits by sqrt(eps) and stays one pair, as before)
-    lam = np.where(np.abs(lam.imag) <= REAL_SNAP * np.abs(lam), lam.real + 0j, lam)
+    lam = _snap_round_off(lam, A, B)
     keep = np.isfinite(lam) & (lam.imag >= 0.0)
     lam, x = lam[keep], vec[:, keep]
     y = None if vl is None else vl[:, keep]

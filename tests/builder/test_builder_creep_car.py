@@ -21,6 +21,7 @@ from tb_exudyn.scenario import Train, load_vehicle  # noqa: E402
 from tb_exudyn.system.coupling import VERTICAL  # noqa: E402
 from tb_exudyn.system.creep import hertz_creep_coefficients  # noqa: E402
 
+from eigen_reference import reference_eigenvalues  # noqa: E402  (tests/builder, on pytest's path)
 from test_builder_system_modes import CONTACT_ZETA, HALF_GAUGE, car_scenario, closed_form_bridge  # noqa: E402
 
 pytestmark = pytest.mark.exudyn
@@ -137,14 +138,6 @@ def reference_creep_car(car, v: float, g: float, k_contact: float) -> tuple[np.n
     return np.diag(m), K, D
 
 
-def _eigenvalues(M, K, D) -> np.ndarray:  # noqa: ANN001
-    n = M.shape[0]
-    Minv = np.linalg.inv(M)
-    lam = np.linalg.eigvals(np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ D]]))
-    lam = np.where(np.abs(lam.imag) <= 1e-11 * np.abs(lam), lam.real + 0j, lam)
-    return lam[lam.imag >= 0.0]
-
-
 # --------------------------------------------------------------------------------------------
 # tests
 
@@ -165,7 +158,7 @@ def test_creep_car_modes_match_an_independent_model(name):
     model = build_model(sc, modal_bridge=closed_form_bridge(sc), warn=False)
     table = system_modes(sc, model=model)
     car_modes = table.select([k != "bridge" for k in table.kind])
-    ref = _eigenvalues(*reference_creep_car(car, sc.speed, sc.analysis.gravity, 2e9))
+    ref = reference_eigenvalues(*reference_creep_car(car, sc.speed, sc.analysis.gravity, 2e9))
     got = car_modes.eigenvalues
     assert got.size == ref.size, (got.size, ref.size)
     cost = np.abs(ref[:, None] - got[None, :]) / np.abs(ref)[:, None]
@@ -221,7 +214,7 @@ def _spin_reference(car, v: float, g: float) -> np.ndarray:  # noqa: ANN001
     M = np.diag([ws.mass, I])
     K = np.diag([2 * car.primary.k_x, I * om**2])
     D = c * np.outer((1.0, -r0), (1.0, -r0)) + np.diag([0.0, 2 * WEAK_SPRING_DAMPING_RATIO * I * om])
-    return _eigenvalues(M, K, D)
+    return reference_eigenvalues(M, K, D)
 
 
 @pytest.mark.parametrize("name", ["ice_motor_creep", "ice_trailer_creep"])

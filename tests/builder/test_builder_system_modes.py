@@ -20,6 +20,8 @@ from tb_exudyn.scenario import (  # noqa: E402
 )
 from tb_exudyn.structure import simply_supported_modes  # noqa: E402
 
+from eigen_reference import reference_eigenvalues  # noqa: E402  (tests/builder, on pytest's path)
+
 pytestmark = pytest.mark.exudyn
 
 SECTION = BeamSection(E=3.45e10, G=1.4e10, area=8.9, I_y=10.9, I_z=86.0, J=22.6, mass_per_length=3.4e4,
@@ -123,15 +125,6 @@ def reference_car(car, k_contact: float | None) -> tuple[np.ndarray, np.ndarray,
     if k_contact:
         m += 4 * [m_ws, m_ws, car.wheelset.inertia_roll]
     return np.diag(m), K, D
-
-
-def reference_eigenvalues(M: np.ndarray, K: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """Eigenvalues with Im >= 0 of the companion matrix [[0, I], [-M^-1 K, -M^-1 D]] (numpy)."""
-    n = M.shape[0]
-    Minv = np.linalg.inv(M)
-    A = np.block([[np.zeros((n, n)), np.eye(n)], [-Minv @ K, -Minv @ D]])
-    lam = np.linalg.eigvals(A)
-    return lam[lam.imag >= 0.0]
 
 
 def matched(lam_ref: np.ndarray, lam: np.ndarray) -> np.ndarray:
