@@ -22,6 +22,14 @@ f_n = |lambda| / 2 pi and zeta = 1 (-lambda / |lambda|), so its decay time is 1 
 rigid-body (near-zero) eigenvalue, |lambda| / 2 pi below :data:`RIGID_FREQUENCY`, has f = 0 and
 zeta = nan; an unstable one (Re lambda > 0) a negative zeta.
 
+Round-off. What only round-off decides is fixed, so that a table has the same rows, order and
+labels on every machine (numpy's OpenBLAS picks a kernel per CPU, OPENBLAS_CORETYPE): imaginary
+and real parts within round-off are zero (:func:`_snap_round_off`: a double real root gives two
+real rows whether LAPACK returns it as two reals or as a pair lambda +- i d; an undamped mode has
+zeta = 0, not +-1e-16), rows equal within :data:`DEGENERATE_RTOL` are ordered by label
+(:func:`_table_order`) and equal energy shares are named together (:data:`SHARE_TIE`).
+tests/system/test_modes_blas_kernels.py compares the tables under four kernels.
+
 Labels. Each mode's kinetic energy is split over the coordinates: the share of coordinate i is
 Re(conj(phi_i) (M phi)_i) / phi^H M phi (phi: the displacement part of the eigenvector; for the
 diagonal M the builder makes, m_ii |phi_i|^2 / sum). Kinetic, not kinetic plus strain energy: K
@@ -330,11 +338,32 @@ def damped_modes(
 # labels
 
 
+#: shares within this fraction of the total are equal (:func:`_named`): the two bogies of a
+#: symmetric car hold 0.1701 each of its longitudinal mode, and round-off, different on each BLAS
+#: kernel, would otherwise decide which one the label names
+SHARE_TIE = 1e-9
+
+
 def _named(shares: dict[str, float], threshold: float) -> list[str]:
-    """Keys holding at least ``threshold`` of the total (the largest always), largest first."""
+    """Keys holding at least ``threshold`` of the total, and the largest always (every key that
+    ties with it, within :data:`SHARE_TIE` of the total), largest first; equal shares in the order
+    of ``shares``."""
     total = sum(shares.values())
-    ranked = sorted(shares.items(), key=lambda kv: -kv[1])
-    return [k for i, (k, v) in enumerate(ranked) if i == 0 or (total > 0 and v >= threshold * total)]
+    tol = SHARE_TIE * total
+    items = list(shares.items())
+    by_size = sorted(range(len(items)), key=lambda i: -items[i][1])
+    ranked: list[tuple[str, float]] = []
+    i = 0
+    while i < len(by_size):  # runs of equal shares in their given order
+        j = i + 1
+        while j < len(by_size) and items[by_size[i]][1] - items[by_size[j]][1] <= tol:
+            j += 1
+        ranked.extend(items[k] for k in sorted(by_size[i:j]))
+        i = j
+    if not ranked:
+        return []
+    top = ranked[0][1]
+    return [k for k, v in ranked if v >= top - tol or (total > 0 and v >= threshold * total - tol)]
 
 
 def _sum_by(keys: Sequence[str], shares: FloatArray, members: Sequence[int]) -> dict[str, float]:
@@ -545,16 +574,39 @@ def mode_table(
     freq = np.where(rigid, 0.0, freq)
     with np.errstate(invalid="ignore", divide="ignore"):
         zeta = np.where(rigid, np.nan, -lam.real / np.where(mod > 0.0, mod, 1.0))
-    order = np.lexsort((np.nan_to_num(zeta, nan=-1.0), freq))
+    labels = [mode_label(s, dofs) for s in raw.shares]
+    order = _table_order(freq, zeta, labels)
     lam, freq, zeta, shares = lam[order], freq[order], zeta[order], raw.shares[order]
     return ModeTable(
         eigenvalues=lam, frequency=freq, damped_frequency=np.where(rigid[order], 0.0, lam.imag / (2.0 * math.pi)),
         damping_ratio=zeta,
         kind=tuple(mode_kind(s, dofs, f) for s, f in zip(shares, freq)),
-        label=tuple(mode_label(s, dofs) for s in shares),
+        label=tuple(labels[i] for i in order),
         shares=shares, dofs=dofs, description=description,
         reach=None if raw.reach is None else raw.reach[order], input_groups=groups,
     )
+
+
+def _table_order(freq: FloatArray, zeta: FloatArray, labels: Sequence[str]) -> NDArray[np.int64]:
+    """Rows by undamped frequency, then damping ratio; rows that round-off alone tells apart (equal
+    modes of two identical parts, such as the leading and trailing bogie's longitudinal mode, whose
+    frequencies differ by 1e-13 in an order that depends on the BLAS kernel) by their label, so that
+    the table's order is the same on every machine. Equal: frequencies within
+    :data:`DEGENERATE_RTOL` of the set's first (at least of :data:`RIGID_FREQUENCY`) and damping
+    ratios within DEGENERATE_RTOL."""
+    z = np.nan_to_num(zeta, nan=-1.0)
+    first = np.lexsort((z, freq))
+    out: list[int] = []
+    i = 0
+    while i < first.size:
+        f0, z0 = freq[first[i]], z[first[i]]
+        j = i + 1
+        while (j < first.size and abs(freq[first[j]] - f0) <= DEGENERATE_RTOL * max(f0, RIGID_FREQUENCY)
+               and abs(z[first[j]] - z0) <= DEGENERATE_RTOL):
+            j += 1
+        out.extend(sorted(first[i:j].tolist(), key=lambda k: labels[k]))
+        i = j
+    return np.asarray(out, dtype=np.int64)
 
 
 def nth_frequency(frequencies: Sequence[float], types: Sequence[str], direction: str, n: int = 1) -> float:
