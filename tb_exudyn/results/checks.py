@@ -25,8 +25,13 @@ The target probability (``probability``) is a choice, not a code value: the clau
 peaks without a probability. The default is the per-passage target used in the literature for 100
 train pairs a day over a one-year return period, 2.74e-5 (shared/reference/code_limits.md, [abstract]).
 
+What a model can answer (:data:`MODEL_REQUIREMENTS`): a criterion on a quantity the result's vehicle
+model cannot give (running safety on a car whose wheelsets follow the rail) is NOT EVALUATED, with
+the reason and what to run instead as its first caveat.
+
 Caveats (:class:`Caveat`; ``changes_verdict`` marks those that could turn the verdict, and a row with
-one says "conditional"): a lightly damped mode whose channel patterns match the location (the
+one says "conditional"; a caveat whose effect on the estimate is a number is a condition only where
+that number reaches the limit, :func:`can_turn`, docs/verdicts.md): a lightly damped mode whose channel patterns match the location (the
 damping guard, ``provenance["damping_warnings"]``); a grid error above 1 % on the channel
 (:func:`grid_error_of`, reading ``provenance["grid_error"]``); Monte Carlo samples that lost wheel-rail
 contact, or a PEM probability of a wheel load below 0 above the target; a quantity the linear model
@@ -59,6 +64,93 @@ GRID_ERROR_TOLERANCE = 0.01
 #: a ratio's denominator varying by more than this (sigma / mean) makes the first order a caveat
 RATIO_CV_TOLERANCE = 0.1
 _CAR = re.compile(r"car(\d+)\.axle(\d+)\.")
+_CAR_ANY = re.compile(r"car(\d+)\.")
+
+
+# ============================================================================================ what a model can answer
+@dataclass(frozen=True)
+class ModelRequirement:
+    """What a vehicle model must be to answer criteria on some quantities.
+
+    quantities : the quantities (tb_exudyn.scenario.limits.QUANTITIES) it concerns
+    vehicle_kinds : the vehicle kinds whose channels can answer them
+    reason : why another kind cannot (``{kind}`` is replaced by the vehicle's kind)
+    instead : what to run instead
+    """
+
+    quantities: tuple[str, ...]
+    vehicle_kinds: tuple[str, ...]
+    reason: str
+    instead: str
+
+
+#: Running safety (Q/P, dP/P, H) is decided by the wheel-rail forces of wheelsets that creep forces
+#: guide across the rail. In car15 the wheelsets follow the rail laterally, and in the ICE data no
+#: primary lateral damping acts on the bogie yaw: its lateral wheel forces are those of an undamped
+#: yaw mode held by the rail (on li_zhu_2011 Q/P 4.05 and H 295 kN against the creep cars' 4.4 kN
+#: sigma, docs/findings.md section 6). Such a row is NOT EVALUATED, not a verdict.
+MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
+    ModelRequirement(
+        ("derailment_coefficient", "wheel_unloading", "axle_force_y"), ("creep_car",),
+        "running safety needs wheel-rail forces of wheelsets guided by creep forces; the {kind} wheelsets follow "
+        "the rail",
+        "use creep-wheelset cars (vehicles ice_motor_creep, ice_trailer_creep; scenario li_zhu_2011_creep)"),
+)
+
+
+def unmet_requirement(result: Any, quantity_name: str, channel: str) -> str | None:
+    """Why the result's model cannot answer a criterion on ``quantity_name`` at ``channel`` (one
+    line: the reason and what to run instead), or None when it can or when the result carries no
+    scenario to tell (:data:`MODEL_REQUIREMENTS`)."""
+    sc = getattr(result, "scenario", None)
+    m = _CAR_ANY.match(channel)
+    if sc is None or m is None or not 1 <= int(m.group(1)) <= len(sc.train.vehicles):
+        return None
+    kind = getattr(sc.train.vehicles[int(m.group(1)) - 1], "kind", "?")
+    for req in MODEL_REQUIREMENTS:
+        if quantity_name in req.quantities and kind not in req.vehicle_kinds:
+            return f"{req.reason.format(kind=kind)}: {req.instead}"
+    return None
+
+
+# ============================================================================================ conditional or a note
+def can_turn(estimate: float, limit: float, effect: float) -> bool | None:
+    """Whether a relative change ``effect`` of the estimate (a grid error of sigma, a response still
+    growing) could carry it across the limit: |estimate| x effect >= |limit - estimate|. None when
+    either number is not finite (the caveat then keeps its own judgement)."""
+    if not (math.isfinite(estimate) and math.isfinite(limit) and math.isfinite(effect)):
+        return None
+    return abs(estimate) * abs(effect) >= abs(limit - estimate)
+
+
+def _judged(c: Caveat, effect: float | None, estimate: float, limit: float) -> Caveat:
+    """A caveat whose effect on the estimate is known, made conditional only where that effect could
+    turn the verdict, with the margin it is compared with in its text."""
+    if effect is None:
+        return c
+    turn = can_turn(estimate, limit, effect)
+    if turn is None:
+        return c
+    margin = abs(limit - estimate) / abs(estimate) if estimate else math.inf
+    tail = (f"; it moves the estimate by up to {100 * abs(effect):.2g} %, more than the {100 * margin:.2g} % "
+            "between the estimate and the limit" if turn else
+            f"; it moves the estimate by up to {100 * abs(effect):.2g} %, less than the {100 * margin:.2g} % between "
+            "the estimate and the limit: it cannot turn the verdict")
+    return Caveat(c.kind, c.text + tail, turn)
+
+
+#: the Sperling index grows as the acceleration's 0.3 power (W = 0.896 (a^3 F(f) / f)^(1/10),
+#: tb_exudyn.results.comfort): a relative change e of sigma changes the index by (1 + e)^0.3 - 1
+SPERLING_EXPONENT = 0.3
+
+
+def _effect_on_estimate(quantity_name: str, effect: float | None) -> float | None:
+    """A relative change of the channel's sigma as a relative change of the criterion's estimate:
+    the same for a level of a Gaussian process (mean + k sigma changes by at most that fraction), the
+    0.3 power for a Sperling index (:data:`SPERLING_EXPONENT`)."""
+    if effect is None or not quantity_name.startswith("sperling"):
+        return effect
+    return (1.0 + abs(effect)) ** SPERLING_EXPONENT - 1.0
 
 
 # ============================================================================================ hooks
@@ -83,6 +175,12 @@ def grid_error_of(provenance: dict[str, Any], channel: str) -> float | None:
 def damping_caveats(provenance: dict[str, Any], channel: str) -> list[Caveat]:
     """The damping guard's warnings (``provenance["damping_warnings"]``: dicts with 'channels' patterns,
     'frequency', 'label', 'damping_ratio', 'decay_time', 'growth_on_bridge') whose patterns match the channel."""
+    return [c for c, _ in _damping_effects(provenance, channel)]
+
+
+def _damping_effects(provenance: dict[str, Any], channel: str) -> list[tuple[Caveat, float | None]]:
+    """:func:`damping_caveats` with each mode's growth on the bridge: how much the channel's sigma
+    could still change with the run's length (the envelope's growth, a relative change)."""
     out = []
     seen = set()
     for w in provenance.get("damping_warnings", []) or []:
@@ -95,11 +193,13 @@ def damping_caveats(provenance: dict[str, Any], channel: str) -> list[Caveat]:
         seen.add(key)
         tau = w.get("decay_time", math.inf)
         tau_text = "infinite" if not (isinstance(tau, (int, float)) and math.isfinite(tau)) else f"{tau:.3g} s"
-        out.append(Caveat("lightly_damped_mode",
-                          f"lightly damped mode at {w.get('frequency', math.nan):.4g} Hz ({w.get('label', '')}), damping "
-                          f"ratio {w.get('damping_ratio', math.nan):.2g}, decay time {tau_text}: its sigma grows through "
-                          f"the run (about {100 * float(w.get('growth_on_bridge', math.nan)):.0f} % on the bridge) and "
-                          "depends on the run's length and the frequency grid", True))
+        growth = w.get("growth_on_bridge", math.nan)
+        growth = float(growth) if isinstance(growth, (int, float)) else math.nan
+        out.append((Caveat("lightly_damped_mode",
+                           f"lightly damped mode at {w.get('frequency', math.nan):.4g} Hz ({w.get('label', '')}), damping "
+                           f"ratio {w.get('damping_ratio', math.nan):.2g}, decay time {tau_text}: its sigma grows through "
+                           f"the run (about {100 * growth:.0f} % on the bridge) and depends on the run's length and the "
+                           "frequency grid", True), growth if math.isfinite(growth) else None))
     return out
 
 
@@ -182,33 +282,63 @@ def _bounds(statistic: str, limit: float) -> tuple[float | None, float | None, s
     return limit, None, "lower"
 
 
-def _loss_of_contact(result: Any, target: float, method: str) -> list[Caveat]:
+def _loss_of_contact(result: Any, target: float, method: str) -> dict[int | None, tuple[Caveat, float | None]]:
+    """Loss-of-contact caveats by car (key: the car's number; None: every row), each with the
+    probability of the loss (None: not a probability). Monte Carlo: samples that lost contact are
+    not physical, whatever the channel (key None). PEM: per car, the largest probability per passage
+    that one of its wheel loads falls below 0, a caveat of that car's rows where it is above the
+    target probability (the linear contact cannot lose contact). On a car whose wheel loads cannot
+    answer running safety (:func:`unmet_requirement`) it is a note, not a condition: the loads come
+    from the model that cannot answer."""
     prov = result.provenance
     if result.method != "pem":
         lost = int(prov.get("samples_with_loss_of_contact", 0) or 0)
         if lost:
-            return [Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact (minimum "
-                           f"wheel force {prov.get('min_wheel_force_N', math.nan):.4g} N): the linear contact pulls the "
-                           "wheel back, so these samples are not physical", True)]
-        return []
-    worst, where = 0.0, ""
+            return {None: (Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact "
+                                  f"(minimum wheel force {prov.get('min_wheel_force_N', math.nan):.4g} N): the linear "
+                                  "contact pulls the wheel back, so these samples are not physical", True), None)}
+        return {}
+    worst: dict[int, tuple[float, str]] = {}
     for name in result.channels:
-        if name.endswith(".force_z") and name.startswith("car"):
+        m = _CAR_ANY.match(name)
+        if m and name.endswith(".force_z") and ".axle" in name:
             try:
                 p = result.exceedance_probability(name, lower=0.0, method=method).probability
             except Exception:  # noqa: BLE001 - a channel without statistics gives no caveat
                 continue
-            if p > worst:
-                worst, where = p, name
-    if worst > target:
-        return [Caveat("loss_of_contact", f"a wheel load falls below 0 (loss of contact) with probability {worst:.2g} "
-                       f"per passage ({where}): the linear contact model cannot lose contact, so results past it are "
-                       "not physical", True)]
-    return []
+            car = int(m.group(1))
+            if p > worst.get(car, (0.0, ""))[0]:
+                worst[car] = (p, name)
+    out: dict[int | None, tuple[Caveat, float | None]] = {}
+    for car, (p, where) in worst.items():
+        if p <= target:
+            continue
+        text = (f"a wheel load of car {car} falls below 0 (loss of contact) with probability {p:.2g} per passage "
+                f"({where}), above the target {target:.3g}: the linear contact model cannot lose contact")
+        unmet = unmet_requirement(result, "wheel_unloading", where)
+        if unmet is not None:
+            out[car] = (Caveat("loss_of_contact", text + "; a note, not a condition: these wheel loads cannot answer "
+                               "running safety (" + unmet.split(":")[0] + ")", False), None)
+        else:
+            out[car] = (Caveat("loss_of_contact", text + ", so this car's results past it are not physical", True), p)
+    return out
 
 
-def _ratio_caveat(result: Any, channel: str) -> Caveat | None:
-    """First-order caveat of a ratio: the denominator's sigma / mean, when its channels are in the result."""
+def _contact_judged(c: Caveat, p_loss: float | None, verdict: str, p: float | None, target: float) -> Caveat:
+    """A PEM loss-of-contact caveat judged by its probability: the passages past the loss (probability
+    p_loss) are not physical, so the true probability of exceeding lies within P -+ p_loss. It can
+    turn OK when P + p_loss > target, EXCEEDS when P - p_loss <= target."""
+    if p_loss is None or p is None or not c.changes_verdict:
+        return c
+    turn = (p + p_loss > target) if verdict == "OK" else (p - p_loss <= target)
+    tail = (f"; P {p:.2g} -+ {p_loss:.2g} spans the target" if turn else
+            f"; P {p:.2g} -+ {p_loss:.2g} stays on one side of the target: it cannot turn the verdict")
+    return Caveat(c.kind, c.text + tail, turn)
+
+
+def _ratio_caveat(result: Any, channel: str) -> tuple[Caveat, float] | None:
+    """First-order caveat of a ratio: the denominator's sigma / mean, when its channels are in the
+    result, with its effect: the second order's largest relative rise of the ratio's sigma."""
     m = re.match(r"(car\d+\.axle\d+)\.(left|right)?\.?(derailment|unloading)\Z", channel)
     if m is None:
         return None
@@ -226,26 +356,42 @@ def _ratio_caveat(result: Any, channel: str) -> Caveat | None:
         return None
     return Caveat("linear_model", f"the ratio is taken to first order about the means, but its denominator varies by "
                   f"sigma / mean = {cv:.2g}: the second order raises the ratio's sigma by 1.5 cv^2 (1 + 2 rho^2), up to "
-                  f"{4.5 * cv ** 2:.1%} (rho: correlation of numerator and denominator), more in the tails", True)
+                  f"{4.5 * cv ** 2:.1%} (rho: correlation of numerator and denominator), more in the tails", True), \
+        4.5 * cv ** 2
+
+
+def _not_answerable(base: dict[str, Any], caveats: list[Caveat], reason: str) -> CheckRow:
+    """A row the model cannot answer: NOT EVALUATED, the reason first among its caveats."""
+    return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
+                    probability_vanmarcke=None, verdict="NOT EVALUATED",
+                    caveats=(Caveat("model", reason, False),) + tuple(caveats))
 
 
 def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: float, method: str,
-              confidence: float, global_caveats: list[Caveat]) -> CheckRow:
+              confidence: float, contact_caveats: dict[int | None, Caveat]) -> CheckRow:
     i = result.index(channel)
     unit = result.units[i]
     limit, limit_text = _limit(c, result, channel)
     with np.errstate(invalid="ignore"):
         peak3 = float(np.nanmax(np.abs(result.mean[i]) + 3.0 * result.std[i], initial=-np.inf))
-    caveats = list(damping_caveats(result.provenance, channel))
+    # (caveat, its relative effect on the estimate or None): judged against the margin at the end
+    effects: list[tuple[Caveat, float | None]] = list(_damping_effects(result.provenance, channel))
     ge = grid_error_of(result.provenance, channel)
     if ge is not None and ge > GRID_ERROR_TOLERANCE:
-        caveats.append(Caveat("grid_error", f"the frequency grid changes this channel's sigma by {100 * ge:.2g} % "
-                              f"(> {100 * GRID_ERROR_TOLERANCE:g} %)", True))
-    caveats += global_caveats
+        effects.append((Caveat("grid_error", f"the frequency grid changes this channel's sigma by {100 * ge:.2g} % "
+                               f"(> {100 * GRID_ERROR_TOLERANCE:g} %)", True), ge))
+    m = _CAR_ANY.match(channel)
+    contact = [contact_caveats[k] for k in dict.fromkeys((None, int(m.group(1)) if m else None)) if k in contact_caveats]
+    for cav, _ in contact:
+        effects.append((cav, None))
     if c.check:
-        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+        effects.append((Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False), None))
+    caveats = [e for e, _ in effects]
     base = dict(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=unit,
                 statistic=c.statistic, limit=limit, limit_text=limit_text, peak_3sigma=peak3, target=target)
+    reason = unmet_requirement(result, c.quantity, channel)
+    if reason is not None:
+        return _not_answerable(base, [e for e in caveats if e.kind == "limit_unverified"], reason)
     if c.statistic in ("sliding_mean_max_abs", "rms_window"):
         return CheckRow(**base, estimate=math.nan, estimate_text="", probability=None, interval=None,
                         probability_vanmarcke=None, verdict="NOT EVALUATED",
@@ -272,8 +418,10 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
                                   f"criterion's {c.window:g} s): the index depends on the window length", True))
         if isinstance(c.limit, GradedLimit):
             grade = c.limit.grade(estimate) or "beyond the last grade"
+        judged = [_judged(e, _effect_on_estimate(c.quantity, eff), estimate, limit) for e, eff in effects] \
+            + caveats[len(effects):]
         return CheckRow(**base, estimate=estimate, estimate_text=text, probability=prob, interval=interval,
-                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(caveats))
+                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(judged))
     lower, upper, kind = _bounds(c.statistic, limit)
     pv = None
     if result.method == "pem":
@@ -289,6 +437,9 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
             caveats.append(Caveat("first_passage", f"{other.capitalize()}'s first passage gives P = {pv:.3g}: the "
                                   f"verdict would be {verdict_other} (Poisson errs high for narrow-band responses)", True))
         interval = None
+        losses = {id(cav): pl for cav, pl in contact}
+        caveats = [_contact_judged(cv, losses.get(id(cv)), verdict, p, target) for cv in caveats]
+        effects = [(cv, eff) for cv, (_, eff) in zip(caveats, effects)]
     else:
         ex = result.exceedance_probability(channel, upper=upper, lower=lower, confidence=confidence)
         p, interval = ex.probability, ex.interval
@@ -300,16 +451,17 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
         assert interval is not None
         verdict = "OK" if interval[1] <= target else ("EXCEEDS" if interval[0] > target else "UNDETERMINED")
     if c.quantity == "derailment_coefficient":
-        caveats.append(Caveat("linear_model", "the 15-DOF model has one lateral contact per wheelset: the whole axle "
+        caveats.append(Caveat("linear_model", "the model has one lateral wheel-rail force per wheelset: the whole axle "
                               "force H is put on this wheel, an upper bound of its Q/P", verdict != "OK"))
+    judged = [_judged(e, eff, estimate, limit) for e, eff in effects] + caveats[len(effects):]
     rc = _ratio_caveat(result, channel) if quantity(c.quantity).derived and c.quantity in (
         "derailment_coefficient", "wheel_unloading") else None
     if rc is not None:
-        caveats.append(rc)
+        judged.append(_judged(rc[0], rc[1], estimate, limit))
     if isinstance(c.limit, GradedLimit):
         grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
     return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
-                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(caveats))
+                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(judged))
 
 
 def _channel_window(result: Any, channel: str) -> float | None:
@@ -367,7 +519,10 @@ def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target
     caveats = [Caveat("statistic", "one deterministic run: a single sample of the response (no probability)", False)]
     if c.check:
         caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
-    if stat is None or not math.isfinite(limit):
+    reason = unmet_requirement(result, c.quantity, channel)
+    if reason is not None:
+        caveats.insert(0, Caveat("model", reason, False))
+    if stat is None or not math.isfinite(limit) or reason is not None:
         verdict, estimate = "NOT EVALUATED", math.nan
     else:
         estimate = float(stat)
@@ -398,7 +553,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
         raise SettingError("checks", "method", method, " | ".join(st.METHODS))
     sets = _limit_sets(limits)
     run = None if hasattr(result, "method") else _run_view(result)
-    global_caveats = [] if run is not None else _loss_of_contact(result, probability, method)
+    contact_caveats = {} if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
              + (" (the default: the literature's 100 train pairs a day over a 1-year return period, code_limits.md "
@@ -417,7 +572,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
                 continue
             for name in names:
                 rows.append(_run_row(c, ls.name, run, name, probability) if run is not None else
-                            _rows_for(c, ls.name, result, name, probability, method, confidence, global_caveats))
+                            _rows_for(c, ls.name, result, name, probability, method, confidence, contact_caveats))
     sc = result.scenario
     return ChecksTable(
         method=getattr(result, "method", "deterministic"), scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
@@ -444,5 +599,6 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     return lines
 
 
-__all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "VERDICTS",
-           "checks", "damping_caveats", "default_limits", "grid_error_of", "static_axle_load", "verdict_lines"]
+__all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "MODEL_REQUIREMENTS",
+           "ModelRequirement", "VERDICTS", "can_turn", "checks", "damping_caveats", "default_limits", "grid_error_of",
+           "static_axle_load", "unmet_requirement", "verdict_lines"]
