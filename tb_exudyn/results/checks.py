@@ -92,9 +92,8 @@ class ModelRequirement:
 MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
     ModelRequirement(
         ("derailment_coefficient", "wheel_unloading", "axle_force_y"), ("creep_car",),
-        "running safety needs wheel-rail forces of wheelsets guided by creep forces; the {kind} wheelsets follow "
-        "the rail",
-        "use creep-wheelset cars (vehicles ice_motor_creep, ice_trailer_creep; scenario li_zhu_2011_creep)"),
+        "running safety needs creep-guided wheelsets; {kind}'s follow the rail",
+        "use creep cars (ice_motor_creep, ice_trailer_creep), e.g. scenario li_zhu_2011_creep"),
 )
 
 
@@ -318,7 +317,7 @@ def _loss_of_contact(result: Any, target: float, method: str) -> dict[int | None
         unmet = unmet_requirement(result, "wheel_unloading", where)
         if unmet is not None:
             out[car] = (Caveat("loss_of_contact", text + "; a note, not a condition: these wheel loads cannot answer "
-                               "running safety (" + unmet.split(":")[0] + ")", False), None)
+                               "it (" + unmet.split(":")[0] + ")", False), None)
         else:
             out[car] = (Caveat("loss_of_contact", text + ", so this car's results past it are not physical", True), p)
     return out
@@ -594,8 +593,9 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
         est = format_value(r.estimate, r.unit, with_unit=False)
         lim = format_value(r.limit, r.unit)
         tags = sorted({c.kind for c in r.caveats if c.changes_verdict})
+        why = next((c.text.split(":")[0] for c in r.caveats if c.kind == "model"), "")
         lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim}{p}"
-                     + (f" (caveats: {', '.join(tags)})" if tags else ""))
+                     + (f" (caveats: {', '.join(tags)})" if tags else "") + (f" ({why})" if why else ""))
     return lines
 
 
