@@ -23,7 +23,7 @@ from .execution.output import SWEEP_FIGURE
 from ._version import __version__
 from .atomic import write_text_atomic
 from .results import find_results
-from .results.checks import verdict_lines
+from .results.checks import default_limits, verdict_lines
 from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
@@ -192,6 +192,7 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(load_scenario(args.scenario), args)
+    default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     out = check_writable(args.out)
     with _folder_lock(out):
         return _run(args, scenario, out)
@@ -266,6 +267,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
     if args.freq_spacing is not None and args.freq_spacing not in sweep.FREQ_SPACINGS:
         raise SettingError("command line", "--freq-spacing", args.freq_spacing, " or ".join(sweep.FREQ_SPACINGS))
+    default_limits()  # the limit files of each speed's checks, before the folder is made
     out = check_writable(args.out)
     options = None
     if args.precision != "float64":
@@ -313,6 +315,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_report(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
+    default_limits()  # the verdicts' limit files too: a broken one is an error, not "Verdicts: not computed"
     with _folder_lock(args.folder):
         print(_figures().write_report(args.folder, args.html, found=found))
     return EXIT_OK

@@ -57,7 +57,7 @@ from ..engines import check_engine
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
-from ..results.checks import grid_error_of
+from ..results.checks import default_limits, grid_error_of
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
@@ -379,6 +379,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
         raise SettingError("run_sweep", "speeds_kmh", list(speeds), "distinct positive speeds [km/h]")
     if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
+    default_limits()  # the limit files of check_columns, read and checked before any speed runs
     quantities = key_patterns(scenario, channels)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)

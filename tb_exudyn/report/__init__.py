@@ -44,7 +44,7 @@ from ..plotting import data as pdata
 from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
-from ..results.checks import checks as run_checks
+from ..results.checks import checks as run_checks, default_limits
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
 from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, Verdicts, as_check_entries,
                       as_mode_entries, check_entries, code_limit, compare_findings, screening, static_axle_load, summary,
@@ -88,8 +88,9 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     report_warnings = list(warnings)
     if checks is None:  # the checks of the first random response (the verdicts at the top)
         first = _first_random(found)
+        limits = default_limits() if first is not None else None  # a broken limit file: its error, not "not computed"
         try:
-            checks = run_checks(first) if first is not None else None
+            checks = run_checks(first, limits) if first is not None else None
         except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
             report_warnings.append(f"code checks not computed: {exc}")
     verdicts = verdicts_of(checks)

@@ -44,15 +44,17 @@ from __future__ import annotations
 
 import fnmatch
 import math
+import os
 import re
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from ..errors import SettingError
+from ..errors import ScenarioError, SettingError
 from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
-from ..scenario.registry import model_files
+from ..scenario.registry import model_files, models_dir
+from ..scenario.schema import source_file
 from . import statistics as st
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
 from .empirical import binomial_interval
@@ -253,8 +255,33 @@ def _limit(c: Criterion, result: Any, channel: str) -> tuple[float, str]:
 
 # ============================================================================================ the checks
 def default_limits() -> list[LimitSet]:
-    """Every limit file shipped in models/limits/."""
-    return [load_limits(name) for name in sorted(model_files("limits"))]
+    """Every limit file of the model library (models/limits/, or ``$TB_EXUDYN_MODELS/limits``), read and
+    validated: the first file that is not valid raises its ScenarioError (file, key, what is allowed),
+    and so does a library without any limit file (no verdict could be given). Callers that give verdicts
+    after a run (the command line, :func:`tb_exudyn.methods.sweep.run_sweep`) call it before the run."""
+    files = model_files("limits")
+    if not files:
+        folder = models_dir() / "limits"
+        env = os.environ.get("TB_EXUDYN_MODELS")
+        allowed = "a limits/ folder holding at least one limit file (*.toml, as tb_exudyn's models/limits)"
+        if env:
+            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, "no limit file: no verdict could be given")
+        raise ScenarioError(str(folder), "<file>", str(folder), allowed, "no limit file: no verdict could be given")
+    return _unique_names([load_limits(path) for _, path in sorted(files.items())])
+
+
+def _unique_names(sets: list[LimitSet]) -> list[LimitSet]:
+    """The sets, refused when two share a name (their verdicts, named <name>/<id>, would overwrite each other)."""
+    seen: dict[str, LimitSet] = {}
+    for ls in sets:
+        if ls.name in seen:
+            other = source_file(seen[ls.name]) or "a LimitSet given in Python"
+            allowed = f"a name no other limit file of the checks uses (also in {other})"
+            if source_file(ls) is None:
+                raise SettingError("checks", "limits", ls.name, allowed, "duplicate limits name")
+            raise ScenarioError(source_file(ls), "name", ls.name, allowed, "duplicate limits name")
+        seen[ls.name] = ls
+    return sets
 
 
 def _limit_sets(limits: Any) -> list[LimitSet]:
@@ -270,7 +297,7 @@ def _limit_sets(limits: Any) -> list[LimitSet]:
         else:
             raise SettingError("checks", "limits", type(item).__name__,
                                "None (every shipped file), a limit file name or path, a LimitSet, or a list of them")
-    return out
+    return _unique_names(out)
 
 
 def _bounds(statistic: str, limit: float) -> tuple[float | None, float | None, str]:

@@ -7,6 +7,15 @@ the code needs one), and the limit itself: a fixed value, speed bands, graded le
 the static wheel or axle load. ``check = true`` (with a note saying what) marks a criterion whose
 clause text was not read. No limit lives in Python code.
 
+A file is refused as a whole (a ScenarioError naming the file, the key and what is allowed) unless every
+criterion can give a verdict: each key of the schema present and of its type, a quantity of
+:data:`QUANTITIES` and a statistic of :data:`STATISTICS` that fits it (``window_max`` for the windowed
+indices of :data:`INDEX_QUANTITIES` and only for them), a window or averaging length only where the
+statistic uses one, limit values finite (NaN is never evaluated, inf always passes) and > 0 for every
+statistic but ``min`` (a lower bound, which may be 0 or negative), ids unique, at least one criterion,
+and ``name`` an identifier. The file itself is read as scenarios are (:func:`.toml_io.read_toml`: a
+regular UTF-8 file of bounded size; a FIFO, device, directory or binary file is refused).
+
     [[criteria]]
     id = "deck_twist_3m"
     title = "deck twist over 3 m, straight track"
@@ -74,7 +83,7 @@ from pathlib import Path
 from typing import ClassVar, Literal, Sequence
 
 from ..errors import SettingError
-from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param
+from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param, set_source_file
 from .io import resolve_model_path
 from .toml_io import read_toml
 
@@ -157,12 +166,28 @@ STATISTICS: dict[str, str] = {
 }
 Statistic = Literal["max_abs", "max", "min", "rms_window", "window_max", "sliding_mean_max_abs"]
 
+#: the quantities that are windowed indices, not Gaussian processes: checked by ``window_max`` only (and
+#: ``window_max`` checks only them: on a random process it would read the mean and drop sigma)
+INDEX_QUANTITIES = ("sperling_z", "sperling_y")
+#: the statistics that use ``window`` and ``averaging_length`` (a value given to another one would be ignored)
+WINDOW_STATISTICS = ("rms_window", "window_max")
+AVERAGING_STATISTICS = ("sliding_mean_max_abs",)
+
 
 def quantity(name: str) -> Quantity:
     """The quantity of that name (SettingError listing the names otherwise)."""
     if name not in QUANTITIES:
         raise SettingError("quantity", "name", name, " | ".join(QUANTITIES))
     return QUANTITIES[name]
+
+
+def _finite(ctx: Context, key: str, values: Sequence[float]) -> None:
+    """Every limit value a finite number: NaN would leave the criterion NOT EVALUATED and inf would always pass."""
+    for i, v in enumerate(values):
+        if not math.isfinite(v):
+            sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
+            raise sub.error(v, "a finite number in the quantity's unit", "not a limit (nan is never evaluated, "
+                            "inf always passes)")
 
 
 def channels_for(name: str, channels: Sequence[str]) -> list[str]:
@@ -184,7 +209,7 @@ class FixedLimit(Validated):
         return self.value
 
     def _validate(self, ctx: Context) -> None:
-        pass
+        _finite(ctx, "value", (self.value,))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -209,6 +234,7 @@ class SpeedBandLimit(Validated):
         if len(self.values) != len(self.speed_max_kmh) or not self.values:
             raise ctx.child("values").error(list(self.values), f"one value per band ({len(self.speed_max_kmh)})",
                                             "length mismatch")
+        _finite(ctx, "values", self.values)
         if any(b <= a for a, b in zip(self.speed_max_kmh, self.speed_max_kmh[1:])):
             raise ctx.child("speed_max_kmh").error(list(self.speed_max_kmh), "strictly increasing speeds", "not increasing")
         if not math.isinf(self.speed_max_kmh[-1]):
@@ -239,6 +265,11 @@ class GradedLimit(Validated):
     def _validate(self, ctx: Context) -> None:
         if len(self.labels) != len(self.values) or not self.values:
             raise ctx.child("values").error(list(self.values), f"one value per label ({len(self.labels)})", "length mismatch")
+        _finite(ctx, "values", self.values)
+        for i, label in enumerate(self.labels):
+            if not label.strip() or label in self.labels[:i]:
+                raise ctx.child("labels").child(i).error(label, "a grade name, not empty and not used before in labels",
+                                                         "empty" if not label.strip() else "duplicate label")
         if any(b <= a for a, b in zip(self.values, self.values[1:])):
             raise ctx.child("values").error(list(self.values), "strictly increasing values (best grade first)", "not increasing")
 
@@ -262,7 +293,9 @@ class StaticLoadLimit(Validated):
         return self.factor * (self.constant + self.coefficient * load)
 
     def _validate(self, ctx: Context) -> None:
-        pass
+        if not self.constant + self.coefficient > 0:
+            raise ctx.child("coefficient").error(self.coefficient, "a coefficient > 0 or a constant > 0 (the limit "
+                                                 "factor x (constant + coefficient x load) must be > 0)", "the limit is 0")
 
 
 Limit = FixedLimit | SpeedBandLimit | GradedLimit | StaticLoadLimit
@@ -315,6 +348,19 @@ class Criterion(Validated):
                 raise ctx.child(key).error(getattr(self, key), "a non-empty string", "empty")
         if self.quantity not in QUANTITIES:
             raise ctx.child("quantity").error(self.quantity, " | ".join(QUANTITIES), "unknown quantity")
+        index = self.quantity in INDEX_QUANTITIES
+        if index != (self.statistic == "window_max"):
+            allowed = ("'window_max' (a windowed index, not a random process)" if index else
+                       " | ".join(repr(s) for s in STATISTICS if s != "window_max")
+                       + f" ('window_max' is for the windowed indices {', '.join(INDEX_QUANTITIES)})")
+            raise ctx.child("statistic").error(self.statistic, allowed, f"not a statistic of quantity {self.quantity!r}")
+        if self.window and self.statistic not in WINDOW_STATISTICS:
+            raise ctx.child("window").error(self.window, f"0 or absent: statistic {self.statistic!r} has no window "
+                                            f"(only {', '.join(WINDOW_STATISTICS)})", "would be ignored")
+        if self.averaging_length and self.statistic not in AVERAGING_STATISTICS:
+            raise ctx.child("averaging_length").error(self.averaging_length, f"0 or absent: statistic {self.statistic!r} "
+                                                      f"averages nothing (only {', '.join(AVERAGING_STATISTICS)})",
+                                                      "would be ignored")
         if self.statistic in ("rms_window", "window_max") and self.window <= 0:
             raise ctx.child("window").error(self.window, f"a window length > 0 s for statistic {self.statistic!r}", "missing window")
         if self.statistic == "sliding_mean_max_abs" and self.averaging_length <= 0:
@@ -324,6 +370,25 @@ class Criterion(Validated):
             raise ctx.child("band").error(list(self.band), "[] or [f_low, f_high] in Hz with f_low < f_high", "bad band")
         if self.check and not self.note.strip():
             raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
+        self._validate_limit(ctx.child("limit"))
+
+    def _validate_limit(self, ctx: Context) -> None:
+        """The limit's sign. Every statistic but 'min' compares a largest value (|value|, value, window r.m.s.,
+        index, sliding mean) with an upper bound: a limit <= 0 fails every run (max_abs, rms_window, window_max and
+        the sliding mean are >= 0) and is no code value. A lower bound ('min') may be 0 or negative (e.g. a wheel
+        load >= 0: no loss of contact). Upper grades make no lower bound."""
+        lim = self.limit
+        if self.lower_bound and isinstance(lim, GradedLimit):
+            raise ctx.child("kind").error(lim.kind, "fixed | speed_bands | static_load with statistic 'min' (grades "
+                                          "are upper ends, best first)", "grades with a lower bound")
+        if self.lower_bound or isinstance(lim, StaticLoadLimit):  # static_load: > 0 by its own checks
+            return
+        key, values = ("value", (lim.value,)) if isinstance(lim, FixedLimit) else ("values", lim.values)
+        for i, v in enumerate(values):
+            if not v > 0:
+                sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
+                raise sub.error(v, f"a number > 0: statistic {self.statistic!r} is compared with an upper bound (only "
+                                "'min', a lower bound, takes a limit <= 0)", "not a positive limit")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -348,6 +413,9 @@ class LimitSet(Validated):
         return [c for c in self.criteria if c.quantity == name]
 
     def _validate(self, ctx: Context) -> None:
+        if not _ID.fullmatch(self.name):
+            raise ctx.child("name").error(self.name, "lower-case letters, digits and _, starting with a letter (the "
+                                          "file's stem; the verdicts are named <name>/<criterion id>)", "bad identifier")
         if not self.criteria:
             raise ctx.child("criteria").error([], "at least one [[criteria]] table", "empty")
         seen: set[str] = set()
@@ -368,10 +436,10 @@ def load_limits(name_or_path: str | Path) -> LimitSet:
     Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
     """
     path = resolve_model_path(name_or_path, "limits")
-    return limits_from_dict(read_toml(path), str(path))
+    return set_source_file(limits_from_dict(read_toml(path), str(path)), str(path))
 
 
 __all__ = [
-    "Criterion", "FixedLimit", "GradedLimit", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
+    "Criterion", "FixedLimit", "GradedLimit", "INDEX_QUANTITIES", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
     "SpeedBandLimit", "StaticLoadLimit", "channels_for", "limits_from_dict", "load_limits", "quantity",
 ]

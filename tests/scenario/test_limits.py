@@ -5,12 +5,16 @@ The values are checked against shared/reference/code_limits.md, typed again here
 
 from __future__ import annotations
 
+import math
+import shutil
 import tomllib
 import typing
 
 import pytest
 
 from tb_exudyn.errors import SettingError
+from tb_exudyn.results import checks as checks_module
+from tb_exudyn.results.checks import default_limits
 from tb_exudyn.scenario import ScenarioError, list_models, model_files
 from tb_exudyn.scenario.limits import (
     QUANTITIES,
@@ -191,6 +195,39 @@ def test_the_good_file_loads(tmp_path):
     (lambda d: d["criteria"][0].update(statistic="rms_window"), "criteria[0].window", "missing window"),
     (lambda d: d["criteria"][0].update(colour="red"), "criteria[0].colour", "unknown key"),
     (lambda d: d["criteria"][0].update(band=[20.0, 1.0]), "criteria[0].band", "bad band"),
+    # issue 27: every value a verdict needs, present, of its type, finite, > 0 for an upper bound
+    (lambda d: d["criteria"][0]["limit"].update(value=-1.0), "criteria[0].limit.value", "not a positive limit"),
+    (lambda d: d["criteria"][0]["limit"].update(value=0.0), "criteria[0].limit.value", "not a positive limit"),
+    (lambda d: d["criteria"][0]["limit"].update(value="1.0"), "criteria[0].limit.value", "wrong type"),
+    (lambda d: d["criteria"][0]["limit"].update(value=float("nan")), "criteria[0].limit.value", "nan is never evaluated"),
+    (lambda d: d["criteria"][0]["limit"].update(value=float("inf")), "criteria[0].limit.value", "inf always passes"),
+    (lambda d: d["criteria"][0]["limit"].pop("value"), "criteria[0].limit.value", "missing key"),
+    (lambda d: d["criteria"][1]["limit"].update(values=[4.5e-3, float("inf")]), "criteria[1].limit.values[1]",
+     "inf always passes"),
+    (lambda d: d["criteria"][1]["limit"].update(values=[4.5e-3, 0.0]), "criteria[1].limit.values[1]", "not a positive limit"),
+    (lambda d: d["criteria"][0].update(limit={"kind": "grades", "labels": ["a", "b"], "values": [1.0, float("nan")]}),
+     "criteria[0].limit.values[1]", "nan is never evaluated"),
+    (lambda d: d["criteria"][0].update(limit={"kind": "grades", "labels": ["a", "b"], "values": [-2.0, -1.0]}),
+     "criteria[0].limit.values[0]", "not a positive limit"),
+    (lambda d: d["criteria"][0].update(limit={"kind": "grades", "labels": ["a", "a"], "values": [1.0, 2.0]}),
+     "criteria[0].limit.labels[1]", "duplicate label"),
+    (lambda d: d["criteria"][0].update(statistic="min", limit={"kind": "grades", "labels": ["a"], "values": [1.0]}),
+     "criteria[0].limit.kind", "grades with a lower bound"),
+    (lambda d: d["criteria"][0].update(quantity="axle_force_y", limit={
+        "kind": "static_load", "reference": "static_axle_load", "factor": 1.0, "constant": 0.0, "coefficient": 0.0}),
+     "criteria[0].limit.coefficient", "the limit is 0"),
+    (lambda d: d["criteria"][0].update(quantity="axle_force_y", limit={
+        "kind": "static_load", "reference": "static_axle_load", "factor": 0.0, "constant": 1e4, "coefficient": 0.0}),
+     "criteria[0].limit.factor", "out of range"),
+    (lambda d: d["criteria"][0].update(statistic="window_max", window=5.0), "criteria[0].statistic",
+     "not a statistic of quantity 'body_acc_z'"),
+    (lambda d: d["criteria"][0].update(quantity="sperling_z"), "criteria[0].statistic",
+     "not a statistic of quantity 'sperling_z'"),
+    (lambda d: d["criteria"][0].update(window=5.0), "criteria[0].window", "would be ignored"),
+    (lambda d: d["criteria"][0].update(averaging_length=2.0), "criteria[0].averaging_length", "would be ignored"),
+    (lambda d: d.update(criteria=[]), "criteria", "at least one"),
+    (lambda d: d.pop("criteria"), "criteria", "missing key"),
+    (lambda d: d.update(name="My limits"), "name", "bad identifier"),
 ])
 def test_bad_limit_file_is_a_one_line_error_naming_file_and_key(tmp_path, change, key, words):
     err = _bad(tmp_path / "bad_limits.toml", change)
@@ -214,3 +251,79 @@ def test_python_construction_is_validated_too():
     assert StaticLoadLimit(reference="static_axle_load", factor=1.0, constant=0.0, coefficient=0.5).value_at(
         static_axle_load=10.0) == 5.0
     assert limits_from_dict(GOOD).criteria[0].limit == FixedLimit(value=1.0)
+
+
+# ============================================================================================ issue 27
+def test_a_lower_bound_may_be_zero_or_negative_an_upper_bound_not(tmp_path):
+    """Statistic 'min' is a lower bound (STATISTICS): 0 N on the wheel load (no loss of contact) and a negative
+    bound are limits; every other statistic compares a largest value with an upper bound, which must be > 0."""
+    for value in (0.0, -5e3):
+        data = tomllib.loads(_toml(GOOD))
+        data["criteria"][0].update(quantity="wheel_force_z", statistic="min", limit={"kind": "fixed", "value": value})
+        path = tmp_path / "lower.toml"
+        path.write_text(_toml(data))
+        c = load_limits(path).criteria[0]
+        assert c.lower_bound and c.limit_value() == value
+    with pytest.raises(ScenarioError, match="not a positive limit"):
+        Criterion(id="x", title="t", clause="c", source="s", quantity="wheel_force_z", statistic="max",
+                  limit=FixedLimit(value=0.0))
+    with pytest.raises(ScenarioError, match="inf always passes"):
+        FixedLimit(value=float("inf"))
+
+
+def test_the_shipped_files_follow_the_rules_they_are_checked_by():
+    """Every shipped criterion: limit values finite and > 0 (none is a lower bound), window_max exactly on the
+    Sperling indices. The rules were written after reading them: none of them is refused."""
+    for name in SHIPPED:
+        for c in load_limits(name).criteria:
+            values = getattr(c.limit, "values", None) or (getattr(c.limit, "value", None),)
+            if c.limit.kind != "static_load":
+                assert all(math.isfinite(v) and v > 0 for v in values), (name, c.id)
+            assert (c.statistic == "window_max") == c.quantity.startswith("sperling"), (name, c.id)
+            assert not c.lower_bound
+
+
+def _library(tmp_path, monkeypatch):
+    """A copy of the shipped model library as TB_EXUDYN_MODELS; returns its limits/ folder."""
+    from tb_exudyn.scenario import models_dir
+
+    shutil.copytree(models_dir(), tmp_path / "models")
+    monkeypatch.setenv("TB_EXUDYN_MODELS", str(tmp_path / "models"))
+    return tmp_path / "models" / "limits"
+
+
+def test_default_limits_are_the_library_files_read_through_the_same_checks(tmp_path, monkeypatch):
+    """default_limits (the sets the CLI, run_sweep and the report load before any work) reads every file of
+    the library in use; a broken one is its ScenarioError."""
+    limits = _library(tmp_path, monkeypatch)
+    assert [ls.name for ls in default_limits()] == SHIPPED
+    path = limits / "ride_comfort.toml"
+    path.write_text(path.read_text().replace("value = 1.3\n", "value = nan\n", 1))
+    with pytest.raises(ScenarioError) as info:
+        default_limits()
+    assert info.value.file == str(path) and info.value.key == "criteria[0].limit.value"
+
+
+def test_a_library_without_limit_files_is_refused(tmp_path, monkeypatch):
+    """No limit file would mean no verdict at all, with exit 0: the environment variable is named."""
+    limits = _library(tmp_path, monkeypatch)
+    for p in limits.glob("*.toml"):
+        p.unlink()
+    with pytest.raises(SettingError) as info:
+        default_limits()
+    assert info.value.key == "TB_EXUDYN_MODELS" and "no limit file" in str(info.value)
+    assert checks_module._limit_sets([]) == []  # an explicit empty list is the caller's choice
+
+
+def test_two_limit_files_of_one_name_are_refused(tmp_path, monkeypatch):
+    """Verdicts are named <file name>/<criterion id>: two files of one name would overwrite each other's rows
+    (e.g. the sweep's columns)."""
+    limits = _library(tmp_path, monkeypatch)
+    copy = limits / "zz_copy.toml"
+    shutil.copyfile(limits / "ride_comfort.toml", copy)
+    with pytest.raises(ScenarioError) as info:
+        default_limits()
+    assert info.value.file == str(copy) and info.value.key == "name" and "ride_comfort.toml" in str(info.value)
+    same = load_limits("ride_comfort")
+    with pytest.raises(SettingError, match="duplicate limits name"):
+        checks_module._limit_sets([same, limits_from_dict(tomllib.loads((limits / "ride_comfort.toml").read_text()))])
