@@ -9,7 +9,9 @@ from .model import (
     Bearings,
     Bridge,
     Car15,
+    CONSTRUCTION_TYPES,
     Car15Geometry,
+    CodeData,
     CreepCar,
     GivenCreep,
     HertzCreep,
@@ -26,14 +28,17 @@ from .model import (
     Track,
     Train,
     Vehicle,
+    MASS_CASES,
     WheelRailContact,
     WheelsetInertia,
     YawDamper,
+    with_mass_case,
 )
 from .registry import list_models, model_files, models_dir
 from .schema import describe_fields, to_dict
 
 __all__ = [
+    "CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "with_mass_case",
     "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep",
     "MovingForce", "Pier", "RigidBodyInertia", "RigidWheelset", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
     "Suspension", "Suspension3", "Track", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
