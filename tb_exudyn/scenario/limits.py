@@ -116,7 +116,8 @@ QUANTITIES: dict[str, Quantity] = {q.name: q for q in (
     Quantity("deck_acc_z", "m/s^2", "deck vertical acceleration at a station, the whole analysed band",
              ("bridge.span*.acc_z",), False),
     Quantity("deck_acc_z_en1990", "m/s^2",
-             "deck vertical acceleration at a station with frequencies up to max(30 Hz, 1.5 f1, f3) only "
+             "deck vertical acceleration at a station along the track (the track centre line at rail level: "
+             "bending plus torsion times the track's offset) with frequencies up to max(30 Hz, 1.5 f1, f3) only "
              "(EN 1990 A2.4.4.2.1; f1, f3 the first and third deck frequencies)",
              ("bridge.span*.acc_z_en1990",), True),
     Quantity("deck_twist_3m", "m",

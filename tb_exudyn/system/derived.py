@@ -10,11 +10,15 @@ on every sample alike. The names follow the quantity vocabulary of
 channel                                unit    kind    definition
 =====================================  ======  ======  =========================================================
 bridge.span<k>.<st>.acc_z_en1990       m/s^2   linear  deck vertical acceleration at station <st> (q1, mid, q3)
+                                                       along the track: on the track centre line at rail level,
+                                                       w + e theta (the girder's bending plus its torsion times
+                                                       the track's offset e; the rail shapes at the station),
                                                        from the bridge modes up to f_cut = max(30 Hz, 1.5 f1, f3)
                                                        only (f1, f3: first and third vertical bridge modes), EN
                                                        1990 A2.4.4.2.1 "frequencies (including ... associated
-                                                       mode shapes) up to": the station's shape row with the
-                                                       modes above f_cut set to zero (exact in every method)
+                                                       mode shapes) up to": that shape row with the modes above
+                                                       f_cut set to zero (exact in every method). The plain
+                                                       ``acc_z`` stays on the girder axis
 bridge.span<k>.<st>.twist_3m           m       linear  deck twist over 3 m centred at station <st> (q1, mid, q3,
                                                        and ``start``/``end`` 1.5 m inside the span's ends, where
                                                        twist peaks): [z_L - z_R](x + 1.5) - [z_L - z_R](x - 1.5)
@@ -226,12 +230,14 @@ def derived_catalogue(channels: Sequence[Channel], stations: dict[str, float], b
         for st, x in stations.items():
             base = f"bridge.{st}"
             if f"{base}.acc_z" in by_name and base in station_index:
-                shape = bridge.station_shapes[station_index[base], 1] * keep
+                # along the track (EN 1990 A2.4.4.2.1 limits the deck acceleration of each track): the
+                # rail-level vertical shape on the track centre line, w + e theta, as the wheels see it
+                shape = bridge.rail_shapes(np.array([x])).z[0] * keep
                 add_aux(f"{base}.en1990", (("acc", "m/s^2", 2),), shape)
                 out.append(DerivedChannel(
                     f"{base}.acc_z_en1990", "m/s^2", "linear", ((f"{base}.en1990.acc_z", 1.0),),
-                    description=f"deck vertical acceleration from the bridge modes up to f_cut = {cut:.4g} Hz "
-                                "(EN 1990 A2.4.4.2.1: max(30 Hz, 1.5 f1, f3))"))
+                    description=f"deck vertical acceleration on the track centre line (torsion included) from the "
+                                f"bridge modes up to f_cut = {cut:.4g} Hz (EN 1990 A2.4.4.2.1: max(30 Hz, 1.5 f1, f3))"))
         for st, x in stations.items():
             base = f"bridge.{st}"
             names = []

@@ -85,7 +85,7 @@ def test_twist_is_the_rail_height_difference_over_3_m(setup):
 def test_en1990_acceleration_keeps_the_modes_up_to_the_code_range(setup):
     """Reference: f_cut = max(30 Hz, 1.5 f1, f3) with the closed-form vertical frequencies
     (j pi / L)^2 sqrt(EI / m) / (2 pi) of both spans (first and third lowest); the channel's shape row
-    is the station's vertical row with every mode above f_cut set to zero (exact)."""
+    is the track line's vertical row with every mode above f_cut set to zero (exact)."""
     bridge, _, _, cat = setup
     fv = sorted((j * math.pi / L) ** 2 * math.sqrt(EI_V / MU) / (2 * math.pi) for L in SPANS for j in range(1, 8))
     fv = [x for x in fv if x <= 80.0]
@@ -93,10 +93,41 @@ def test_en1990_acceleration_keeps_the_modes_up_to_the_code_range(setup):
     assert abs(cat.cut_frequency / cut - 1) < 1e-12
     assert abs(en1990_cut_frequency(bridge.frequencies, bridge.mode_types) - cut) < 1e-9
     assert 0 < (bridge.frequencies > cut).sum() < bridge.n_modes  # the test cuts something and keeps something
-    s = bridge.station_names.index("span2.mid")
     row = _effective_row(cat, bridge, "bridge.span2.mid.acc_z_en1990")
-    ref = np.where(bridge.frequencies <= cut, bridge.station_shapes[s, 1], 0.0)
+    ref = np.where(bridge.frequencies <= cut, bridge.rail_shapes(np.array([SPANS[0] + SPANS[1] / 2])).z[0], 0.0)
     assert np.array_equal(row, ref)
+
+
+def test_en1990_acceleration_is_along_the_track_torsion_included(setup):
+    """Exact problem: the fixture's bridge (track 2 m off the girder axis) at mid-span of span 2.
+    Reference, typed from the closed forms: a vertical mode moves the track line by w_j =
+    sqrt(2 / (m L)) sin(j pi xi / L), a torsion mode by e theta_j = 2 sqrt(2 / (I_p L)) sin(j pi xi /
+    L) (mass-normalised; xi = L / 2 from the span's start: only odd j). The channel's row is w + e
+    theta over the modes up to f_cut, larger than the girder axis' row (w alone) by e theta on the
+    torsion modes. 1e-12 relative: the closed form evaluated twice."""
+    bridge, _, _, cat = setup
+    L, xi, e = SPANS[1], SPANS[1] / 2, 2.0
+    row = _effective_row(cat, bridge, "bridge.span2.mid.acc_z_en1990")
+    ref = np.zeros(bridge.n_modes)
+    for k, (f, kind) in enumerate(zip(bridge.frequencies, bridge.mode_types)):
+        if f > cat.cut_frequency:
+            continue
+        if kind == "vertical":
+            j = f * 2 * math.pi / ((math.pi / L) ** 2 * math.sqrt(EI_V / MU))
+            shape, amp = math.sin, math.sqrt(2 / (MU * L))
+        elif kind == "torsion":
+            j = f * 2 * math.pi / (math.pi / L * math.sqrt(GJ / IP))
+            shape, amp = math.sin, e * math.sqrt(2 / (IP * L))
+        else:
+            continue
+        if abs(j - round(j)) < 1e-9 and round(j) >= 1:  # a mode of span 2 (span 1's have other frequencies)
+            ref[k] = amp * shape(round(j) * math.pi * xi / L)
+    assert np.max(np.abs(row - ref)) <= 1e-12 * np.max(np.abs(ref))
+    s = bridge.station_names.index("span2.mid")
+    axis = np.where(bridge.frequencies <= cat.cut_frequency, bridge.station_shapes[s, 1], 0.0)
+    torsion = np.array([k == "torsion" for k in bridge.mode_types])
+    assert np.abs(row - axis)[torsion].max() > 0.1 * np.abs(ref).max()  # the torsion term is there and not small
+    assert np.allclose(row[~torsion], axis[~torsion], rtol=1e-12, atol=1e-15)
 
 
 def test_names_units_and_what_the_15_dof_model_gives(setup):
