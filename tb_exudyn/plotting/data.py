@@ -20,6 +20,7 @@ from dataclasses import dataclass, replace
 from typing import Sequence, Union
 
 import numpy as np
+from numpy.typing import NDArray
 
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
@@ -229,20 +230,38 @@ def psd_slices(
     return resp.time[idx], resp.freq, S[:, idx].T
 
 
+def crossing_columns(resp: RandomResponse, channel: str) -> NDArray[np.bool_]:
+    """The output times of the crossing that matters for ``channel`` (:func:`channel_crossing`: its
+    car's first axle on the bridge until its last axle off; the train's for a bridge channel), where
+    a PSD map is read: before it the response is the start-up from rest on the approach, not the
+    crossing. Every time when the result has no scenario or the window holds no output time."""
+    t = np.asarray(resp.time)
+    sc = resp.scenario
+    if sc is None:
+        return np.ones(t.size, dtype=bool)
+    c = channel_crossing(sc, channel)
+    keep = (t >= c.first_on - 1e-9) & (t <= c.last_off + 1e-9)
+    return keep if keep.any() else np.ones(t.size, dtype=bool)
+
+
 def psd_peak(resp: RandomResponse, channel: str) -> tuple[float, float]:
-    """(frequency [Hz], time [s]) of the largest cell of the PSD map S(f, t) of ``channel``: the
-    "frequency of the peak value" the reference study reads off its figures 3-5."""
+    """(frequency [Hz], time [s]) of the largest cell of the PSD map S(f, t) of ``channel`` over the
+    crossing (:func:`crossing_columns`): the "frequency of the peak value" the reference study reads
+    off its figures 3-5 (its maps span the crossing)."""
     S = _psd_of(resp, channel)
-    i, j = np.unravel_index(int(np.argmax(S)), S.shape)
-    return float(resp.freq[i]), float(resp.time[j])
+    cols = np.flatnonzero(crossing_columns(resp, channel))
+    i, j = np.unravel_index(int(np.argmax(S[:, cols])), (S.shape[0], cols.size))
+    return float(resp.freq[i]), float(resp.time[cols[j]])
 
 
 def psd_band(resp: RandomResponse, channel: str, share: float = 0.99) -> tuple[float, float]:
     """(lowest, highest) frequency [Hz] of the smallest set of grid cells that holds ``share`` of
-    sigma^2 at the time of maximum sigma (cells taken largest S df first): a reproducible stand-in
-    for the "frequency distribution range" the study reads off its maps (docs/findings.md)."""
+    sigma^2 at the time of maximum sigma over the crossing (:func:`crossing_columns`; cells taken
+    largest S df first): a reproducible stand-in for the "frequency distribution range" the study
+    reads off its maps (docs/findings.md)."""
     S = _psd_of(resp, channel)
-    j = int(np.argmax(resp.std[resp.index(channel)]))
+    cols = np.flatnonzero(crossing_columns(resp, channel))
+    j = int(cols[np.argmax(resp.std[resp.index(channel)][cols])])
     var = S[:, j] * resp.df
     order = np.argsort(var)[::-1]
     total = var.sum()

@@ -146,15 +146,22 @@ def _one_channel_psd(pem, S):
 
 
 def test_psd_peak_band_and_low_frequency_content(pem):
-    """A map with one known peak cell, and a map whose variance sits in the lowest cell."""
+    """A map with one known peak cell inside the channel's crossing (first axle on to last axle
+    off) and a larger one before it, in the start-up on the approach, which the readings ignore;
+    and a map whose variance sits in the lowest cell."""
     nf, nt = pem.freq.size, pem.time.size
+    ch = pem.channels[0]
+    c = data.channel_crossing(pem.scenario, ch)
+    inside = int(np.flatnonzero(pem.time >= (c.first_on + c.last_off) / 2)[0])
+    before = int(np.flatnonzero(pem.time < c.first_on)[-1])
     S = np.full((nf, nt), 1e-6)
-    S[3, 40] = 1.0  # peak: f = 7 Hz at t = 0.4 s, and all but 5e-6 of the variance at that time
+    S[3, inside] = 1.0  # peak: f = 7 Hz in the crossing, and all but 5e-6 of the variance at that time
+    S[5, before] = 10.0  # larger, at 11 Hz, before the car reaches the bridge
     r = _one_channel_psd(pem, S)
-    ch = r.channels[0]
-    assert data.psd_peak(r, ch) == (pytest.approx(7.0), pytest.approx(0.4))
+    assert data.psd_peak(r, ch) == (pytest.approx(7.0), pytest.approx(pem.time[inside]))
     assert data.psd_band(r, ch, 0.99) == (pytest.approx(7.0), pytest.approx(7.0))
     assert data.psd_band(r, ch, 0.999999999) == (pytest.approx(1.0), pytest.approx(11.0))
+    assert data.crossing_columns(r, ch).sum() == np.sum((pem.time >= c.first_on) & (pem.time <= c.last_off))
     assert not data.low_frequency_content(r, ch)  # median 7 Hz > 12 Hz / 10
     low = np.full((nf, nt), 1e-6)
     low[0] = 1.0  # the variance at 1 Hz, below a tenth of the 12 Hz band edge
