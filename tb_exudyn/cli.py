@@ -29,7 +29,7 @@ from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
 from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
-from .scenario.show import scenario_table
+from .scenario.show import run_label, scenario_table
 from .structure import StructureError, modal_bridge
 from .system.labels import default_patterns, display_unit, format_number
 from .system.damping_guard import merged_messages
@@ -200,7 +200,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
     methods = _methods()
-    print(f"scenario {scenario.name}: {scenario.description}")
+    print(f"scenario {scenario.name}: {run_label(scenario)}")
     common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
               "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
               "max_memory": args.max_memory, "keep_checkpoint": args.keep_checkpoint, "where": "command line"}

@@ -45,6 +45,7 @@ from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
 from ..results.checks import checks as run_checks, default_limits
+from ..scenario.show import run_label
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
 from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, Verdicts, as_check_entries,
                       as_mode_entries, check_entries, code_limit, compare_findings, screening, static_axle_load, summary,
@@ -105,7 +106,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     scenarios = [r.scenario for _, r in found if r.scenario is not None]
     sc = scenarios[0] if scenarios else None
     first = _first_random(found)
-    title = title or f"tb_exudyn report: {sc.name if sc else found[0][0].name}"
+    title = title or f"tb_exudyn report: {sc.name if sc else found[0][0].name}" + (f" at {sc.speed_kmh:g} km/h" if sc else "")
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     what = []
     for path, r in found:
@@ -120,7 +121,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
         ("figures", "Figures"), ("channels", "All channels"), ("modes", "Modes"), ("scenario", "Scenario"),
         ("provenance", "Provenance")]
     body = [f"<h1>{esc(title)}</h1>",
-            f'<p class="meta">{esc(sc.description if sc else "")}</p>',
+            f'<p class="meta">{esc(run_label(sc) if sc else "")}</p>',
             f'<p class="meta">{esc("; ".join(what))}. Generated {esc(now)} by tb_exudyn {esc(__version__)}.</p>',
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
             verdicts_section(verdicts, first, k, figure_ids),

@@ -56,6 +56,8 @@ from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, qua
 from ..scenario.registry import model_files, models_dir
 from ..scenario.schema import source_file
 from . import statistics as st
+from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
+                      unmet_requirement)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
 from .empirical import binomial_interval
 
@@ -66,92 +68,6 @@ GRID_ERROR_TOLERANCE = 0.01
 #: a ratio's denominator varying by more than this (sigma / mean) makes the first order a caveat
 RATIO_CV_TOLERANCE = 0.1
 _CAR = re.compile(r"car(\d+)\.axle(\d+)\.")
-_CAR_ANY = re.compile(r"car(\d+)\.")
-
-
-# ============================================================================================ what a model can answer
-@dataclass(frozen=True)
-class ModelRequirement:
-    """What a vehicle model must be to answer criteria on some quantities.
-
-    quantities : the quantities (tb_exudyn.scenario.limits.QUANTITIES) it concerns
-    vehicle_kinds : the vehicle kinds whose channels can answer them
-    reason : why another kind cannot (``{kind}`` is replaced by the vehicle's kind)
-    instead : what to run instead
-    """
-
-    quantities: tuple[str, ...]
-    vehicle_kinds: tuple[str, ...]
-    reason: str
-    instead: str
-
-
-#: Running safety (Q/P, dP/P, H) is decided by the wheel-rail forces of wheelsets that creep forces
-#: guide across the rail. In car15 the wheelsets follow the rail laterally, and in the ICE data no
-#: primary lateral damping acts on the bogie yaw: its lateral wheel forces are those of an undamped
-#: yaw mode held by the rail (on li_zhu_2011 Q/P 4.05 and H 295 kN against the creep cars' 4.4 kN
-#: sigma, docs/findings.md section 6). Such a row is NOT EVALUATED, not a verdict.
-MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
-    ModelRequirement(
-        ("derailment_coefficient", "wheel_unloading", "axle_force_y"), ("creep_car",),
-        "running safety needs creep-guided wheelsets; {kind}'s follow the rail",
-        "use creep cars (ice_motor_creep, ice_trailer_creep), e.g. scenario li_zhu_2011_creep"),
-)
-
-
-def unmet_requirement(result: Any, quantity_name: str, channel: str) -> str | None:
-    """Why the result's model cannot answer a criterion on ``quantity_name`` at ``channel`` (one
-    line: the reason and what to run instead), or None when it can or when the result carries no
-    scenario to tell (:data:`MODEL_REQUIREMENTS`)."""
-    sc = getattr(result, "scenario", None)
-    m = _CAR_ANY.match(channel)
-    if sc is None or m is None or not 1 <= int(m.group(1)) <= len(sc.train.vehicles):
-        return None
-    kind = getattr(sc.train.vehicles[int(m.group(1)) - 1], "kind", "?")
-    for req in MODEL_REQUIREMENTS:
-        if quantity_name in req.quantities and kind not in req.vehicle_kinds:
-            return f"{req.reason.format(kind=kind)}: {req.instead}"
-    return None
-
-
-# ============================================================================================ conditional or a note
-def can_turn(estimate: float, limit: float, effect: float) -> bool | None:
-    """Whether a relative change ``effect`` of the estimate (a grid error of sigma, a response still
-    growing) could carry it across the limit: |estimate| x effect >= |limit - estimate|. None when
-    either number is not finite (the caveat then keeps its own judgement)."""
-    if not (math.isfinite(estimate) and math.isfinite(limit) and math.isfinite(effect)):
-        return None
-    return abs(estimate) * abs(effect) >= abs(limit - estimate)
-
-
-def _judged(c: Caveat, effect: float | None, estimate: float, limit: float) -> Caveat:
-    """A caveat whose effect on the estimate is known, made conditional only where that effect could
-    turn the verdict, with the margin it is compared with in its text."""
-    if effect is None:
-        return c
-    turn = can_turn(estimate, limit, effect)
-    if turn is None:
-        return c
-    margin = abs(limit - estimate) / abs(estimate) if estimate else math.inf
-    tail = (f"; it moves the estimate by up to {100 * abs(effect):.2g} %, more than the {100 * margin:.2g} % "
-            "between the estimate and the limit" if turn else
-            f"; it moves the estimate by up to {100 * abs(effect):.2g} %, less than the {100 * margin:.2g} % between "
-            "the estimate and the limit: it cannot turn the verdict")
-    return Caveat(c.kind, c.text + tail, turn)
-
-
-#: the Sperling index grows as the acceleration's 0.3 power (W = 0.896 (a^3 F(f) / f)^(1/10),
-#: tb_exudyn.results.comfort): a relative change e of sigma changes the index by (1 + e)^0.3 - 1
-SPERLING_EXPONENT = 0.3
-
-
-def _effect_on_estimate(quantity_name: str, effect: float | None) -> float | None:
-    """A relative change of the channel's sigma as a relative change of the criterion's estimate:
-    the same for a level of a Gaussian process (mean + k sigma changes by at most that fraction), the
-    0.3 power for a Sperling index (:data:`SPERLING_EXPONENT`)."""
-    if effect is None or not quantity_name.startswith("sperling"):
-        return effect
-    return (1.0 + abs(effect)) ** SPERLING_EXPONENT - 1.0
 
 
 # ============================================================================================ hooks
@@ -350,18 +266,6 @@ def _loss_of_contact(result: Any, target: float, method: str) -> dict[int | None
     return out
 
 
-def _contact_judged(c: Caveat, p_loss: float | None, verdict: str, p: float | None, target: float) -> Caveat:
-    """A PEM loss-of-contact caveat judged by its probability: the passages past the loss (probability
-    p_loss) are not physical, so the true probability of exceeding lies within P -+ p_loss. It can
-    turn OK when P + p_loss > target, EXCEEDS when P - p_loss <= target."""
-    if p_loss is None or p is None or not c.changes_verdict:
-        return c
-    turn = (p + p_loss > target) if verdict == "OK" else (p - p_loss <= target)
-    tail = (f"; P {p:.2g} -+ {p_loss:.2g} spans the target" if turn else
-            f"; P {p:.2g} -+ {p_loss:.2g} stays on one side of the target: it cannot turn the verdict")
-    return Caveat(c.kind, c.text + tail, turn)
-
-
 def _ratio_caveat(result: Any, channel: str) -> tuple[Caveat, float] | None:
     """First-order caveat of a ratio: the denominator's sigma / mean, when its channels are in the
     result, with its effect: the second order's largest relative rise of the ratio's sigma."""
@@ -444,10 +348,10 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
                                   f"criterion's {c.window:g} s): the index depends on the window length", True))
         if isinstance(c.limit, GradedLimit):
             grade = c.limit.grade(estimate) or "beyond the last grade"
-        judged = [_judged(e, _effect_on_estimate(c.quantity, eff), estimate, limit) for e, eff in effects] \
+        kept = [judged(e, effect_on_estimate(c.quantity, eff), estimate, limit) for e, eff in effects] \
             + caveats[len(effects):]
         return CheckRow(**base, estimate=estimate, estimate_text=text, probability=prob, interval=interval,
-                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(judged))
+                        probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(kept))
     lower, upper, kind = _bounds(c.statistic, limit)
     pv = None
     if result.method == "pem":
@@ -464,7 +368,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
                                   f"verdict would be {verdict_other} (Poisson errs high for narrow-band responses)", True))
         interval = None
         losses = {id(cav): pl for cav, pl in contact}
-        caveats = [_contact_judged(cv, losses.get(id(cv)), verdict, p, target) for cv in caveats]
+        caveats = [contact_judged(cv, losses.get(id(cv)), verdict, p, target) for cv in caveats]
         effects = [(cv, eff) for cv, (_, eff) in zip(caveats, effects)]
     else:
         ex = result.exceedance_probability(channel, upper=upper, lower=lower, confidence=confidence)
@@ -479,15 +383,15 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     if c.quantity == "derailment_coefficient":
         caveats.append(Caveat("linear_model", "the model has one lateral wheel-rail force per wheelset: the whole axle "
                               "force H is put on this wheel, an upper bound of its Q/P", verdict != "OK"))
-    judged = [_judged(e, eff, estimate, limit) for e, eff in effects] + caveats[len(effects):]
+    kept = [judged(e, eff, estimate, limit) for e, eff in effects] + caveats[len(effects):]
     rc = _ratio_caveat(result, channel) if quantity(c.quantity).derived and c.quantity in (
         "derailment_coefficient", "wheel_unloading") else None
     if rc is not None:
-        judged.append(_judged(rc[0], rc[1], estimate, limit))
+        kept.append(judged(rc[0], rc[1], estimate, limit))
     if isinstance(c.limit, GradedLimit):
         grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
     return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
-                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(judged))
+                    probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(kept))
 
 
 def _channel_window(result: Any, channel: str) -> float | None:

@@ -1,5 +1,6 @@
 """Scenario data: dataclasses, TOML loading and validation, the library of named models."""
 
+from .code_data import CONSTRUCTION_TYPES, MASS_CASES, CodeData, with_mass_case
 from .errors import ScenarioError
 from .io import load_bridge, load_scenario, load_vehicle, save_scenario, scenario_from_dict, scenario_to_toml
 from .model import (
@@ -9,9 +10,7 @@ from .model import (
     Bearings,
     Bridge,
     Car15,
-    CONSTRUCTION_TYPES,
     Car15Geometry,
-    CodeData,
     CreepCar,
     GivenCreep,
     HertzCreep,
@@ -28,11 +27,9 @@ from .model import (
     Track,
     Train,
     Vehicle,
-    MASS_CASES,
     WheelRailContact,
     WheelsetInertia,
     YawDamper,
-    with_mass_case,
 )
 from .registry import list_models, model_files, models_dir
 from .schema import describe_fields, to_dict

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
+from .code_data import CodeData, check_ballast
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace, source_file
 
 KMH = 1.0 / 3.6  # m/s per km/h
@@ -361,49 +362,6 @@ class AddedMass(_Replaceable):
     height: float = param(0.0, unit="m", doc="height of its centre above the girder shear centre", check=ANY)
 
 
-#: construction types of EN 1991-2 Table 6.6 (the lower limit of damping by type and span)
-CONSTRUCTION_TYPES: tuple[str, ...] = ("steel_composite", "prestressed_concrete", "reinforced_concrete", "filler_beam")
-#: mass cases of EN 1991-2 6.4.6.3.2: the lower estimate (minimum ballast density) for the largest
-#: deck acceleration, the upper one (saturated ballast) for the lowest resonant speeds
-MASS_CASES: tuple[str, ...] = ("nominal", "lower", "upper")
-
-
-@dataclass(frozen=True, kw_only=True)
-class CodeData(_Replaceable):
-    """What EN 1991-2's dynamic analysis (clause 6.4.6) needs of a bridge beyond its model: the
-    construction type that sets Table 6.6's damping, and the ballast whose density range gives the
-    mass cases (6.4.6.3.2). The densities' defaults are EN 1991-1-1's range for railway ballast,
-    recalled, not read in the code text [check]."""
-
-    construction: Literal["steel_composite", "prestressed_concrete", "reinforced_concrete", "filler_beam"] = param(
-        doc="construction type for the code's damping (EN 1991-2 Table 6.6): steel_composite, prestressed_concrete, "
-            "reinforced_concrete or filler_beam")
-    ballast_mass_per_length: float = param(
-        0.0, unit="kg/m", doc="ballast mass per length at the nominal density, included in the model's mass "
-                              "(0: no ballast, one mass case)", check=NONNEGATIVE)
-    ballast_density: float = param(1800.0, unit="kg/m^3", doc="the ballast density the model's mass is at [check]",
-                                   check=POSITIVE)
-    ballast_density_min: float = param(1700.0, unit="kg/m^3", doc="lower estimate of the ballast density [check]",
-                                       check=POSITIVE)
-    ballast_density_max: float = param(2000.0, unit="kg/m^3", doc="upper estimate: saturated ballast [check]",
-                                       check=POSITIVE)
-
-    def _validate(self, ctx: Context) -> None:
-        if not self.ballast_density_min <= self.ballast_density <= self.ballast_density_max:
-            raise ctx.child("ballast_density").error(
-                self.ballast_density, f"between ballast_density_min ({self.ballast_density_min:g}) and "
-                f"ballast_density_max ({self.ballast_density_max:g}) kg/m^3", "outside the density range")
-
-    def ballast_change(self, case: str) -> float:
-        """The change of the mass per length [kg/m] in a mass case (:data:`MASS_CASES`): the ballast's
-        mass at the case's density less its nominal mass."""
-        if case not in MASS_CASES:
-            raise ValueError(f"mass case {case!r}: one of {', '.join(MASS_CASES)}")
-        rho = {"nominal": self.ballast_density, "lower": self.ballast_density_min,
-               "upper": self.ballast_density_max}[case]
-        return self.ballast_mass_per_length * (rho / self.ballast_density - 1.0)
-
-
 @dataclass(frozen=True, kw_only=True)
 class SimpleBeam(_Replaceable):
     """Uniform simply supported spans with ideal supports (for closed-form checks).
@@ -432,42 +390,7 @@ class SimpleBeam(_Replaceable):
     def _validate(self, ctx: Context) -> None:
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        _check_ballast(self.code, self.girder.mass_per_length, "girder.mass_per_length", ctx)
-
-
-def _check_ballast(code: "CodeData | None", carrier: float, carrier_key: str, ctx: Context) -> None:
-    """The ballast is part of the mass that carries it, and its lower case leaves a positive mass."""
-    if code is None or code.ballast_mass_per_length <= carrier:
-        return
-    raise ctx.child("code").child("ballast_mass_per_length").error(
-        code.ballast_mass_per_length, f"at most {carrier_key} ({carrier:g} kg/m), the mass that includes it",
-        "more ballast than mass")
-
-
-def with_mass_case(bridge: "Bridge", case: str) -> "Bridge":
-    """The bridge in an EN 1991-2 mass case (:data:`MASS_CASES`, :meth:`CodeData.ballast_change`):
-    the ballast's mass change added where the model carries it (a frame's added mass, a simple
-    beam's girder mass), its polar mass moment scaled by the same ratio; the copy's code data hold
-    the ballast at the case's density. 'nominal' and a bridge without ballast return the bridge
-    itself."""
-    if bridge.code is None:
-        raise ValueError(f"bridge {bridge.name!r} has no code data ([code] table): no mass cases")
-    code = bridge.code
-    dm = code.ballast_change(case)
-    if dm == 0.0:
-        return bridge
-    # the case's bridge holds its ballast at the case's density (so that it validates as any bridge)
-    code = code.replace(ballast_mass_per_length=code.ballast_mass_per_length + dm,
-                        ballast_density=code.ballast_density * (1.0 + dm / code.ballast_mass_per_length))
-    if isinstance(bridge, Frame):
-        am = bridge.added_mass
-        ratio = (am.mass_per_length + dm) / am.mass_per_length
-        return bridge.replace(code=code, added_mass=am.replace(mass_per_length=am.mass_per_length * ratio,
-                                                               rot_mass_per_length=am.rot_mass_per_length * ratio))
-    g = bridge.girder
-    ratio = (g.mass_per_length + dm) / g.mass_per_length
-    return bridge.replace(code=code, girder=g.replace(mass_per_length=g.mass_per_length * ratio,
-                                                      rot_mass_per_length=g.rot_mass_per_length * ratio))
+        check_ballast(self.code, self.girder.mass_per_length, "girder.mass_per_length", ctx)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -524,7 +447,7 @@ class Frame(_Replaceable):
     def _validate(self, ctx: Context) -> None:
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        _check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
+        check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
 
 
 Bridge = Union[SimpleBeam, Frame]

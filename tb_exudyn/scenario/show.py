@@ -86,4 +86,36 @@ def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str,
     return "\n".join(lines)
 
 
-__all__ = ["scenario_table"]
+def run_label(scenario: Scenario) -> str:
+    """One line saying what a run is, from its own settings (not the scenario's description, which
+    an override such as ``--speed-kmh`` does not change): the train, the speed, the bridge, the
+    irregularities and the PEM frequency band and grid. E.g. "4 vehicles (ice_motor, ice_trailer x2,
+    ice_motor) at 300 km/h over li_zhu_2011_bridge (3 x 32 m); german_low vertical, alignment,
+    cross_level; 0.3-60 Hz, 200 linear frequencies"."""
+    names = [v.name for v in scenario.train.vehicles]
+    runs: list[str] = []
+    for name in names:  # neighbours of one name as "name xN"
+        if runs and runs[-1].split(" x")[0] == name:
+            head, _, count = runs[-1].partition(" x")
+            runs[-1] = f"{head} x{int(count or 1) + 1}"
+        else:
+            runs.append(name)
+    n = len(names)
+    train = f"{n} vehicle{'s' if n != 1 else ''} ({', '.join(runs)})"
+    spans = scenario.bridge.spans
+    if len(set(spans)) == 1:
+        layout = f"{len(spans)} x {spans[0]:g} m" if len(spans) > 1 else f"{spans[0]:g} m"
+    else:
+        layout = " + ".join(f"{x:g}" for x in spans) + " m"
+    types = list(scenario.track.irregularities)
+    groups: dict[str, list[str]] = {}
+    for t in types:
+        spectrum, _, kind = t.partition(".")
+        groups.setdefault(spectrum, []).append(kind or spectrum)
+    irr = "; ".join(f"{k} {', '.join(v)}" for k, v in groups.items()) or "no irregularity"
+    an = scenario.analysis
+    return (f"{train} at {scenario.speed_kmh:g} km/h over {scenario.bridge.name} ({layout}); {irr}; "
+            f"{an.freq_min:g}-{an.freq_max:g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
+
+
+__all__ = ["run_label", "scenario_table"]

@@ -24,10 +24,10 @@ zeta = nan; an unstable one (Re lambda > 0) a negative zeta.
 
 Round-off. What only round-off decides is fixed, so that a table has the same rows, order and
 labels on every machine (numpy's OpenBLAS picks a kernel per CPU, OPENBLAS_CORETYPE): imaginary
-and real parts within round-off are zero (:func:`_snap_round_off`: a double real root gives two
+and real parts within round-off are zero (:func:`~tb_exudyn.system.mode_roundoff.snap_round_off`: a double real root gives two
 real rows whether LAPACK returns it as two reals or as a pair lambda +- i d; an undamped mode has
 zeta = 0, not +-1e-16), rows equal within :data:`DEGENERATE_RTOL` are ordered by label
-(:func:`_table_order`) and equal energy shares are named together (:data:`SHARE_TIE`).
+(:func:`~tb_exudyn.system.mode_roundoff.table_order`) and equal energy shares are named together (:data:`SHARE_TIE`).
 tests/system/test_modes_blas_kernels.py compares the tables under four kernels.
 
 Labels. Each mode's kinetic energy is split over the coordinates: the share of coordinate i is
@@ -60,30 +60,13 @@ from numpy.typing import NDArray
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import connected_components
 
-#: a mode whose undamped frequency is below this [Hz] is a rigid-body (zero-frequency) motion
-RIGID_FREQUENCY = 1e-3
+from .mode_roundoff import DEGENERATE_RTOL, REAL_SNAP, RIGID_FREQUENCY, ROUND_OFF, snap_round_off, table_order
+
 #: a group, part or component is named in a label if it holds at least this share of the energy
 #: (of the mode, of its group, of its part); the largest one always is
 LABEL_SHARE = 0.2
-#: eigenvalues closer than this (relative to their modulus) count as equal (a degenerate set)
-DEGENERATE_RTOL = 1e-8
 #: matrix entries below this fraction of the matrix's largest entry do not connect coordinates
 COUPLING_ZERO = 1e-14
-#: an eigenvalue with |Im lambda| below this fraction of |lambda| is real (:func:`_part_modes`): a
-#: critically damped motion's double root (a weak spring at zeta = 1) is split by round-off into a
-#: pair lambda (1 +- d) or lambda +- i d |lambda| with d of order sqrt(eps) = 1.5e-8, which of the two
-#: depending on the BLAS kernel; both become two real rows. |Im| / |lambda| = sqrt(1 - zeta^2), so a
-#: mode is snapped only if zeta >= 1 - 5e-13.
-REAL_SNAP = 1e-6
-#: the eigenvalues' absolute round-off, in units of eps times the first-order matrix's norm: an
-#: eigenvalue's real or imaginary part below ROUND_OFF * eps * ||A|| is zero (:func:`_part_modes`).
-#: A tiny root (a wheelset's slow spin root, -7e-4 1/s, on a matrix of norm 2e6 from the 2e9 N/m
-#: contacts) carries an error of eps ||A|| = 4e-10 in each part, far more than eps |lambda|: a
-#: double root of two identical wheelsets came as a pair -7e-4 +- 2.5e-14 i on one kernel (one
-#: row) and as two reals on another (two rows); an undamped bogie yaw mode's real part as +-1e-14
-#: (a damping ratio of either sign). 1e3 eps ||A|| is 3e-7 1/s there: a mode of 1 Hz loses a
-#: damping ratio below 5e-8.
-ROUND_OFF = 1e3
 #: a mode whose reach (:func:`damped_modes`) by every input of a group is below this is not reached
 #: by the group: zero by symmetry up to round-off. Measured on an ICE creep car at 220 km/h: the
 #: wheelsets' antisymmetric longitudinal/spin modes 6e-17 to 2e-16; the least reached modes 1.3e-8
@@ -202,25 +185,6 @@ def _first_order(M: FloatArray, K: FloatArray, D: FloatArray
     return np.block([[zero, eye], [-(Li @ K @ Li.T), -(Li @ D @ Li.T)]]), None, L
 
 
-def _snap_round_off(lam: NDArray[np.complex128], A: FloatArray, B: FloatArray | None) -> NDArray[np.complex128]:
-    """The eigenvalues with what round-off decides set to zero, so that the rows of a mode table do
-    not depend on the BLAS kernel: an imaginary part below :data:`REAL_SNAP` |lambda| plus the
-    absolute floor ROUND_OFF eps ||A|| (:data:`ROUND_OFF`) and a real part below the floor. A double
-    real eigenvalue (two equal, independent motions, such as the two bogies' overdamped pitch, or a
-    critically damped motion's double root) comes either as two reals or as a conjugate pair
-    lambda +- i d: snapped, both members are real with Im = 0 and both are kept, two rows on every
-    kernel. ``B`` (the singular-M pencil's right side) scales the floor by ||B^-1|| >= 1 / ||B||,
-    which a floor of eps ||A|| / ||B|| bounds from below."""
-    fin = np.isfinite(lam)
-    scale = np.linalg.norm(A, 1) / (1.0 if B is None else max(np.linalg.norm(B, 1), 1.0))
-    floor = ROUND_OFF * np.finfo(float).eps * scale
-    re, im = lam.real.copy(), lam.imag.copy()
-    mod = np.where(fin, np.abs(lam), 0.0)
-    im[fin & (np.abs(im) <= REAL_SNAP * mod + floor)] = 0.0
-    re[fin & (np.abs(re) <= floor)] = 0.0
-    return np.where(fin, re + 1j * im, lam)
-
-
 def _part_modes(
     M: FloatArray, K: FloatArray, D: FloatArray, part_index: NDArray[np.int64],
     inputs: Sequence[FloatArray] | None = None,
@@ -235,7 +199,7 @@ def _part_modes(
     else:
         lam, vec = la.eig(A, B)
         vl = None
-    lam = _snap_round_off(lam, A, B)
+    lam = snap_round_off(lam, A, B)
     keep = np.isfinite(lam) & (lam.imag >= 0.0)
     lam, x = lam[keep], vec[:, keep]
     y = None if vl is None else vl[:, keep]
@@ -575,7 +539,7 @@ def mode_table(
     with np.errstate(invalid="ignore", divide="ignore"):
         zeta = np.where(rigid, np.nan, -lam.real / np.where(mod > 0.0, mod, 1.0))
     labels = [mode_label(s, dofs) for s in raw.shares]
-    order = _table_order(freq, zeta, labels)
+    order = table_order(freq, zeta, labels)
     lam, freq, zeta, shares = lam[order], freq[order], zeta[order], raw.shares[order]
     return ModeTable(
         eigenvalues=lam, frequency=freq, damped_frequency=np.where(rigid[order], 0.0, lam.imag / (2.0 * math.pi)),
@@ -585,28 +549,6 @@ def mode_table(
         shares=shares, dofs=dofs, description=description,
         reach=None if raw.reach is None else raw.reach[order], input_groups=groups,
     )
-
-
-def _table_order(freq: FloatArray, zeta: FloatArray, labels: Sequence[str]) -> NDArray[np.int64]:
-    """Rows by undamped frequency, then damping ratio; rows that round-off alone tells apart (equal
-    modes of two identical parts, such as the leading and trailing bogie's longitudinal mode, whose
-    frequencies differ by 1e-13 in an order that depends on the BLAS kernel) by their label, so that
-    the table's order is the same on every machine. Equal: frequencies within
-    :data:`DEGENERATE_RTOL` of the set's first (at least of :data:`RIGID_FREQUENCY`) and damping
-    ratios within DEGENERATE_RTOL."""
-    z = np.nan_to_num(zeta, nan=-1.0)
-    first = np.lexsort((z, freq))
-    out: list[int] = []
-    i = 0
-    while i < first.size:
-        f0, z0 = freq[first[i]], z[first[i]]
-        j = i + 1
-        while (j < first.size and abs(freq[first[j]] - f0) <= DEGENERATE_RTOL * max(f0, RIGID_FREQUENCY)
-               and abs(z[first[j]] - z0) <= DEGENERATE_RTOL):
-            j += 1
-        out.extend(sorted(first[i:j].tolist(), key=lambda k: labels[k]))
-        i = j
-    return np.asarray(out, dtype=np.int64)
 
 
 def nth_frequency(frequencies: Sequence[float], types: Sequence[str], direction: str, n: int = 1) -> float:
