@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import scipy.io
 
-from tb_exudyn.errors import SettingError
+from tb_exudyn.errors import OutputFolderError, SettingError
 from tb_exudyn.results import export
 from tb_exudyn.results.export import export_csv, export_mat, read_csv
 from tb_exudyn.scenario import scenario_from_dict
@@ -192,5 +192,5 @@ def test_export_entry_point(tmp_path):
     assert nc.stat().st_size > 0
     with pytest.raises(SettingError, match="key 'format' = 'xlsx'.*allowed: netcdf, csv, mat"):
         export.export(r, "xlsx", tmp_path / "mc.xlsx")
-    with pytest.raises(SettingError, match="is a folder"):
+    with pytest.raises(OutputFolderError, match="is a directory, not a regular file"):
         export.export(r, "csv", tmp_path)
