@@ -314,9 +314,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 def _cmd_report(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
+    target = {"overwrite": args.overwrite, "where": "command line", "key": "--html"}
+    _figures().report_target(args.folder, args.html, **target)  # refused before the lock too
     with _folder_lock(args.folder):
-        print(_figures().write_report(args.folder, args.html, found=found, overwrite=args.overwrite,
-                                      where="command line", key="--html"))
+        print(_figures().write_report(args.folder, args.html, found=found, **target))
     return EXIT_OK
 
 

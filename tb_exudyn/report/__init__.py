@@ -168,6 +168,18 @@ def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels
     return pictures, names, comparison
 
 
+def report_target(folder: str | Path, out_html: str | Path | None = None, *, overwrite: bool = False,
+                  where: str = "write_report", key: str = "out_html") -> tuple[Path, Path, bool]:
+    """Where :func:`write_report` writes: (the page as named, the file to write, whether it is the
+    folder's own default page); OutputFolderError if the target is refused (see write_report)."""
+    folder = Path(folder)
+    default = folder / "report.html"
+    out = Path(out_html) if out_html is not None else default
+    derived = out_html is None or os.path.realpath(out) == os.path.realpath(default)
+    (target,) = output_targets(out, overwrite=overwrite or derived, derived=derived, where=where, key=key)
+    return out, target, derived
+
+
 def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: float = 3.0,
                  channels: str | Sequence[str] | None = None, checks: Iterable[Any] | None = None,
                  modes: Iterable[Any] | None = None, workers: int | None = None, progress: bool = False,
@@ -193,10 +205,7 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     """
     folder = Path(folder)
     found = find_results(folder) if found is None else found
-    default = folder / "report.html"
-    out = Path(out_html) if out_html is not None else default
-    derived = out_html is None or os.path.realpath(out) == os.path.realpath(default)
-    (target,) = output_targets(out, overwrite=overwrite or derived, derived=derived, where=where, key=key)
+    out, target, derived = report_target(folder, out_html, overwrite=overwrite, where=where, key=key)
     pictures, names, comparison = report_pictures(folder, found, channels, workers=workers, progress=progress)
     text = render_report(found, k=k, channels=channels, checks=checks, modes=modes, pictures=pictures,
                          names=names, comparison=comparison)
@@ -207,6 +216,6 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
-           "load_study", "plot_folder", "render_report", "report_pictures", "save_figure", "scenario_sections", "screening",
+           "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
            "SWEEP_REPORT", "render_sweep_report", "write_sweep_report"]
