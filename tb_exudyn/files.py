@@ -175,6 +175,9 @@ def _target(path: Path, named: Path, label: str, *, overwrite: bool, derived: bo
     real = path
     if st is not None and stat.S_ISLNK(st.st_mode):
         link = os.readlink(path)
+        if derived:  # the command's own file in a folder it owns: never written through a link
+            raise _refused(where, key, named, f"{label}is a symbolic link (to {link!r}), not the folder's own file",
+                           "a regular file, or no file")
         try:
             st = os.stat(path)
         except OSError:
@@ -201,7 +204,8 @@ def output_targets(path: str | Path, *, sidecars: Sequence[str | Path] = (), ove
     (see the module docstring); returns the paths to write, the target's first.
 
     ``derived``: the target is the command's own default file (a folder's ``report.html``, rewritten
-    every time): only a target that is not a regular file is refused. Raises OutputFolderError.
+    every time): only a target that is not a regular file (a symbolic link included) is refused.
+    Raises OutputFolderError.
     """
     named = Path(path)
     out = [_target(named, named, "", overwrite=overwrite, derived=derived, where=where, key=key)]

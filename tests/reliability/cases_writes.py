@@ -135,6 +135,15 @@ def _report_default_page_is_fifo(d: Path) -> Run:
     return Run(argv=report(f), expect=_html(f / "report.html", "FIFO"), isolate=True)
 
 
+def _report_default_page_is_a_link(d: Path) -> Run:
+    _th(d)  # the --out folder's own page is not written through a link (here to a file outside)
+    out = d / "out"
+    (d / "notes.txt").write_text("someone's notes")
+    os.symlink(d / "notes.txt", out / "report.html")
+    # refused already when the folder is read (it holds only its own files), else by the page's check
+    return Run(argv=report(out), expect=(str(out / "report.html"), "symbolic link"))
+
+
 def _export_onto_link_to_device(d: Path) -> Run:
     f = _th(d)
     os.symlink("/dev/null", d / "null.mat")
@@ -226,6 +235,7 @@ CASES_WRITES: list[Case] = [
     Case("export csv whose sidecar is a FIFO", GROUP, _export_sidecar_is_fifo),
     Case("report --html onto a FIFO", GROUP, _report_onto_fifo),
     Case("report's default page is a FIFO", GROUP, _report_default_page_is_fifo),
+    Case("report's default page is a link", GROUP, _report_default_page_is_a_link),
     Case("export onto a link to /dev/null", GROUP, _export_onto_link_to_device),
     Case("export onto a folder", GROUP, _export_onto_folder),
     Case("report --html onto a folder", GROUP, _report_onto_folder),
