@@ -163,7 +163,9 @@ def netcdf_content(result: Result, engine: str = "h5netcdf", complevel: int = 1,
                    where: str = "export_netcdf") -> tuple[Content, int]:
     """The NetCDF file of :func:`to_xarray` of the result: (its bytes, their size) for "h5netcdf"
     and "scipy", which write it in memory; (a writer of a file name, an upper bound of its size:
-    the uncompressed arrays and attributes plus 5 % and 1 MiB) for "netcdf4", which writes files only.
+    the uncompressed arrays and attributes plus 5 % and 1 MiB) for "netcdf4", which writes files
+    only, and for "h5netcdf" with an xarray that returns bytes from the scipy engine only (before
+    2025; then the free space is checked against that bound before HDF5 writes the file).
 
     In memory, the HDF5 library never writes to the disk: on a full disk it fails inside HDF5,
     without an error Python could catch, and can crash the process (exit 139 was measured); the
@@ -189,10 +191,16 @@ def netcdf_content(result: Result, engine: str = "h5netcdf", complevel: int = 1,
                 encoding[name] = {"zlib": True, "complevel": complevel, "shuffle": True, "chunksizes": chunks}
     else:  # NetCDF3 has no string or int64 arrays of this kind: JSON-safe attributes only
         ds.attrs["band_hz"] = list(ds.attrs.get("band_hz", []))
+    def to_file(tmp: Path) -> None:
+        ds.to_netcdf(tmp, engine=engine, encoding=encoding or None)
+
+    bound = int(ds.nbytes * 1.05) + sum(len(str(v)) for v in ds.attrs.values()) + MIB
     if engine == "netcdf4":
-        bound = int(ds.nbytes * 1.05) + sum(len(str(v)) for v in ds.attrs.values()) + MIB
-        return (lambda tmp: ds.to_netcdf(tmp, engine=engine, encoding=encoding or None)), bound
-    data = memoryview(ds.to_netcdf(None, engine=engine, encoding=encoding or None))
+        return to_file, bound
+    try:
+        data = memoryview(ds.to_netcdf(None, engine=engine, encoding=encoding or None))
+    except ValueError:  # xarray < 2025: "invalid engine for creating bytes", raised before any work
+        return to_file, bound
     return data, data.nbytes
 
 
