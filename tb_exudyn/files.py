@@ -181,7 +181,8 @@ def _target(path: Path, named: Path, label: str, *, overwrite: bool, derived: bo
         try:
             st = os.stat(path)
         except OSError:
-            raise _refused(where, key, named, f"{label}is a symbolic link to {link!r}, which does not exist", allowed) from None
+            raise _refused(where, key, named, f"{label}is a symbolic link to {link!r}, which does not exist",
+                           allowed) from None
         real = Path(os.path.realpath(path))
         if not stat.S_ISREG(st.st_mode):
             raise _refused(where, key, named, f"{label}is a symbolic link to {_kind(st.st_mode)} ({link!r}), not a "
@@ -192,7 +193,8 @@ def _target(path: Path, named: Path, label: str, *, overwrite: bool, derived: bo
         owner = _owner(Path(os.path.realpath(real)))
         if owner is not None:
             raise _refused(where, key, named, f"{label}is inside {owner}, which holds only the result's own files: "
-                                              "writing there would damage it", "a file outside result and checkpoint folders")
+                                              "writing there would damage it",
+                           "a file outside result and checkpoint folders")
         if st is not None and not overwrite:
             raise _refused(where, key, named, f"{label}exists", f"a new file name, or {opt} to replace the file")
     return real
@@ -238,10 +240,10 @@ def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, ov
     :func:`output_targets`, atomically and as one (:func:`tb_exudyn.atomic.write_atomic_group`).
 
     First the free space is checked against the bytes to write (plus ``size``, an estimate for the
-    callables) and a margin (SPACE_MARGIN_BLOCKS blocks per file, 1 %); any OSError of the write (a full disk after all, no permission) is
-    an OutputFolderError naming ``named`` and the file that failed; nothing is left behind.
-    ``overwrite=False``: a file that appeared meanwhile is not replaced.
-    """
+    callables) and a margin (SPACE_MARGIN_BLOCKS blocks per file, 1 %); any OSError of the write (a
+    full disk after all, no permission) is an OutputFolderError naming ``named`` and the file that
+    failed; nothing is left behind. ``overwrite=False``: a file that appeared meanwhile is not
+    replaced (the files of the group already in place are taken back)."""
     named = Path(named)
     need = sum(memoryview(c).nbytes for _, c in items if not callable(c)) + (size or 0)
     space = _free_space(Path(items[0][0]).parent)
@@ -249,7 +251,8 @@ def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, ov
         free, block = space
         want = need + len(items) * SPACE_MARGIN_BLOCKS * block + need // 100
         if want > free:
-            raise _refused(where, key, named, f"needs {_size_text(need)} but its file system has {_size_text(free)} free",
+            raise _refused(where, key, named,
+                           f"needs {_size_text(need)} but its file system has {_size_text(free)} free",
                            f"a place with at least {_size_text(want)} free")
 
     def writer(content: Content) -> Callable[[Path], object]:

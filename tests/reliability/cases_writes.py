@@ -55,7 +55,8 @@ def _export_netcdf_onto_meta(d: Path) -> Run:
 
 def _export_csv_onto_arrays_overwrite(d: Path) -> Run:
     f = _th(d)  # --overwrite does not make a result's own file writable
-    return Run(argv=export(f, "csv", f / "arrays.npz", "--overwrite"), expect=_output(f / "arrays.npz", "result folder"))
+    return Run(argv=export(f, "csv", f / "arrays.npz", "--overwrite"),
+               expect=_output(f / "arrays.npz", "result folder"))
 
 
 def _export_mat_onto_other_results_meta(d: Path) -> Run:
@@ -66,7 +67,8 @@ def _export_mat_onto_other_results_meta(d: Path) -> Run:
 
 def _report_html_onto_meta(d: Path) -> Run:
     f = _th(d)
-    return Run(argv=report(f, "--html", str(f / "meta.json"), "--overwrite"), expect=_html(f / "meta.json", "result folder"))
+    return Run(argv=report(f, "--html", str(f / "meta.json"), "--overwrite"),
+               expect=_html(f / "meta.json", "result folder"))
 
 
 def _export_new_file_in_result_folder(d: Path) -> Run:

@@ -216,7 +216,8 @@ def test_netcdf_without_bytes_from_xarray_is_a_checked_file(tmp_path, monkeypatc
     with xr.open_dataset(path, engine="h5netcdf") as back:
         assert np.array_equal(back["std"].values, r.std) and np.array_equal(back["psd"].values, r.psd)
     bound = export.to_xarray(r).nbytes * 1.05 + (1 << 20)
-    monkeypatch.setattr(files, "_free_space", lambda folder: (int(bound) - 1, 4096))  # the compressed file would fit; the bound does not
+    # the compressed file would fit, the bound does not: refused before HDF5 writes anything
+    monkeypatch.setattr(files, "_free_space", lambda folder: (int(bound) - 1, 4096))
     with pytest.raises(OutputFolderError, match=r"r2\.nc'.*needs .* free"):
         export.export(r, "netcdf", tmp_path / "r2.nc")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc"]
