@@ -106,7 +106,7 @@ def _place(tmp: Path, path: Path, replace: bool) -> None:
         os.replace(tmp, path)
         return
     try:
-        os.link(tmp, path, follow_symlinks=False)
+        os.link(tmp, path)
     except FileExistsError:
         raise
     except OSError as exc:
