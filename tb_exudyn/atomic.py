@@ -1,11 +1,25 @@
-"""Atomic file writes: a file is either its old content or the whole new one, never half of it."""
+"""Atomic file writes: a file is either its old content or the whole new one, never half of it.
+
+Each file is written to a hidden temporary file beside it (``.<name>.<random>.tmp``) and renamed
+into place only when it is complete; on any error (full disk, Ctrl-C) the temporary files are
+removed, and so are the folders the write created. :func:`write_atomic_group` writes several files
+as one (a CSV table and its sidecar): every temporary file is complete before the first rename.
+With ``replace=False`` a file is put in place only if nothing has that name by then (a hard link,
+which fails on an existing entry, then the temporary name is removed; where the file system has no
+hard links, a last check and a rename).
+"""
 
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 from pathlib import Path
-from typing import BinaryIO, Callable
+from typing import BinaryIO, Callable, Sequence
+
+#: errors of os.link that mean "no hard links here", not "the name is taken"
+_NO_LINKS = {errno.EPERM, errno.EXDEV, errno.EMLINK, getattr(errno, "ENOTSUP", -1), getattr(errno, "EOPNOTSUPP", -1),
+             getattr(errno, "ENOSYS", -1)}
 
 
 def _umask() -> int:
@@ -14,37 +28,97 @@ def _umask() -> int:
     return mask
 
 
-def write_atomic(path: str | Path, write: Callable[[BinaryIO], object]) -> Path:
+def write_atomic(path: str | Path, write: Callable[[BinaryIO], object], *, replace: bool = True) -> Path:
     """Call ``write(binary_file)`` on a temporary file beside ``path``, then rename it into place.
 
     The file gets the usual permissions (0666 less the umask), not mkstemp's private 0600. On any
-    error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was.
+    error (or Ctrl-C) the temporary file is removed and ``path`` is left as it was. ``replace=False``:
+    FileExistsError (and nothing written) if ``path`` exists when the file is put in place.
     """
     def by_name(tmp: Path) -> None:
         with open(tmp, "wb") as fh:
             write(fh)
 
-    return write_atomic_named(path, by_name)
+    return write_atomic_named(path, by_name, replace=replace)
 
 
-def write_atomic_named(path: str | Path, write: Callable[[Path], object]) -> Path:
+def write_atomic_named(path: str | Path, write: Callable[[Path], object], *, replace: bool = True) -> Path:
     """:func:`write_atomic` for writers that need a file name, not a file object (e.g. a NetCDF
     library): ``write(temporary path)`` beside ``path``, then the rename into place."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
+    return write_atomic_group([(path, write)], replace=replace)[0]
+
+
+def write_atomic_group(items: Sequence[tuple[str | Path, Callable[[Path], object]]], *,
+                       replace: bool = True) -> list[Path]:
+    """Write several files as one: ``write(temporary path)`` for each ``(path, write)``, and only
+    when all are complete rename them into place, in order.
+
+    On an error before the renames nothing is changed (temporary files and created folders are
+    removed). With ``replace=False`` a file whose name was taken in the meantime raises
+    FileExistsError and the files of this group already put in place are removed again. (With
+    ``replace=True`` a failing rename after the first cannot bring back the replaced file; renames
+    within a folder need no space and do not fail in practice.)
+    """
+    paths = [Path(p) for p, _ in items]
+    temps: list[Path] = []
+    placed: list[Path] = []
+    created: list[Path] = []
     try:
-        write(Path(tmp))
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        for path, (_, write) in zip(paths, items):
+            created += _make_parents(path.parent)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+            os.close(fd)
+            temps.append(Path(tmp))
+            write(Path(tmp))
+            os.chmod(tmp, 0o666 & ~_umask())
+        for path, tmp in zip(paths, temps):
+            _place(tmp, path, replace)
+            placed.append(path)
     except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        for tmp in temps:
+            if os.path.lexists(tmp):
+                os.unlink(tmp)
+        if not replace:  # these were new files: take them away again
+            for path in placed:
+                os.unlink(path)
+        for folder in created:
+            try:
+                os.rmdir(folder)
+            except OSError:
+                pass
         raise
-    return path
+    return paths
 
 
-def write_text_atomic(path: str | Path, text: str) -> Path:
+def _make_parents(folder: Path) -> list[Path]:
+    """Create ``folder`` and its missing parents; the folders created, deepest first."""
+    missing = []
+    p = folder
+    while not os.path.lexists(p) and p != p.parent:
+        missing.append(p)
+        p = p.parent
+    folder.mkdir(parents=True, exist_ok=True)
+    return missing
+
+
+def _place(tmp: Path, path: Path, replace: bool) -> None:
+    if replace:
+        os.replace(tmp, path)
+        return
+    try:
+        os.link(tmp, path)
+    except FileExistsError:
+        raise
+    except OSError as exc:
+        if exc.errno not in _NO_LINKS:
+            raise
+        if os.path.lexists(path):
+            raise FileExistsError(errno.EEXIST, os.strerror(errno.EEXIST), str(path)) from None
+        os.replace(tmp, path)
+        return
+    os.unlink(tmp)
+
+
+def write_text_atomic(path: str | Path, text: str, *, replace: bool = True) -> Path:
     """Write UTF-8 text atomically."""
-    return write_atomic(path, lambda fh: fh.write(text.encode("utf-8")))
+    return write_atomic(path, lambda fh: fh.write(text.encode("utf-8")), replace=replace)

@@ -247,7 +247,8 @@ def _cmd_export(args: argparse.Namespace) -> int:
         raise SettingError("command line", "--result", None,
                            " or ".join(p.name for p, _ in found) + " (FOLDER holds several results)",
                            "which result to export")
-    for path in export(found[0][1], args.format, args.output):
+    for path in export(found[0][1], args.format, args.output, overwrite=args.overwrite, where="command line",
+                       key="--output"):
         print(path)
     return EXIT_OK
 
@@ -316,8 +317,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 def _cmd_report(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     default_limits()  # the verdicts' limit files too: a broken one is an error, not "Verdicts: not computed"
+    target = {"overwrite": args.overwrite, "where": "command line", "key": "--html"}
+    _figures().report_target(args.folder, args.html, **target)  # refused before the lock too
     with _folder_lock(args.folder):
-        print(_figures().write_report(args.folder, args.html, found=found))
+        print(_figures().write_report(args.folder, args.html, found=found, **target))
     return EXIT_OK
 
 
@@ -450,13 +453,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
     p.add_argument("--format", choices=EXPORT_FORMATS, default="netcdf",
                    help="netcdf (xarray + h5netcdf: pip install \".[netcdf]\"), csv (plain pandas.read_csv), mat")
-    p.add_argument("--output", required=True, help="the file to write")
+    p.add_argument("--output", required=True, help="the file to write (CSV: and FILE.json beside it); not inside a "
+                   "result folder")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace --output (and its sidecar) if it exists; without it an existing file is refused")
     p.add_argument("--result", default=None, help="which result of FOLDER (e.g. pem, mc) when it holds several")
     p.set_defaults(func=_cmd_export)
 
     p = sub.add_parser("report", help="one self-contained HTML page of saved results")
     p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html)")
+    p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html, rewritten each time); "
+                   "not inside a result folder")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace the --html file if it exists; without it an existing file is refused")
     p.set_defaults(func=_cmd_report)
     return parser
 

@@ -1,4 +1,4 @@
-"""Reading files a user named, defensively: regular files only, bounded size, never blocking.
+"""Files a user named, read and written defensively: regular files only, bounded size, never blocking.
 
 A path given to tb_exudyn (a scenario, a spectrum table, a result folder's files) may point at
 anything: a FIFO (reading blocks forever), a device such as ``/dev/zero`` (reading never ends), a
@@ -10,15 +10,31 @@ refused (``O_NOFOLLOW``): files inside a result folder must be the folder's own.
 
 Refusals raise :class:`FileRefused` with a short reason; each caller turns it into its own
 one-line user error (ScenarioError, ResultsError, SpectrumError) naming the file.
+
+Writing a file the user named (``tb-exudyn export --output``, ``report --html``):
+:func:`output_targets` refuses, before anything is computed or written, a target inside a result
+folder (one holding ``meta.json`` and ``arrays.npz``) or a checkpoint folder (``manifest.json`` and
+``tasks/``), which own their files; a target that is not a regular file (FIFO, device, directory,
+socket, or a symbolic link to one or to nothing; nothing is opened); and an existing regular file
+unless told to overwrite (a symbolic link to a regular file is then written through: the file it
+points to is replaced). The same for each sidecar file written beside the target.
+:func:`write_output` writes the files atomically (:mod:`tb_exudyn.atomic`) after checking the free
+space for the bytes to write, so a full disk leaves the target as it was and no temporary file.
+Both raise :class:`~tb_exudyn.errors.OutputFolderError`, one line naming the file and the option
+(``where``/``key``: ``command line`` and ``--output``, or a function and its argument).
 """
 
 from __future__ import annotations
 
 import errno
 import os
+import re
 import stat
 from pathlib import Path
-from typing import BinaryIO
+from typing import BinaryIO, Callable, Sequence, Union
+
+from .atomic import write_atomic_group
+from .errors import OutputFolderError
 
 MIB = 1024 * 1024
 
@@ -114,4 +130,161 @@ def read_text(path: str | Path, *, max_bytes: int, follow_symlinks: bool = True)
     return decode_utf8(read_regular(path, max_bytes=max_bytes, follow_symlinks=follow_symlinks))
 
 
-__all__ = ["MIB", "FileRefused", "decode_utf8", "open_regular", "read_regular", "read_text"]
+# ============================================================================================ writing
+#: the entries by which a result folder (tb_exudyn.results.storage.RESULT_FILES) and a checkpoint
+#: folder (tb_exudyn.execution.checkpoint) are recognised; such folders own everything inside them
+RESULT_FOLDER_FILES = ("arrays.npz", "meta.json")
+CHECKPOINT_FOLDER_FILES = ("manifest.json", "tasks")
+#: free space asked beyond the bytes of the files: this many file-system blocks per file (the last,
+#: partly filled block and metadata), plus 1 % of the bytes
+SPACE_MARGIN_BLOCKS = 2
+
+
+def _overwrite_option(where: str) -> str:
+    return "--overwrite" if where == "command line" else "overwrite=True"
+
+
+def _refused(where: str, key: str, named: Path, what: str, allowed: str) -> OutputFolderError:
+    """``WHERE: key 'KEY' = 'PATH': WHAT (allowed: ALLOWED)``, the path in full."""
+    return OutputFolderError(f"{where}: key '{key}' = {str(named)!r}: {what} (allowed: {allowed})")
+
+
+def _owner(path: Path) -> str | None:
+    """The result or checkpoint folder that ``path`` (resolved) would be written into, if any."""
+    if path.name in RESULT_FOLDER_FILES and any(os.path.lexists(path.parent / n) for n in RESULT_FOLDER_FILES):
+        return f"the result folder {str(path.parent)!r} (its {path.name})"
+    for folder in (path.parent, *path.parent.parents):
+        if all(os.path.lexists(folder / n) for n in RESULT_FOLDER_FILES):
+            return f"the result folder {str(folder)!r}"
+        if all(os.path.lexists(folder / n) for n in CHECKPOINT_FOLDER_FILES):
+            return f"the checkpoint folder {str(folder)!r}"
+    return None
+
+
+def _target(path: Path, named: Path, label: str, *, overwrite: bool, derived: bool, where: str, key: str) -> Path:
+    """The path to write for one target (see :func:`output_targets`)."""
+    opt = _overwrite_option(where)
+    allowed = f"a new file, or an existing regular file with {opt}"
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        st = None
+    except OSError as exc:  # e.g. a file where a folder of the path should be
+        raise _refused(where, key, named, f"{label}cannot be written there ({exc.strerror or exc})",
+                       "a file whose folders are folders") from None
+    real = path
+    if st is not None and stat.S_ISLNK(st.st_mode):
+        link = os.readlink(path)
+        if derived:  # the command's own file in a folder it owns: never written through a link
+            raise _refused(where, key, named, f"{label}is a symbolic link (to {link!r}), not the folder's own file",
+                           "a regular file, or no file")
+        try:
+            st = os.stat(path)
+        except OSError:
+            raise _refused(where, key, named, f"{label}is a symbolic link to {link!r}, which does not exist",
+                           allowed) from None
+        real = Path(os.path.realpath(path))
+        if not stat.S_ISREG(st.st_mode):
+            raise _refused(where, key, named, f"{label}is a symbolic link to {_kind(st.st_mode)} ({link!r}), not a "
+                                              "regular file", allowed)
+    elif st is not None and not stat.S_ISREG(st.st_mode):
+        raise _refused(where, key, named, f"{label}is {_kind(st.st_mode)}, not a regular file", allowed)
+    if not derived:
+        owner = _owner(Path(os.path.realpath(real)))
+        if owner is not None:
+            raise _refused(where, key, named, f"{label}is inside {owner}, which holds only the result's own files: "
+                                              "writing there would damage it",
+                           "a file outside result and checkpoint folders")
+        if st is not None and not overwrite:
+            raise _refused(where, key, named, f"{label}exists", f"a new file name, or {opt} to replace the file")
+    return real
+
+
+def output_targets(path: str | Path, *, sidecars: Sequence[str | Path] = (), overwrite: bool = False,
+                   derived: bool = False, where: str, key: str) -> list[Path]:
+    """Check a file the user named (and the sidecar files written beside it) before writing it
+    (see the module docstring); returns the paths to write, the target's first.
+
+    ``derived``: the target is the command's own default file (a folder's ``report.html``, rewritten
+    every time): only a target that is not a regular file (a symbolic link included) is refused.
+    Raises OutputFolderError.
+    """
+    named = Path(path)
+    out = [_target(named, named, "", overwrite=overwrite, derived=derived, where=where, key=key)]
+    for side in sidecars:
+        side = Path(side)
+        out.append(_target(side, named, f"its sidecar file {str(side)!r} ", overwrite=overwrite, derived=derived,
+                           where=where, key=key))
+    return out
+
+
+def _free_space(folder: Path) -> tuple[int, int] | None:
+    """(bytes free to this user, block size) of the file system of ``folder`` (or of its nearest
+    existing parent); None where it cannot be known."""
+    p = folder
+    while not os.path.isdir(p) and p != p.parent:
+        p = p.parent
+    try:
+        st = os.statvfs(p)
+    except (OSError, AttributeError):
+        return None
+    return st.f_bavail * st.f_frsize, st.f_frsize
+
+
+Content = Union[bytes, memoryview, Callable[[Path], object]]
+
+
+def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, overwrite: bool, where: str, key: str,
+                 size: int | None = None) -> list[Path]:
+    """Write the files ``items`` (path, bytes or ``write(temporary path)``) checked by
+    :func:`output_targets`, atomically and as one (:func:`tb_exudyn.atomic.write_atomic_group`).
+
+    First the free space is checked against the bytes to write (plus ``size``, an estimate for the
+    callables) and a margin (SPACE_MARGIN_BLOCKS blocks per file, 1 %); any OSError of the write (a
+    full disk after all, no permission) is an OutputFolderError naming ``named`` and the file that
+    failed; nothing is left behind. ``overwrite=False``: a file that appeared meanwhile is not
+    replaced (the files of the group already in place are taken back)."""
+    named = Path(named)
+    need = sum(memoryview(c).nbytes for _, c in items if not callable(c)) + (size or 0)
+    space = _free_space(Path(items[0][0]).parent)
+    if space is not None:
+        free, block = space
+        want = need + len(items) * SPACE_MARGIN_BLOCKS * block + need // 100
+        if want > free:
+            raise _refused(where, key, named,
+                           f"needs {_size_text(need)} but its file system has {_size_text(free)} free",
+                           f"a place with at least {_size_text(want)} free")
+
+    def writer(content: Content) -> Callable[[Path], object]:
+        if callable(content):
+            return content
+        def write(tmp: Path) -> None:
+            with open(tmp, "wb") as fh:
+                fh.write(content)
+        return write
+
+    paths = [Path(p) for p, _ in items]
+    try:
+        return write_atomic_group([(p, writer(c)) for p, c in zip(paths, (c for _, c in items))], replace=overwrite)
+    except FileExistsError as exc:
+        raise _refused(where, key, named, f"{_which(exc, paths)}appeared while it was written: not replaced",
+                       f"a new file name, or {_overwrite_option(where)} to replace the file") from None
+    except OSError as exc:
+        raise _refused(where, key, named, f"{_which(exc, paths)}cannot be written ({exc.strerror or exc})",
+                       "a file in a writable folder with room for it") from None
+
+
+def _which(exc: OSError, paths: Sequence[Path]) -> str:
+    """'' when the error concerns the first file (or its temporary file) or no file, else 'its sidecar file X '."""
+    name = getattr(exc, "filename", None)
+    if not name:
+        return ""
+    base = Path(name).name
+    for i, p in enumerate(paths):
+        if base == p.name or re.fullmatch(rf"\.{re.escape(p.name)}\.[^.]+\.tmp", base):
+            return "" if i == 0 else f"its sidecar file {str(p)!r} "
+    return f"file {str(name)!r} "
+
+
+__all__ = ["CHECKPOINT_FOLDER_FILES", "MIB", "RESULT_FOLDER_FILES", "SPACE_MARGIN_BLOCKS", "FileRefused", "decode_utf8",
+           "open_regular", "output_targets", "read_regular", "read_text", "write_output"]

@@ -35,11 +35,12 @@ from __future__ import annotations
 
 import datetime as _dt
 import html
+import os
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
 from .._version import __version__
-from ..atomic import write_text_atomic
+from ..files import output_targets, write_output
 from ..plotting import data as pdata
 from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
@@ -169,10 +170,23 @@ def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels
     return pictures, names, comparison
 
 
+def report_target(folder: str | Path, out_html: str | Path | None = None, *, overwrite: bool = False,
+                  where: str = "write_report", key: str = "out_html") -> tuple[Path, Path, bool]:
+    """Where :func:`write_report` writes: (the page as named, the file to write, whether it is the
+    folder's own default page); OutputFolderError if the target is refused (see write_report)."""
+    folder = Path(folder)
+    default = folder / "report.html"
+    out = Path(out_html) if out_html is not None else default
+    derived = out_html is None or os.path.realpath(out) == os.path.realpath(default)
+    (target,) = output_targets(out, overwrite=overwrite or derived, derived=derived, where=where, key=key)
+    return out, target, derived
+
+
 def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: float = 3.0,
                  channels: str | Sequence[str] | None = None, checks: Iterable[Any] | None = None,
                  modes: Iterable[Any] | None = None, workers: int | None = None, progress: bool = False,
-                 found: Sequence[tuple[Path, Result]] | None = None) -> Path:
+                 found: Sequence[tuple[Path, Result]] | None = None, overwrite: bool = False,
+                 where: str = "write_report", key: str = "out_html") -> Path:
     """Write one self-contained HTML page on the results in ``folder`` (one result folder, or a
     folder of result folders) to ``out_html`` (default ``<folder>/report.html``), atomically.
 
@@ -183,21 +197,27 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     ``<result>/figures``. ``checks``: a checks table or the verdict rows (:func:`verdicts_of`; None:
     the checks of the first random result); ``modes``: the modes (:class:`ModeEntry`; None: "not computed"). ``found``: the results already
     loaded (``find_results(folder)``).
+
+    The default page is the folder's own and is rewritten each time; a named ``out_html`` is
+    checked before anything is drawn (:func:`tb_exudyn.files.output_targets`): refused inside a
+    result or checkpoint folder, when it is not a regular file, and when it exists unless
+    ``overwrite``. Either way a FIFO, device or folder at the target is refused, and a full disk
+    leaves the old page (OutputFolderError naming the file and ``where``/``key``, e.g.
+    ``command line``, ``--html``).
     """
     folder = Path(folder)
     found = find_results(folder) if found is None else found
+    out, target, derived = report_target(folder, out_html, overwrite=overwrite, where=where, key=key)
     pictures, names, comparison = report_pictures(folder, found, channels, workers=workers, progress=progress)
     text = render_report(found, k=k, channels=channels, checks=checks, modes=modes, pictures=pictures,
                          names=names, comparison=comparison)
-    out = Path(out_html) if out_html is not None else folder / "report.html"
-    write_text_atomic(out, text)
+    write_output([(target, text.encode("utf-8"))], named=out, overwrite=overwrite or derived, where=where, key=key)
     return out
-
 
 
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
-           "load_study", "plot_folder", "render_report", "report_pictures", "save_figure", "scenario_sections", "screening",
+           "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
            "SWEEP_REPORT", "render_sweep_report", "write_sweep_report"]

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import scipy.io
 
-from tb_exudyn.errors import SettingError
+from tb_exudyn.errors import OutputFolderError, SettingError
 from tb_exudyn.results import export
 from tb_exudyn.results.export import export_csv, export_mat, read_csv
 from tb_exudyn.scenario import scenario_from_dict
@@ -192,5 +192,32 @@ def test_export_entry_point(tmp_path):
     assert nc.stat().st_size > 0
     with pytest.raises(SettingError, match="key 'format' = 'xlsx'.*allowed: netcdf, csv, mat"):
         export.export(r, "xlsx", tmp_path / "mc.xlsx")
-    with pytest.raises(SettingError, match="is a folder"):
+    with pytest.raises(OutputFolderError, match="is a directory, not a regular file"):
         export.export(r, "csv", tmp_path)
+
+
+def test_netcdf_without_bytes_from_xarray_is_a_checked_file(tmp_path, monkeypatch):
+    """xarray before 2025 returns bytes from the scipy engine only (ValueError otherwise): the
+    export then writes the file through HDF5, after checking the free space against the
+    uncompressed size (+5 %, +1 MiB), so that HDF5 never meets a full disk it could crash on."""
+    import tb_exudyn.files as files
+    from tb_exudyn.errors import OutputFolderError
+
+    to_netcdf = xr.Dataset.to_netcdf
+
+    def old_xarray(self, path=None, *args, **kwargs):
+        if path is None and kwargs.get("engine") != "scipy":
+            raise ValueError("invalid engine for creating bytes with to_netcdf: 'h5netcdf'")
+        return to_netcdf(self, path, *args, **kwargs)
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", old_xarray)
+    r = synthetic.pem_response()
+    (path,) = export.export(r, "netcdf", tmp_path / "r.nc")
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        assert np.array_equal(back["std"].values, r.std) and np.array_equal(back["psd"].values, r.psd)
+    bound = export.to_xarray(r).nbytes * 1.05 + (1 << 20)
+    # the compressed file would fit, the bound does not: refused before HDF5 writes anything
+    monkeypatch.setattr(files, "_free_space", lambda folder: (int(bound) - 1, 4096))
+    with pytest.raises(OutputFolderError, match=r"r2\.nc'.*needs .* free"):
+        export.export(r, "netcdf", tmp_path / "r2.nc")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.nc"]
