@@ -21,13 +21,13 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..atomic import write_text_atomic
-from ..errors import SettingError
+from ..errors import ResourceError, SettingError
 from ..scenario.io import load_bridge
 from ..scenario.model import Frame, SimpleBeam
 from ..scenario.registry import model_files
 from ..structure import StructureError, modal_bridge
 from . import en1991 as code
-from .moving_force import MovingForceResponse, moving_force_response
+from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
 from .plot import plot_check
 from .trains import ForceTrain, resolve_trains
 
@@ -271,7 +271,14 @@ def check(
         v_res = code.resonant_speeds_kmh(f1, train.regular_length)
         resonant[train.name] = tuple(float(v) for v in v_res)
         speeds = code.speed_series(line_speed_kmh, v_res, step_kmh=speed_step_kmh)
-        resp = moving_force_response(mb, train, speeds, spans, damping_ratio=zeta, modes=used)
+        try:
+            resp = moving_force_response(mb, train, speeds, spans, damping_ratio=zeta, modes=used)
+        except ResourceError as exc:
+            raise ResourceError.from_parts(
+                where, names.get("line_speed_kmh", "line_speed_kmh"), line_speed_kmh,
+                "a higher line speed: the lowest speed of the series sets the step",
+                f"{train.name} at {speeds[0]:g} km/h needs {getattr(exc, 'steps', '?')} steps, more than "
+                f"{MAX_STEPS}") from None
         responses.append(resp)
         phi_dyn = resp.phi_dyn.max(axis=0)
         mids = resp.mid_stations

@@ -26,8 +26,9 @@ from ..errors import ResourceError, SettingError
 from ..structure.modal import ModalBridge
 from .trains import ForceTrain
 
-#: largest number of steps of one integration (the memory of the modal loads is steps x modes)
-MAX_STEPS = 2_000_000
+#: largest number of steps of one integration (about 15 us each per train on one core; the memory of the
+#: modal loads is steps x modes x 8 bytes)
+MAX_STEPS = 500_000
 
 
 @dataclass(frozen=True)
@@ -161,9 +162,11 @@ def moving_force_response(
     n_pass = int(math.ceil((bridge.length + train.length) / dx)) + 1
     n_steps = n_pass + int(math.ceil(tail_s * v.max() / dx))
     if n_steps > MAX_STEPS:
-        raise ResourceError.from_parts(where, "speeds_kmh", f"{v_kmh.min():g}-{v_kmh.max():g} km/h",
+        exc = ResourceError.from_parts(where, "speeds_kmh", f"{v_kmh.min():g}-{v_kmh.max():g} km/h",
                                        f"at most {MAX_STEPS} steps (fewer high modes, higher lowest speed)",
                                        f"{n_steps} steps of {dx:.3g} m")
+        exc.steps, exc.step_m = n_steps, dx
+        raise exc
     f = modal_loads(bridge, modes, train, dx, n_steps)  # (n, m)
     e = _discretisation(omega[:, None], zeta[:, None], (dx / v)[None, :])  # (m, v, 2, 4)
     p00, p01, g0q, g1q = (e[..., 0, c] for c in range(4))

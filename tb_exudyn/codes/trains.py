@@ -42,6 +42,8 @@ HSLM_A_TABLE: dict[int, tuple[int, float, float, float]] = {
 #: coach's first axle [m]
 HSLM_POWER_CAR_AXLES = (0.0, 3.0, 14.0, 17.0)
 HSLM_POWER_TO_COACH = 3.525
+#: the longest train a file may give, first to last axle [m] (the longest freight trains are about 750 m)
+MAX_TRAIN_LENGTH = 1000.0
 #: names that select all ten HSLM-A trains
 HSLM_A_GROUP = "hslm_a"
 
@@ -177,6 +179,9 @@ def load_train(path: str | Path) -> ForceTrain:
             loads.extend([weight / 4.0] * 4)
             lengths.append(vehicle.length)
             start += vehicle.length
+    if positions[-1] > MAX_TRAIN_LENGTH:
+        raise _train_error(file, "cars", f"{len(lengths)} cars", f"a train at most {MAX_TRAIN_LENGTH:g} m long",
+                           f"first to last axle {positions[-1]:g} m")
     if "regular_length" in data:
         regular = _positive(file, "regular_length", data["regular_length"])
     else:
@@ -232,7 +237,7 @@ def resolve_trains(names, where: str = "check", key: str = "trains") -> list[For
             out.append(hslm_a(_hslm_number(text)))
         elif text in files:
             out.append(load_train(files[text]))
-        elif text.endswith(".toml") and Path(text).is_file():
+        elif text.endswith(".toml"):  # read_toml names a missing, non-regular or malformed file
             out.append(load_train(text))
         else:
             allowed = "hslm_a, HSLM-A1 ... HSLM-A10, " + ", ".join(files) + " or a train .toml file"
