@@ -259,7 +259,6 @@ def check(
     mb, used, f1, _f3, cutoff, cutoff_basis = _modes_for_check(bridge, err)
     limit = code.deck_acceleration_limit(track)
     dyn_required = code.dynamic_analysis_required(line_speed_kmh, span, f1)
-    phi2 = code.phi_irregularity_annex_c(f1, span) if span > 0 else 0.0
     k_irr = code.IRREGULARITY_FACTOR[maintenance]
 
     columns = ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz",
@@ -286,6 +285,7 @@ def check(
         for j, v in enumerate(resp.speeds_kmh):
             s = int(where_max[j])
             peak = float(resp.max_acc[s, j])
+            phi2 = code.phi_irregularity_annex_c(f1, span, v / 3.6)  # L_Phi: the longest span [check]
             row = {"train": train.name, "speed_kmh": float(v), "case": NOMINAL_CASE, "damping_ratio": zeta,
                    "cutoff_hz": float(cutoff)}
             for i, m in enumerate(mids):

@@ -47,6 +47,10 @@ def test_table_columns_rows_and_settings(a1):
     assert all(loc.startswith("span1.x") for loc in a1.column("max_deck_acc_z_location"))
     assert a1.verdict == "ok" and set(a1.column("verdict")) == {"ok"} and a1.limit == 3.5
     assert a1.dynamic_analysis[0] is True  # 250 km/h > 200 km/h (Figure 6.9)
+    # Annex C with n0 = f1, L_Phi = 32 m, every speed above 22 m/s (alpha = 1); careful maintenance: k = 1/2
+    assert set(a1.column("phi_irregularity")) == {code.phi_irregularity_annex_c(f1, 32.0)}
+    np.testing.assert_allclose(a1.column("enhancement"),
+                               1 + np.array(a1.column("phi_dyn")) + 0.5 * code.phi_irregularity_annex_c(f1, 32.0))
 
 
 def test_fe_pipeline_against_closed_form_modes(a1):
