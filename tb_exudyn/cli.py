@@ -328,15 +328,19 @@ def _cmd_report(args: argparse.Namespace) -> int:
 def _cmd_check(args: argparse.Namespace) -> int:
     """EN 1991-2 dynamic check (tb_exudyn.codes): the table, the figure, the verdict; nothing is written
     before the computation has succeeded."""
+    try:
+        line_speed = float(args.line_speed_kmh)
+    except ValueError:
+        raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
+                           "not a number") from None
     out = Path(args.out)
-    targets = [out / CHECK_CSV] + ([] if args.no_figures else [out / CHECK_FIGURE])
-    existing = [p.name for p in targets if p.exists() or p.is_symlink()]
+    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE) if p.exists() or p.is_symlink()]
     if existing and not args.overwrite:
-        raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(existing)} of an earlier check "
-                                "(allowed: --overwrite to replace it, or another --out)")
+        raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
+                                "earlier check (allowed: --overwrite to replace it, or another --out)")
     options = {"line_speed_kmh": "--line-speed-kmh", "trains": "--trains", "track": "--track",
                "construction": "--construction", "bridge": "BRIDGE"}
-    result = check(args.bridge, args.line_speed_kmh, trains=args.trains, track=args.track,
+    result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
                    construction=args.construction, additional_damping=args.additional_damping,
                    where="command line", option_names=options)
     figure = None if args.no_figures else result.plot()  # drawn before anything is written
@@ -345,6 +349,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
         result.to_csv(out / CHECK_CSV)
         if figure is not None:
             _figures().save_figure(figure, out / CHECK_FIGURE)
+        elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
+            (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
     print(result.summary())
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if figure is None else f" and {CHECK_FIGURE}"))
@@ -470,7 +476,7 @@ def build_parser() -> argparse.ArgumentParser:
   tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
 """)
     p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
-    p.add_argument("--line-speed-kmh", dest="line_speed_kmh", type=float, required=True, metavar="V",
+    p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
                    help="maximum line speed at the site, (0, 600] km/h: speeds from 40 m/s to 1.2 V (6.4.6.2)")
     p.add_argument("--trains", nargs="+", default=["hslm_a"], metavar="NAME",
                    help="hslm_a (default: HSLM-A1 ... A10), HSLM-A3, a train of models/trains or a train .toml file")
@@ -482,7 +488,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--additional-damping", dest="additional_damping", action="store_true",
                    help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
     p.add_argument("--out", default="check", help="output folder (default: ./check)")
-    p.add_argument("--overwrite", action="store_true", help="replace an earlier check's check.csv and figure in --out")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an earlier check's check.csv and check.png in --out (with --no-figures: remove the png)")
     p.add_argument("--no-figures", action="store_true", help="no figure")
     p.set_defaults(func=_cmd_check)
 

@@ -114,6 +114,7 @@ def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, caps
     assert "--overwrite" in capsys.readouterr().err and (out / "check.csv").read_bytes() == before
     assert main(argv + ["--overwrite", "--no-figures", "--track", "direct"]) == 0
     assert "5 m/s^2 (direct track)" in capsys.readouterr().out
+    assert sorted(p.name for p in out.iterdir()) == ["check.csv"]  # no stale figure beside the new table
 
 
 def test_list_shows_the_trains(capsys):

@@ -23,6 +23,16 @@ def _line_speed(value: str):
     return build
 
 
+def _line_speed_not_a_number(d: Path) -> Run:
+    return Run(argv=_argv(d, line_speed="fast"), expect=("--line-speed-kmh", "'fast'", "not a number"))
+
+
+def _earlier_figure_in_out(d: Path) -> Run:
+    (d / "out").mkdir()
+    (d / "out" / "check.png").write_bytes(b"png")
+    return Run(argv=_argv(d), expect=(str(d / "out"), "check.png", "--overwrite"))
+
+
 def _line_speed_too_low_for_the_steps(d: Path) -> Run:
     return Run(argv=_argv(d, line_speed="0.5"), expect=("--line-speed-kmh", "steps"))
 
@@ -98,6 +108,7 @@ CASES_EN1991: list[Case] = [
     Case("check: line speed 601 km/h", GROUP, _line_speed("601")),
     Case("check: line speed nan", GROUP, _line_speed("nan")),
     Case("check: line speed inf", GROUP, _line_speed("inf")),
+    Case("check: line speed not a number", GROUP, _line_speed_not_a_number),
     Case("check: line speed too low for the steps", GROUP, _line_speed_too_low_for_the_steps),
     Case("check: unknown train", GROUP, _unknown_train),
     Case("check: unknown bridge", GROUP, _unknown_bridge),
@@ -110,5 +121,6 @@ CASES_EN1991: list[Case] = [
     Case("check: train file missing", GROUP, _train_file_missing),
     Case("check: HSLM-A on a 5 m span", GROUP, _hslm_on_a_5_m_span),
     Case("check: an earlier check.csv in --out", GROUP, _earlier_check_in_out),
+    Case("check: an earlier check.png in --out", GROUP, _earlier_figure_in_out),
     Case("check: --out is a file", GROUP, _out_is_a_file),
 ]
