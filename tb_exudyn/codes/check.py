@@ -242,7 +242,7 @@ def check(
     spans = [float(s) for s in bridge.spans]
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
-                           f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
+                  f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
 
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:

@@ -65,6 +65,22 @@ class ForceTrain:
     description: str = ""
     source: str = ""
 
+    def __post_init__(self) -> None:
+        x = np.asarray(self.positions, dtype=float)
+        p = np.asarray(self.loads, dtype=float)
+        where = f"ForceTrain {self.name!r}"
+        if x.ndim != 1 or x.size == 0 or not np.all(np.isfinite(x)) or x[0] != 0.0 or np.any(np.diff(x) < 0):
+            raise SettingError(where, "positions", self.positions, "axle positions [m] from 0, ascending, finite")
+        if p.shape != x.shape or not np.all(np.isfinite(p)):
+            raise SettingError(where, "loads", self.loads, f"{x.size} finite axle loads [N], one per position")
+        if x[-1] > MAX_TRAIN_LENGTH:
+            raise SettingError(where, "positions", f"first to last axle {x[-1]:g} m",
+                               f"a train at most {MAX_TRAIN_LENGTH:g} m long")
+        if not (math.isfinite(self.regular_length) and self.regular_length > 0):
+            raise SettingError(where, "regular_length", self.regular_length, "a length D > 0 m")
+        object.__setattr__(self, "positions", x)
+        object.__setattr__(self, "loads", p)
+
     @property
     def n_axles(self) -> int:
         return int(self.positions.size)

@@ -92,3 +92,13 @@ def test_bad_train_file_names_file_and_key(tmp_path):
     bad.write_text('name = "x"\n[[cars]]\nvehicle = "moving_force_100kn"\n')
     with pytest.raises(ScenarioError, match="two bogies"):
         load_train(bad)
+
+
+def test_a_force_train_checks_its_arrays():
+    from tb_exudyn.codes.trains import ForceTrain
+
+    ForceTrain("ok", [0.0, 2.5], [1e5, 1e5], 2.5)
+    for positions, loads in (([1.0, 2.5], [1e5, 1e5]), ([0.0, -1.0], [1e5, 1e5]), ([0.0, 2.5], [1e5]),
+                             ([0.0, 2.5], [1e5, np.nan]), ([0.0, 1500.0], [1e5, 1e5])):
+        with pytest.raises(SettingError, match="ForceTrain 'x'"):
+            ForceTrain("x", positions, loads, 2.5)
