@@ -29,6 +29,8 @@ from .trains import ForceTrain
 #: largest number of steps of one integration (about 15 us each per train on one core; the memory of the
 #: modal loads is steps x modes x 8 bytes)
 MAX_STEPS = 500_000
+#: positions per evaluation of the mode shapes (each forms 6 components of every mode of the bridge)
+_SHAPE_CHUNK = 8192
 
 
 @dataclass(frozen=True)
@@ -106,8 +108,9 @@ def modal_loads(bridge: ModalBridge, modes: np.ndarray, train: ForceTrain, dx: f
     for a, p in zip(train.positions, train.loads):
         x = x_front - a
         on = np.flatnonzero((x >= 0.0) & (x <= bridge.length))
-        if on.size:
-            out[on] -= p * bridge.rail_shapes(x[on]).z[:, modes]
+        for k in range(0, on.size, _SHAPE_CHUNK):  # chunks: the shapes of all modes and components are formed
+            idx = on[k:k + _SHAPE_CHUNK]
+            out[idx] -= p * bridge.rail_shapes(x[idx]).z[:, modes]
     return out
 
 
