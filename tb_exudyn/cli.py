@@ -16,8 +16,10 @@ from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
+from .codes import CHECK_CSV, CHECK_FIGURE, check
+from .codes.trains import list_trains
 from .engines import ENGINES
-from .errors import SettingError, UserError
+from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE
 from ._version import __version__
@@ -46,6 +48,11 @@ def _cmd_list(args: argparse.Namespace) -> int:
         print(f"{category}:")
         for e in (e for e in entries if e.category == category):
             print(f"  {e.name:<{width}}  {e.description}")
+    trains = list_trains()
+    print("trains (moving forces for `tb-exudyn check`; hslm_a: all ten HSLM-A):")
+    width_t = max(len(n) for n, _ in trains)
+    for name, description in trains:
+        print(f"  {name:<{width_t}}  {description}")
     print("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
     names = spectrum_names()
     width = max(len(n) for n in names)
@@ -324,6 +331,38 @@ def _cmd_report(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_check(args: argparse.Namespace) -> int:
+    """EN 1991-2 dynamic check (tb_exudyn.codes): the table, the figure, the verdict; nothing is written
+    before the computation has succeeded."""
+    try:
+        line_speed = float(args.line_speed_kmh)
+    except ValueError:
+        raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
+                           "not a number") from None
+    out = Path(args.out)
+    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE) if p.exists() or p.is_symlink()]
+    if existing and not args.overwrite:
+        raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
+                                "earlier check (allowed: --overwrite to replace it, or another --out)")
+    options = {"line_speed_kmh": "--line-speed-kmh", "trains": "--trains", "track": "--track",
+               "construction": "--construction", "bridge": "BRIDGE"}
+    result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
+                   construction=args.construction, additional_damping=args.additional_damping,
+                   where="command line", option_names=options)
+    figure = None if args.no_figures else result.plot()  # drawn before anything is written
+    out = check_writable(out)
+    with _folder_lock(out):
+        result.to_csv(out / CHECK_CSV)
+        if figure is not None:
+            _figures().save_figure(figure, out / CHECK_FIGURE)
+        elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
+            (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
+    print(result.summary())
+    print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
+          + ("" if figure is None else f" and {CHECK_FIGURE}"))
+    return EXIT_OK
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="tb-exudyn",
@@ -436,6 +475,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figure (the report is written without it)")
     p.set_defaults(func=_cmd_sweep)
+
+    p = sub.add_parser("check", help="EN 1991-2 dynamic check: HSLM-A and real trains as moving forces over a speed series",
+                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
+  tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
+  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
+""")
+    p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
+                   help="maximum line speed at the site, (0, 600] km/h: speeds from 40 m/s to 1.2 V (6.4.6.2)")
+    p.add_argument("--trains", nargs="+", default=["hslm_a"], metavar="NAME",
+                   help="hslm_a (default: HSLM-A1 ... A10), HSLM-A3, a train of models/trains or a train .toml file")
+    p.add_argument("--track", default="ballasted", metavar="TRACK",
+                   help="ballasted (limit 3.5 m/s^2, default) or direct (direct fastening, 5 m/s^2)")
+    p.add_argument("--construction", default="prestressed_concrete", metavar="TYPE",
+                   help="Table 6.6 damping: steel_composite, prestressed_concrete (default; the shipped bridges), "
+                        "reinforced_concrete or filler_beam")
+    p.add_argument("--additional-damping", dest="additional_damping", action="store_true",
+                   help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
+    p.add_argument("--out", default="check", help="output folder (default: ./check)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an earlier check's check.csv and check.png in --out (with --no-figures: remove the png)")
+    p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.set_defaults(func=_cmd_check)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
     p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")

@@ -1,0 +1,313 @@
+"""The EN 1991-2 dynamic check of a bridge under trains of moving forces: one table of every train at
+every speed, and its verdict.
+
+:func:`check` builds the bridge's modes (finite elements, no Exudyn), takes the damping of Table 6.6
+(optionally with eq. 6.13's additional damping), the modes up to the cut-off max(30 Hz, 1.5 f1, f3)
+and the speed series of 6.4.6.2 for each train, runs :func:`moving_force_response` (all speeds of a
+train in one integration) and returns a :class:`CheckResult`: the rows, the limit and what decided
+the values. Figures: :func:`tb_exudyn.codes.plot.plot_check`. Clause by clause: docs/en1991.md.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+from ..atomic import write_text_atomic
+from ..errors import ResourceError, SettingError
+from ..scenario.io import load_bridge
+from ..scenario.model import Frame, SimpleBeam
+from ..scenario.registry import model_files
+from ..structure import StructureError, modal_bridge
+from . import en1991 as code
+from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
+from .plot import plot_check
+from .trains import ForceTrain, resolve_trains
+
+#: the table's file in an output folder
+CHECK_CSV = "check.csv"
+CHECK_FIGURE = "check.png"
+#: the mass case of every row until bridges carry mass bounds (EN 1991-2 6.4.6.3.2)
+NOMINAL_CASE = "nominal"
+#: HSLM-A applies to spans from this length; HSLM-B below (EN 1991-2 Annex E, Table E.4) [m] [check]
+HSLM_A_MIN_SPAN = 7.0
+#: the first modes are computed up to this frequency, raised until three vertical modes are found [Hz]
+FIRST_MODE_LIMIT_HZ = 60.0
+MODE_LIMIT_CAP_HZ = 480.0
+
+VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """The table of a check and what it was computed with.
+
+    ``columns`` the table's column names; ``rows`` one dict per (train, speed, case). Columns: train,
+    speed_kmh, case, damping_ratio (fraction), cutoff_hz, acc_z_mid_span<i> (peak |vertical acceleration|
+    at mid-span of span i along the track [m/s^2], one per span), max_deck_acc_z (largest over the deck
+    stations), max_deck_acc_z_location (its station, e.g. 'span1.x4/8 (16 m)'), disp_z_mid (largest peak
+    |displacement| at a mid-span [m]), phi_dyn (phi'_dyn = max |y_dyn / y_stat| - 1, largest over the
+    spans' mid-spans), phi_irregularity (phi'' of Annex C), enhancement (1 + phi_dyn + k phi''), limit
+    (m/s^2), verdict ('ok' or 'exceeds': max_deck_acc_z against limit).
+    """
+
+    bridge: str
+    line_speed_kmh: float
+    track: str
+    limit: float
+    construction: str
+    damping_ratio: float
+    damping_basis: str
+    cutoff_hz: float
+    cutoff_basis: str
+    mode_frequencies: tuple[float, ...]
+    dynamic_analysis: tuple[bool, str]
+    resonant_speeds_kmh: dict[str, tuple[float, ...]]
+    columns: tuple[str, ...]
+    rows: tuple[dict[str, Any], ...] = field(repr=False)
+    responses: tuple[MovingForceResponse, ...] = field(default=(), repr=False)
+    seconds: float = 0.0
+
+    def __len__(self) -> int:
+        return len(self.rows)
+
+    def column(self, name: str) -> list[Any]:
+        """One column of the table, in row order."""
+        if name not in self.columns:
+            raise SettingError("CheckResult.column", "name", name, ", ".join(self.columns))
+        return [r[name] for r in self.rows]
+
+    def trains(self) -> list[str]:
+        return list(dict.fromkeys(r["train"] for r in self.rows))
+
+    def deciding_row(self) -> dict[str, Any]:
+        """The row with the largest max_deck_acc_z / limit (the first such, in row order)."""
+        return max(self.rows, key=lambda r: r["max_deck_acc_z"])
+
+    @property
+    def verdict(self) -> str:
+        return VERDICT_EXCEEDS if any(r["verdict"] == VERDICT_EXCEEDS for r in self.rows) else VERDICT_OK
+
+    def verdict_line(self) -> str:
+        """One line: the verdict, the deciding train, speed, case, location and margin."""
+        r = self.deciding_row()
+        margin = self.limit - r["max_deck_acc_z"]
+        state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
+        return (f"deck acceleration limit {self.limit:g} m/s^2 ({self.track} track) {state}: largest "
+                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:g} km/h ({r['case']} case) at "
+                f"{r['max_deck_acc_z_location']}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
+
+    def summary(self) -> str:
+        """A one-screen summary: the verdict, the settings, the largest values per train."""
+        lines = [self.verdict_line(),
+                 f"bridge {self.bridge}: {self.damping_basis}; modes up to {self.cutoff_hz:.3g} Hz "
+                 f"({self.cutoff_basis}): " + ", ".join(f"{f:.3g}" for f in self.mode_frequencies) + " Hz",
+                 f"dynamic analysis {'required' if self.dynamic_analysis[0] else 'not required'} by Figure 6.9: "
+                 f"{self.dynamic_analysis[1]}",
+                 f"{'train':<10} {'speeds':>6} {'max acc':>9} {'at km/h':>8} {'phi_dyn':>8} {'v_i = n0 D / i [km/h]'}"]
+        for name in self.trains():
+            rows = [r for r in self.rows if r["train"] == name]
+            top = max(rows, key=lambda r: r["max_deck_acc_z"])
+            res = ", ".join(f"{v:.0f}" for v in self.resonant_speeds_kmh.get(name, ()))
+            lines.append(f"{name:<10} {len(rows):>6} {top['max_deck_acc_z']:>9.3f} {top['speed_kmh']:>8.1f} "
+                         f"{max(r['phi_dyn'] for r in rows):>8.3f} {res}")
+        return "\n".join(lines)
+
+    def csv_text(self) -> str:
+        buf = io.StringIO()
+        writer = csv.DictWriter(buf, fieldnames=list(self.columns), lineterminator="\n")
+        writer.writeheader()
+        for r in self.rows:
+            writer.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in r.items()})
+        return buf.getvalue()
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the table as CSV (atomically: the file is the old one or the whole new one)."""
+        return write_text_atomic(path, self.csv_text())
+
+    def plot(self):  # noqa: ANN201
+        """The figure of :func:`tb_exudyn.codes.plot.plot_check`."""
+        return plot_check(self)
+
+
+def _vertical(mb) -> np.ndarray:  # noqa: ANN001
+    return np.flatnonzero(np.array([t == "vertical" for t in mb.mode_types]))
+
+
+def _modes_for_check(bridge, err):  # noqa: ANN001, ANN202
+    """The bridge's modes up to the cut-off: (ModalBridge, vertical modes used, f1, f3, cutoff, basis)."""
+    limit = FIRST_MODE_LIMIT_HZ
+    while True:
+        try:
+            mb = modal_bridge(bridge, limit)
+        except StructureError as exc:
+            raise err("bridge", getattr(bridge, "name", bridge), "a bridge a modal model can be built of",
+                      str(exc)) from None
+        vert = _vertical(mb)
+        f_v = mb.frequencies[vert]
+        if f_v.size >= 3 and code.cutoff_frequency(f_v[0], f_v[2]) <= limit:
+            break
+        if limit >= MODE_LIMIT_CAP_HZ:
+            if not f_v.size:
+                raise err("bridge", bridge.name, f"a bridge with a vertical bending mode below {MODE_LIMIT_CAP_HZ:g} Hz",
+                          "no vertical mode found")
+            break
+        limit *= 2.0
+    cutoff = code.cutoff_frequency(f_v[0], f_v[2] if f_v.size >= 3 else None)
+    f1 = float(f_v[0])
+    f3 = float(f_v[2]) if f_v.size >= 3 else None
+    used = vert[mb.frequencies[vert] <= cutoff * (1.0 + 1e-9)]
+    terms = {"30 Hz": code.MIN_CUTOFF_HZ, f"1.5 f1 = {1.5 * f1:.3g} Hz": 1.5 * f1}
+    if f3 is not None:
+        terms[f"f3 = {f3:.3g} Hz"] = f3
+    basis = "max(" + ", ".join(terms) + "), f1 and f3 of the vertical bending modes"
+    return mb, used, f1, f3, cutoff, basis
+
+
+def check(
+    bridge,  # noqa: ANN001
+    line_speed_kmh: float,
+    trains: Sequence[str | ForceTrain] | str = ("hslm_a",),
+    track: str = "ballasted",
+    construction: str = "prestressed_concrete",
+    additional_damping: bool = False,
+    damping_ratio: float | None = None,
+    maintenance: str = "careful",
+    speed_step_kmh: float = code.MAX_SPEED_STEP_KMH,
+    where: str = "check",
+    option_names: dict[str, str] | None = None,
+) -> CheckResult:
+    """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
+
+    Parameters
+    ----------
+    bridge : a bridge name of models/bridges, a .toml path, or a ``SimpleBeam`` / ``Frame``
+    line_speed_kmh : the maximum line speed at the site, in (0, 600] km/h; speeds up to 1.2 x it
+    trains : 'hslm_a' (HSLM-A1 ... A10), 'HSLM-A3', a real train of models/trains, or ForceTrain objects
+    track : 'ballasted' (limit 3.5 m/s^2) or 'direct' (5.0 m/s^2)
+    construction : the Table 6.6 type: steel_composite, prestressed_concrete, reinforced_concrete,
+        filler_beam (the shipped bridges are prestressed concrete box girders)
+    additional_damping : add eq. 6.13's Delta zeta (moving-force models, spans below 30 m)
+    damping_ratio : a given ratio instead of Table 6.6 (recorded as such)
+    maintenance : 'careful' or 'standard', the factor on phi'' (Annex C)
+    speed_step_kmh : the step of the speed series (at most 5 km/h)
+    where : how error messages name the caller (the CLI passes 'command line')
+    option_names : argument -> name in error messages (the CLI's options, e.g. {'trains': '--trains'})
+
+    Raises SettingError naming ``where`` and the argument for any value outside what is allowed.
+    """
+    t0 = time.perf_counter()
+    names = dict(option_names or {})
+
+    def err(key: str, value: Any, allowed: str, reason: str = "") -> SettingError:
+        return SettingError(where, names.get(key, key), value, allowed, reason)
+
+    ok = isinstance(line_speed_kmh, (int, float)) and not isinstance(line_speed_kmh, bool) and math.isfinite(
+        line_speed_kmh) and 0.0 < line_speed_kmh <= code.MAX_LINE_SPEED_KMH
+    if not ok:
+        raise err("line_speed_kmh", line_speed_kmh, f"a speed in (0, {code.MAX_LINE_SPEED_KMH:g}] km/h")
+    if track not in code.DECK_ACCELERATION_LIMITS:
+        raise err("track", track, " or ".join(code.DECK_ACCELERATION_LIMITS))
+    if construction not in code.CONSTRUCTION_TYPES:
+        raise err("construction", construction, ", ".join(code.CONSTRUCTION_TYPES))
+    if maintenance not in code.IRREGULARITY_FACTOR:
+        raise err("maintenance", maintenance, " or ".join(code.IRREGULARITY_FACTOR))
+    if not (isinstance(speed_step_kmh, (int, float)) and 0 < speed_step_kmh <= code.MAX_SPEED_STEP_KMH):
+        raise err("speed_step_kmh", speed_step_kmh, f"0 < step <= {code.MAX_SPEED_STEP_KMH:g} km/h")
+    if damping_ratio is not None and not (isinstance(damping_ratio, (int, float)) and 0.0 <= damping_ratio < 1.0):
+        raise err("damping_ratio", damping_ratio, "a ratio in [0, 1), or none for Table 6.6")
+    if isinstance(bridge, (str, Path)):
+        text = str(bridge)
+        known = model_files("bridges")
+        if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
+            raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
+        bridge = load_bridge(bridge)
+    elif not isinstance(bridge, (SimpleBeam, Frame)):
+        raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam or Frame")
+    given = [trains] if isinstance(trains, (str, ForceTrain)) else list(trains)
+    if not given:
+        raise err("trains", given, "hslm_a, HSLM-A1 ... HSLM-A10 or a train of models/trains", "no train")
+    train_list: list[ForceTrain] = []
+    for t in given:
+        for one in ([t] if isinstance(t, ForceTrain) else resolve_trains([t], where, names.get("trains", "trains"))):
+            if one.name not in {x.name for x in train_list}:
+                train_list.append(one)
+    spans = [float(s) for s in bridge.spans]
+    if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
+        raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
+                  f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
+
+    span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
+    if damping_ratio is not None:
+        zeta = float(damping_ratio)
+        basis = f"damping ratio {100 * zeta:.3g} % (given)"
+    else:
+        zeta = code.damping_ratio_table_6_6(construction, span)
+        basis = f"damping {100 * zeta:.3g} % (Table 6.6, {construction.replace('_', ' ')}, L = {span:g} m)"
+    if additional_damping:
+        dz = code.additional_damping_eq_6_13(span)
+        zeta += dz
+        basis += f" + {100 * dz:.3g} % (eq. 6.13)"
+
+    mb, used, f1, _f3, cutoff, cutoff_basis = _modes_for_check(bridge, err)
+    limit = code.deck_acceleration_limit(track)
+    dyn_required = code.dynamic_analysis_required(line_speed_kmh, span, f1)
+    k_irr = code.IRREGULARITY_FACTOR[maintenance]
+
+    columns = ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz",
+               *(f"acc_z_mid_span{i + 1}" for i in range(len(spans))),
+               "max_deck_acc_z", "max_deck_acc_z_location", "disp_z_mid", "phi_dyn", "phi_irregularity",
+               "enhancement", "limit", "verdict")
+    rows, responses, resonant = [], [], {}
+    for train in train_list:
+        v_res = code.resonant_speeds_kmh(f1, train.regular_length)
+        resonant[train.name] = tuple(float(v) for v in v_res)
+        speeds = code.speed_series(line_speed_kmh, v_res, step_kmh=speed_step_kmh)
+        try:
+            resp = moving_force_response(mb, train, speeds, spans, damping_ratio=zeta, modes=used)
+        except ResourceError as exc:
+            raise ResourceError.from_parts(
+                where, names.get("line_speed_kmh", "line_speed_kmh"), line_speed_kmh,
+                "a higher line speed: the lowest speed of the series sets the step",
+                f"{train.name} at {speeds[0]:g} km/h needs {getattr(exc, 'steps', '?')} steps, more than "
+                f"{MAX_STEPS}") from None
+        responses.append(resp)
+        phi_dyn = resp.phi_dyn.max(axis=0)
+        mids = resp.mid_stations
+        where_max = resp.max_acc.argmax(axis=0)
+        for j, v in enumerate(resp.speeds_kmh):
+            s = int(where_max[j])
+            peak = float(resp.max_acc[s, j])
+            phi2 = code.phi_irregularity_annex_c(f1, span, v / 3.6)  # L_Phi: the longest span [check]
+            row = {"train": train.name, "speed_kmh": float(v), "case": NOMINAL_CASE, "damping_ratio": zeta,
+                   "cutoff_hz": float(cutoff)}
+            for i, m in enumerate(mids):
+                row[f"acc_z_mid_span{i + 1}"] = float(resp.max_acc[m, j])
+            row.update({
+                "max_deck_acc_z": peak,
+                "max_deck_acc_z_location": f"{resp.station_names[s]} ({resp.station_x[s]:g} m)",
+                "disp_z_mid": float(resp.max_disp[mids, j].max()),
+                "phi_dyn": float(phi_dyn[j]),
+                "phi_irregularity": phi2,
+                "enhancement": float(1.0 + phi_dyn[j] + k_irr * phi2),
+                "limit": limit,
+                "verdict": VERDICT_EXCEEDS if peak > limit else VERDICT_OK,
+            })
+            rows.append(row)
+    return CheckResult(
+        bridge=bridge.name, line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
+        damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,
+        mode_frequencies=tuple(float(f) for f in mb.frequencies[used]), dynamic_analysis=dyn_required,
+        resonant_speeds_kmh=resonant, columns=columns, rows=tuple(rows), responses=tuple(responses),
+        seconds=time.perf_counter() - t0,
+    )
+
+
+__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CheckResult", "NOMINAL_CASE", "check"]

@@ -1,0 +1,126 @@
+"""Hostile inputs of `tb-exudyn check` (issue 25) as data, in the form of tests/reliability/cases.py:
+each case builds its files in a scratch folder and must end in exit status 2 with one line naming the
+option (or the file and key), no traceback, and nothing written. Group: "check"."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from .cases import Case, Run
+
+GROUP = "check"
+
+
+def _argv(d: Path, *more: str, line_speed: str = "250", trains: tuple[str, ...] = ("HSLM-A1",)) -> tuple[str, ...]:
+    return ("check", "single_span_32m", "--line-speed-kmh", line_speed, "--trains", *trains,
+            "--out", str(d / "out"), "--no-figures", *more)
+
+
+def _line_speed(value: str):
+    def build(d: Path) -> Run:
+        return Run(argv=_argv(d, line_speed=value), expect=("command line", "--line-speed-kmh", "(0, 600] km/h"))
+    return build
+
+
+def _line_speed_not_a_number(d: Path) -> Run:
+    return Run(argv=_argv(d, line_speed="fast"), expect=("--line-speed-kmh", "'fast'", "not a number"))
+
+
+def _earlier_figure_in_out(d: Path) -> Run:
+    (d / "out").mkdir()
+    (d / "out" / "check.png").write_bytes(b"png")
+    return Run(argv=_argv(d), expect=(str(d / "out"), "check.png", "--overwrite"))
+
+
+def _line_speed_too_low_for_the_steps(d: Path) -> Run:
+    return Run(argv=_argv(d, line_speed="0.5"), expect=("--line-speed-kmh", "steps"))
+
+
+def _unknown_train(d: Path) -> Run:
+    return Run(argv=_argv(d, trains=("HSLM-A11",)), expect=("--trains", "HSLM-A11", "unknown train", "ice_mttm"))
+
+
+def _unknown_bridge(d: Path) -> Run:
+    return Run(argv=("check", "no_such_bridge", "--line-speed-kmh", "250", "--out", str(d / "out")),
+               expect=("BRIDGE", "no_such_bridge", "single_span_32m"))
+
+
+def _bad_track(d: Path) -> Run:
+    return Run(argv=_argv(d, "--track", "gravel"), expect=("--track", "ballasted or direct"))
+
+
+def _bad_construction(d: Path) -> Run:
+    return Run(argv=_argv(d, "--construction", "timber"), expect=("--construction", "prestressed_concrete"))
+
+
+def _train_file_bad_key(d: Path) -> Run:
+    p = d / "train.toml"
+    p.write_text('name = "t"\n[[cars]]\nvehicle = "ice_motor"\nwheels = 4\n')
+    return Run(argv=_argv(d, trains=(str(p),)), expect=(str(p), "cars[0].wheels", "unknown key"))
+
+
+def _train_file_unknown_vehicle(d: Path) -> Run:
+    p = d / "train.toml"
+    p.write_text('name = "t"\n[[cars]]\nvehicle = "no_such_car"\n')
+    return Run(argv=_argv(d, trains=(str(p),)), expect=(str(p), "cars[0].vehicle", "no_such_car"))
+
+
+def _train_file_too_long(d: Path) -> Run:
+    p = d / "train.toml"
+    p.write_text('name = "t"\n[[cars]]\nvehicle = "ice_motor"\ncount = 100\n')
+    return Run(argv=_argv(d, trains=(str(p),)), expect=(str(p), "cars", "1000 m"))
+
+
+def _train_file_fifo(d: Path) -> Run:
+    p = d / "fifo.toml"
+    os.mkfifo(p)
+    return Run(argv=_argv(d, trains=(str(p),)), expect=(str(p), "FIFO"), isolate=True)
+
+
+def _train_file_missing(d: Path) -> Run:
+    p = d / "missing.toml"
+    return Run(argv=_argv(d, trains=(str(p),)), expect=(str(p), "file not found"))
+
+
+def _hslm_on_a_5_m_span(d: Path) -> Run:
+    p = d / "short.toml"
+    text = (Path(__file__).resolve().parents[2] / "models" / "bridges" / "single_span_32m.toml").read_text()
+    p.write_text(text.replace("spans = [32.0]", "spans = [5.0]"))
+    return Run(argv=("check", str(p), "--line-speed-kmh", "160", "--out", str(d / "out"), "--no-figures"),
+               expect=("--trains", "HSLM-B", "7 m"))
+
+
+def _earlier_check_in_out(d: Path) -> Run:
+    (d / "out").mkdir()
+    (d / "out" / "check.csv").write_text("train\n")
+    return Run(argv=_argv(d), expect=(str(d / "out"), "check.csv", "--overwrite"))
+
+
+def _out_is_a_file(d: Path) -> Run:
+    (d / "out").write_text("not a folder\n")
+    return Run(argv=_argv(d), expect=(str(d / "out"), "not writable"))
+
+
+CASES_EN1991: list[Case] = [
+    Case("check: line speed 0", GROUP, _line_speed("0")),
+    Case("check: line speed negative", GROUP, _line_speed("-100")),
+    Case("check: line speed 601 km/h", GROUP, _line_speed("601")),
+    Case("check: line speed nan", GROUP, _line_speed("nan")),
+    Case("check: line speed inf", GROUP, _line_speed("inf")),
+    Case("check: line speed not a number", GROUP, _line_speed_not_a_number),
+    Case("check: line speed too low for the steps", GROUP, _line_speed_too_low_for_the_steps),
+    Case("check: unknown train", GROUP, _unknown_train),
+    Case("check: unknown bridge", GROUP, _unknown_bridge),
+    Case("check: unknown track form", GROUP, _bad_track),
+    Case("check: unknown construction type", GROUP, _bad_construction),
+    Case("check: train file with an unknown key", GROUP, _train_file_bad_key),
+    Case("check: train file naming no vehicle", GROUP, _train_file_unknown_vehicle),
+    Case("check: train file 2.5 km long", GROUP, _train_file_too_long),
+    Case("check: train file is a FIFO", GROUP, _train_file_fifo),
+    Case("check: train file missing", GROUP, _train_file_missing),
+    Case("check: HSLM-A on a 5 m span", GROUP, _hslm_on_a_5_m_span),
+    Case("check: an earlier check.csv in --out", GROUP, _earlier_check_in_out),
+    Case("check: an earlier check.png in --out", GROUP, _earlier_figure_in_out),
+    Case("check: --out is a file", GROUP, _out_is_a_file),
+]
