@@ -488,9 +488,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="hslm_a (default: HSLM-A1 ... A10), HSLM-A3, a train of models/trains or a train .toml file")
     p.add_argument("--track", default="ballasted", metavar="TRACK",
                    help="ballasted (limit 3.5 m/s^2, default) or direct (direct fastening, 5 m/s^2)")
-    p.add_argument("--construction", default="prestressed_concrete", metavar="TYPE",
-                   help="Table 6.6 damping: steel_composite, prestressed_concrete (default; the shipped bridges), "
-                        "reinforced_concrete or filler_beam")
+    p.add_argument("--construction", default=None, metavar="TYPE",
+                   help="Table 6.6 damping: steel_composite, prestressed_concrete, reinforced_concrete or filler_beam "
+                        "(default: the bridge's own, code.construction of its file)")
     p.add_argument("--additional-damping", dest="additional_damping", action="store_true",
                    help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
     p.add_argument("--out", default="check", help="output folder (default: ./check)")

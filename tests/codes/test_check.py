@@ -5,11 +5,11 @@ EN 1990 A2.4.4.2.1), the closed-form simply supported modes for the finite-eleme
 below), and the rows' own values for the CSV round trip (exact: repr of floats).
 
 Cross-check of the pipeline: single_span_32m through check() (finite-element modes, 16 elements, the
-track line 2.5 m off the axis, vertical modes only) against moving_force_response on the closed-form
-modes of the same girder (EI = 3.45e10 * 10.947, m = 33 900 kg/m). The element's cubic interpolation
-gives mode 3 within about 1e-4 in frequency, so the peaks agree to well under 1 % (measured 0.23 %,
-phi_dyn within 4e-5);
-the tolerance 1 % leaves room for the FE model only.
+track line 2.5 m off the axis, every mode up to the cut-off at the track line: bending and torsion)
+against moving_force_response on the closed-form modes of the same girder (EI = 3.45e10 * 10.947,
+G J = 1.4375e10 * 22.65, m = 33 900 kg/m, I_p = 383 040.5 kg m, the track 2.5 m off the axis). The
+element's cubic interpolation gives mode 3 within about 1e-4 in frequency, so the peaks agree to well
+under 1 %; the tolerance 1 % leaves room for the FE model only.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ REQUIRED = ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz", "acc_z_m
 
 @pytest.fixture(scope="module")
 def a1():
-    return check("single_span_32m", 250.0, trains=["HSLM-A1"])
+    return check("single_span_32m", 250.0, trains=["HSLM-A1"], cases=("nominal",))
 
 
 def test_table_columns_rows_and_settings(a1):
@@ -41,7 +41,8 @@ def test_table_columns_rows_and_settings(a1):
     np.testing.assert_allclose(a1.column("speed_kmh"), speeds)
     assert set(a1.column("train")) == {"HSLM-A1"} and set(a1.column("case")) == {"nominal"}
     assert set(a1.column("damping_ratio")) == {0.01}  # Table 6.6, prestressed concrete, L = 32 m >= 20 m
-    f1, _, f3 = a1.mode_frequencies  # the vertical modes up to max(30, 1.5 f1, f3) = f3
+    f1, _, f3 = a1.vertical_frequencies  # the vertical modes up to max(30, 1.5 f1, f3) = f3
+    assert len(a1.mode_frequencies) > 3  # the torsion modes up to the cut-off too (the track is off the axis)
     assert f1 == pytest.approx(5.12, abs=0.01) and a1.cutoff_hz == f3 == pytest.approx(46.08, rel=1e-3)
     assert all(m >= s for m, s in zip(a1.column("max_deck_acc_z"), a1.column("acc_z_mid_span1")))
     assert all(loc.startswith("span1.x") for loc in a1.column("max_deck_acc_z_location"))
@@ -54,11 +55,21 @@ def test_table_columns_rows_and_settings(a1):
 
 
 def test_fe_pipeline_against_closed_form_modes(a1):
-    ss = simply_supported_modes([32.0], 3.45e10 * 10.947, 1e15, 1e15, 33900.0, 33900.0, 0.01, 47.0)
+    ss = simply_supported_modes([32.0], 3.45e10 * 10.947, 1e15, 1.4375e10 * 22.65, 33900.0, 383040.5, 0.01, 47.0,
+                                track_offset=2.5)
+    """Every speed within 1.5 % (measured 0.83 %: the check's 64 elements per span place the third
+    torsion mode at 43.26 Hz against 43.22 Hz, and off resonance the small accelerations follow it),
+    the speeds that decide the check (at least half the largest: the resonance near 300 km/h) and
+    the largest within 1 % (measured 0.41 % and 6e-5)."""
     speeds = np.array(a1.column("speed_kmh"))
     ref = moving_force_response(ss, hslm_a(1), speeds, [32.0], damping_ratio=0.01)
-    np.testing.assert_allclose(a1.column("acc_z_mid_span1"), ref.max_acc[ref.mid_stations[0]], rtol=0.01)
-    np.testing.assert_allclose(a1.column("phi_dyn"), ref.phi_dyn[0], atol=0.01)
+    got, want = np.array(a1.column("acc_z_mid_span1")), ref.max_acc[ref.mid_stations[0]]
+    np.testing.assert_allclose(got, want, rtol=0.015)
+    decide = want >= 0.5 * want.max()
+    assert decide.sum() >= 2
+    np.testing.assert_allclose(got[decide], want[decide], rtol=0.01)
+    assert abs(got.max() / want.max() - 1) < 0.01 and "64 beam elements" in a1.mesh_basis
+    np.testing.assert_allclose(np.array(a1.column("phi_dyn"))[decide], ref.phi_dyn[0][decide], atol=0.01)
 
 
 def test_csv_round_trip(a1, tmp_path):
@@ -77,7 +88,8 @@ def test_a_light_girder_exceeds_the_limit():
     b = load_bridge("single_span_32m")
     g = b.girder
     light = b.replace(girder=g.replace(mass_per_length=g.mass_per_length / 10, E=g.E / 10, G=g.G / 10,
-                                       rot_mass_per_length=g.rot_mass_per_length / 10))
+                                       rot_mass_per_length=g.rot_mass_per_length / 10),
+                      code=b.code.replace(ballast_mass_per_length=b.code.ballast_mass_per_length / 10))
     r = check(light, 250.0, trains=["HSLM-A5"], track="direct")
     assert r.limit == 5.0 and r.verdict == "exceeds"
     assert all((v == "exceeds") == (a > 5.0) for v, a in zip(r.column("verdict"), r.column("max_deck_acc_z")))
@@ -121,3 +133,21 @@ def test_list_shows_the_trains(capsys):
     assert main(["list"]) == 0
     text = capsys.readouterr().out
     assert "trains" in text and "HSLM-A10" in text and "ice_mttm" in text and "ave_s103" in text
+
+
+def test_construction_and_mass_cases_come_from_the_bridge():
+    """Exact: single_span_32m declares prestressed concrete and 11 677.75 kg/m of ballast (1700-2000
+    kg/m^3): the check takes Table 6.6's 1.0 % from the bridge, and runs the lower, nominal and upper
+    mass cases, each its own rows; the lower case (lighter) has the higher first frequency, so its
+    resonant speeds v = n0 D lie higher (EN 1991-2 6.4.6.3.2). A bridge without a construction type is
+    refused naming it."""
+    r = check("single_span_32m", 250.0, trains=["HSLM-A1"])
+    assert r.cases == ("lower", "nominal", "upper") and r.construction == "prestressed_concrete"
+    assert "code.construction" in r.construction_basis and set(r.column("damping_ratio")) == {0.01}
+    by_case = {c: [row for row in r.rows if row["case"] == c] for c in r.cases}
+    assert all(by_case[c] for c in r.cases) and sum(map(len, by_case.values())) == len(r)
+    peak = {c: max(by_case[c], key=lambda row: row["max_deck_acc_z"])["speed_kmh"] for c in r.cases}
+    assert peak["lower"] >= peak["nominal"] >= peak["upper"], peak
+    with pytest.raises(SettingError, match="construction"):
+        check("yang_yau_1997_beam", 250.0, trains=["HSLM-A1"])
+    assert check("yang_yau_1997_beam", 250.0, trains=["HSLM-A1"], construction="steel_composite").cases == ("nominal",)
