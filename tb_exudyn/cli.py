@@ -305,7 +305,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 def _cmd_plot(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     with _folder_lock(args.folder):
-        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
+        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats),
+                                       where="command line")
     for p in paths:
         print(p)
     return EXIT_OK

@@ -238,7 +238,7 @@ def plot_time_history(th: TimeHistory, channels: str | Sequence[str], *, fig: Fi
     """Deterministic histories of ``channels`` (names or glob patterns), one axes each, in display
     units, with the passage over the bridge marked (each vehicle channel: its own car's) and the
     first axle's position on a top axis."""
-    names = data.select_channels(th, channels)
+    names = data.select_channels(th, channels, where="plot_time_history")
     fig, axes = _figure(fig, nrows=len(names), height=2.0 if len(names) > 1 else 3.0)
     for i, (ax, name) in enumerate(zip(axes, names)):
         du = data.display_unit(th.unit(name))
