@@ -183,9 +183,11 @@ UNIT_RULE = "units such as m, m/s^2, rad/s, N (at most 32 of A-Z a-z 0-9 _ / ^ *
 
 
 def meta_channels(meta: Mapping[str, Any], path: Path) -> tuple[list[str], list[str]]:
-    """Channel names (the naming rule of :mod:`tb_exudyn.system.channels`, all different) and their units."""
+    """Channel names (the naming rule of :mod:`tb_exudyn.system.channels`, all different, at least one) and their units."""
     names = meta_str_list(meta, "channels", path, check=is_channel_name, rule=f"channel names: {CHANNEL_NAME_RULE}",
                           unique=True)
+    if not names:
+        raise _where(path, "channels", names, f"a list of channel names: {CHANNEL_NAME_RULE}", "no channel")
     units = meta_str_list(meta, "units", path, length=len(names), check=lambda u: _UNIT.match(u) is not None,
                           rule=UNIT_RULE)
     return names, units

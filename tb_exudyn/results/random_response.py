@@ -32,8 +32,8 @@ from .base import ChannelResult, ChannelStatistics
 from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
-from .storage import (ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_values, freeze, load_json,
-                      save_result_folder)
+from .storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
+                      check_output_times, check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.random_response/2"
 #: formats this version reads (1: before the exceedance arrays)
@@ -45,21 +45,25 @@ OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force",
 #: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
 INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
 #: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples;
-#: standard deviations, PSDs, variances, frequencies and widths are >= 0
+#: standard deviations, PSDs, variances, frequencies and widths are >= 0; values at most MAX_VALUE in
+#: magnitude, PSDs and variances (squares) at most MAX_SQUARE
+_V, _S = MAX_VALUE, MAX_SQUARE
 ARRAYS = {
-    "time": Member(("nt",)), "mean": Member(("nc", "nt")), "std": Member(("nc", "nt"), nonnegative=True),
-    "freq": Member(("nf",), nonnegative=True), "df": Member(("nf",), nonnegative=True),
-    "psd": Member(("npsd", "nf", "nt"), required=False, nonnegative=True),
-    "var_by_type": Member(("ntypes", "nc", "nt"), required=False, nonnegative=True),
-    "std_ci": Member((2, "nc", "nt"), required=False, nonnegative=True), "mean_ci": Member((2, "nc", "nt"), required=False),
-    "min_wheel_force": Member(("ns",), required=False, finite=False),  # NaN: a sample without wheel forces
-    "samples": Member(("ns", "nc", "nt"), required=False, finite=False),
-    "mean_rate": Member(("nc", "nt"), required=False, finite=False),
-    "std_rate": Member(("nc", "nt"), required=False, nonnegative=True),
-    "rho": Member(("nc", "nt"), required=False, finite=False), "bandwidth": Member(("nc", "nt"), required=False,
-                                                                                 finite=False),
-    "sample_min": Member(("ns", "nc"), required=False, finite=False),
-    "sample_max": Member(("ns", "nc"), required=False, finite=False),
+    "time": Member(("nt",), max_abs=_V), "mean": Member(("nc", "nt"), max_abs=_V),
+    "std": Member(("nc", "nt"), nonnegative=True, max_abs=_V),
+    "freq": Member(("nf",), nonnegative=True, max_abs=_V), "df": Member(("nf",), nonnegative=True, max_abs=_V),
+    "psd": Member(("npsd", "nf", "nt"), required=False, nonnegative=True, max_abs=_S),
+    "var_by_type": Member(("ntypes", "nc", "nt"), required=False, nonnegative=True, max_abs=_S),
+    "std_ci": Member((2, "nc", "nt"), required=False, nonnegative=True, max_abs=_V),
+    "mean_ci": Member((2, "nc", "nt"), required=False, max_abs=_V),
+    "min_wheel_force": Member(("ns",), required=False, finite=False, max_abs=_V),  # NaN: a sample without wheel forces
+    "samples": Member(("ns", "nc", "nt"), required=False, finite=False, max_abs=_V),
+    "mean_rate": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "std_rate": Member(("nc", "nt"), required=False, nonnegative=True, max_abs=_V),
+    "rho": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "bandwidth": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "sample_min": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
+    "sample_max": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
 }
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
             "npsd": "the number of psd_channels in meta.json (or of channels)",
@@ -285,8 +289,6 @@ def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
     meta_str(meta, "format", path, choices=READABLE_FORMATS)
     method = meta_str(meta, "method", path, choices=METHODS)
     channels, units = meta_channels(meta, path)
-    if not channels:
-        raise ResultsError(f"{path}: key 'channels' = []: no channel (allowed: at least one channel name)")
     types = meta_str_list(meta, "types", path, check=is_channel_name, rule="spectrum names (e.g. german_low.vertical)",
                           unique=True)
     n_samples = meta_int(meta, "n_samples", path, 0)
@@ -312,11 +314,12 @@ def _check_arrays(path: Path, arrays: Mapping[str, np.ndarray], fields: dict[str
     """The values of the arrays (their shapes already checked): finite and >= 0 where :data:`ARRAYS` says,
     at least two output times, time and freq increasing, a PEM result's frequencies inside its band."""
     check_values(path, arrays, ARRAYS)
-    if arrays["time"].size < 2:
-        raise ResultsError(f"{path}: array 'time' holds {arrays['time'].size} output time(s) (allowed: at least 2, "
-                           "the output times of a crossing)")
+    check_output_times(path, arrays["time"])
     check_increasing(path, arrays, ("time", "freq"))
     freq, (lo, hi) = arrays["freq"], fields["band"]
+    if "psd" in arrays and freq.size == 0:
+        raise ResultsError(f"{path}: array 'psd' is a map over no frequency ('freq' is empty) (allowed: a PSD map "
+                           "with at least one frequency, or no 'psd')")
     tol = BAND_RTOL * hi
     if freq.size and (freq[0] < lo - tol or freq[-1] > hi + tol):
         raise ResultsError(f"{path}: array 'freq' spans {float(freq[0])!r} to {float(freq[-1])!r} Hz, outside the "

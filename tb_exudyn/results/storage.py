@@ -52,6 +52,12 @@ DERIVED_ENTRIES = ("figures", "report.html")
 MAX_JSON_BYTES = 16 * MIB
 MAX_JSON_DEPTH = 64
 MAX_NPZ_MEMBERS = 64
+#: the largest magnitude of a stored value (a response, a standard deviation, a time) and of a stored square
+#: (a PSD, a variance): squares and products of two values, and conversions to display units (x 1e3 for
+#: mm, kN), stay far from the 1.8e308 a double holds; no response of a train on a bridge comes near
+#: either in SI units (forces are below 1e8 N)
+MAX_VALUE = 1e100
+MAX_SQUARE = 1e200
 #: leftovers of a write by another machine (same host name hash unknown to be dead) are kept this long [s]
 FOREIGN_LEFTOVER_AGE = 24 * 3600.0
 _MEMBER = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}\.npy\Z")
@@ -446,13 +452,15 @@ def load_npz(path: str | Path) -> dict[str, np.ndarray]:
 @dataclass(frozen=True)
 class Member:
     """What a result format expects of one npz member: dims (ints, or names bound on first use),
-    whether it must be present, whether its values must all be finite, and whether they must be
-    >= 0 (a standard deviation, a PSD, a frequency or a width; NaN, where allowed, is not negative)."""
+    whether it must be present, whether its values must all be finite, whether they must be >= 0
+    (a standard deviation, a PSD, a frequency or a width; NaN, where allowed, is not negative), and
+    the largest magnitude of its finite values (:data:`MAX_VALUE`, :data:`MAX_SQUARE`)."""
 
     dims: tuple[int | str, ...]
     required: bool = True
     finite: bool = True
     nonnegative: bool = False
+    max_abs: float = math.inf
 
 
 def check_members(npz: NpzFile, spec: Mapping[str, Member], sizes: dict[str, int], meaning: Mapping[str, str]) -> None:
@@ -512,6 +520,12 @@ def check_values(path: Path, arrays: Mapping[str, np.ndarray], spec: Mapping[str
         if member.finite and not np.all(np.isfinite(a)):
             bad = int(np.size(a) - np.count_nonzero(np.isfinite(a)))
             raise _error(path, f"array {name!r} holds {bad} non-finite value(s) (NaN or inf)")
+        large = np.isfinite(a) & (np.abs(a) > member.max_abs)
+        if np.any(large):
+            first = tuple(int(i) for i in np.argwhere(large)[0])
+            raise _error(path, f"array {name!r} holds {int(np.count_nonzero(large))} value(s) of magnitude above "
+                               f"{member.max_abs:.0e}, e.g. {float(a[first])!r} at index {first} (allowed: magnitudes "
+                               f"<= {member.max_abs:.0e}, so that squares and sums stay finite)")
         if member.nonnegative and np.any(a < 0):
             negative = a < 0
             first = tuple(int(i) for i in np.argwhere(negative)[0])
@@ -527,6 +541,14 @@ def check_increasing(path: Path, arrays: Mapping[str, np.ndarray], names: Sequen
             i = int(np.argmax(~(np.diff(a) > 0)))
             raise _error(path, f"array {name!r} is not increasing (element {i + 1} = {float(a[i + 1])!r} after "
                                f"{float(a[i])!r})")
+
+
+def check_output_times(path: Path, time: np.ndarray) -> None:
+    """At least two output times: a result covers a crossing (its output step is at most the crossing's
+    duration, :func:`tb_exudyn.execution.resources.check_run_length`), and figures need a span of time."""
+    if time.size < 2:
+        raise _error(path, f"array 'time' holds {time.size} output time(s) (allowed: at least 2, the output times "
+                           "of a crossing)")
 
 
 def check_writable(folder: str | Path) -> Path:

@@ -18,12 +18,13 @@ from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
 from .base import ChannelResult
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
-from .storage import (ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_values, freeze, load_json,
-                      save_result_folder)
+from .storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
+                      check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.time_history/1"
-#: the arrays of arrays.npz: nt output times, nc channels (the channels of meta.json)
-ARRAYS = {"time": Member(("nt",)), "values": Member(("nc", "nt"))}
+#: the arrays of arrays.npz: nt output times (at least 2), nc channels (the channels of meta.json, at least one);
+#: values finite and at most MAX_VALUE in magnitude
+ARRAYS = {"time": Member(("nt",), max_abs=MAX_VALUE), "values": Member(("nc", "nt"), max_abs=MAX_VALUE)}
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json"}
 
 
@@ -118,6 +119,7 @@ def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
 
 def _check_arrays(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
     check_values(path, arrays, ARRAYS)
+    check_output_times(path, arrays["time"])
     check_increasing(path, arrays, ("time",))
 
 
