@@ -19,8 +19,13 @@ Reading (:func:`load_json`, :class:`NpzFile`, :func:`open_result_folder`): files
 folder must be regular files (no symbolic links, FIFOs or devices; :mod:`tb_exudyn.files`); JSON is
 limited in size and depth; every npz member's header (dtype, shape) is read and checked against
 the member's size, and the caller checks the shapes against the metadata and each other, before
-any data is read (:func:`check_members`). Every failure is a one-line :class:`ResultsError`
-naming the file and what is wrong.
+any data is read (:func:`check_members`), then the values (:func:`check_values`: finite, >= 0,
+magnitudes). Every failure is a one-line :class:`ResultsError` naming the file and what is wrong.
+Loaded arrays are made read-only (:func:`freeze`).
+
+Saving runs the format's reading checks first on what would be written (:func:`check_before_save`,
+the arrays seen as an npz by :class:`ArraysInMemory`, the metadata as JSON gives it back): a result
+changed in Python into something that would not load is refused, nothing written.
 """
 
 from __future__ import annotations
