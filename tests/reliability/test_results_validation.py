@@ -216,3 +216,17 @@ def test_report_warnings_of_a_result_built_in_python():
                                 (None, "None recorded", 0)):
         html = warnings_section([(Path("pem"), dataclasses.replace(pem, provenance={"warnings": value}))])
         assert shown in html and html.count('class="warn"') == count  # a string is one warning, not letters
+
+
+def test_float32_psd_map_loads_without_warning(tmp_path):
+    """A PEM run keeps its PSD maps in float32 (the quick run's arrays.npz); the magnitude check must
+    not compare them against 1e200 in float32 (numpy's 'overflow encountered in cast' warning, which
+    `tb-exudyn export` printed)."""
+    import warnings
+
+    pem = pem_response()
+    dataclasses.replace(pem, psd=pem.psd.astype(np.float32)).save(tmp_path / "pem")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        back = load_random_response(tmp_path / "pem")
+    assert back.psd.dtype == np.float32 and np.array_equal(back.psd, pem.psd.astype(np.float32))
