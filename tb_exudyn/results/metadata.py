@@ -162,7 +162,7 @@ PROVENANCE_FIELDS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "derived_channels": (_object_of({"channels": lambda c: isinstance(c, dict) and all(
         not isinstance(e, dict) or _object_of({"window": _is_number})(e) for e in c.values())}),
         "an object whose 'channels' maps channel names to objects with a 'window' in s (a number)"),
-    "samples_with_loss_of_contact": (lambda v: _is_number(v) and v >= 0, "a number of samples >= 0"),
+    "samples_with_loss_of_contact": (lambda v: _is_number(v) and 0 <= v < math.inf, "a number of samples >= 0"),
     "min_wheel_force_N": (_number_or_null, "a force in N or null"),
     "seconds": (_is_number, "a run time in s"),
 }

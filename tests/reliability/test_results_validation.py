@@ -200,10 +200,14 @@ def test_provenance_as_the_code_writes_it_passes_the_checks(tmp_path):
               "grid_error": {"channels": {"car1.body.acc_z": {"rel_deviation": None}}},
               "derived_channels": {"channels": {"car1.body.sperling_z": {"window": "5 s"}}},
               "samples_with_loss_of_contact": -1, "min_wheel_force_N": "low", "seconds": "3"}
+    broken_too = [("samples_with_loss_of_contact", math.inf), ("warnings", "one warning"), ("damped_modes", {})]
     for key, value in broken.items():
         with pytest.raises(ResultsError, match=rf"'provenance\.{key}'.*not saved"):
             dataclasses.replace(pem, provenance={**provenance, key: value}).save(tmp_path / "bad")
         assert not (tmp_path / "bad").exists()
+    for key, value in broken_too:  # int(inf) in the checks' loss-of-contact caveat would raise
+        with pytest.raises(ResultsError, match=rf"'provenance\.{key}'"):
+            dataclasses.replace(pem, provenance={**provenance, key: value}).save(tmp_path / "bad")
 
 
 def test_report_warnings_of_a_result_built_in_python():
