@@ -314,8 +314,14 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 def _cmd_plot(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
+    if args.channels is not None:  # a pattern matching no channel: refused before the lock too
+        from .plotting.data import select_channels  # matplotlib: only for commands that draw
+
+        for path, result in found:
+            select_channels(result, args.channels, where="command line", source=str(path))
     with _folder_lock(args.folder):
-        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats))
+        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats),
+                                       where="command line")
     for p in paths:
         print(p)
     return EXIT_OK

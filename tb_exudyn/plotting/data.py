@@ -22,6 +22,7 @@ from typing import Sequence, Union
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import SettingError
 from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
 from ..system.labels import (DISPLAY_UNITS, DisplayUnit, channel_label, default_patterns, display_unit, format_number,
@@ -147,10 +148,13 @@ KEY_CHANNELS: tuple[str, ...] = tuple(p for _, g in default_patterns(["bridge.sp
                                                                       "bridge.span3.mid.acc_z"]) for p in g)
 
 
-def select_channels(result: Result, channels: str | Sequence[str] | None = None) -> list[str]:
+def select_channels(result: Result, channels: str | Sequence[str] | None = None, *, where: str = "select_channels",
+                    source: str = "") -> list[str]:
     """Channel names matching ``channels`` (names or glob patterns), in stored order.
 
-    None: :func:`default_channels`. Raises KeyError naming a pattern that matches nothing.
+    None: :func:`default_channels`. A pattern that matches nothing is a SettingError naming ``where``
+    (the caller; "command line": the option ``--channels``), the pattern, the result (``source``, e.g.
+    its folder) and a few of its channels.
     """
     names = channel_names(result)
     if channels is None:
@@ -158,7 +162,13 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None)
     pats = [channels] if isinstance(channels, str) else list(channels)
     for p in pats:
         if not any(fnmatch.fnmatchcase(n, p) for n in names):
-            raise KeyError(f"channel {p!r} matches no channel; e.g. {list(names[:6])}")
+            head = str(p).split(".")[0]
+            close = [n for n in names if n.startswith(head)][:5] or list(names[:5])
+            more = f" ({len(names)} in all)" if len(names) > len(close) else ""
+            raise SettingError(where, "--channels" if where == "command line" else "channels", p,
+                               f"channel names or glob patterns, e.g. {', '.join(close)}{more}" if names else
+                               "none: the result has no channel",
+                               f"matches no channel of {source}" if source else "matches no channel")
     return [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
 
 

@@ -11,6 +11,7 @@ the bridge.
 
 from __future__ import annotations
 
+import math
 import textwrap
 from typing import Sequence
 
@@ -110,6 +111,11 @@ def plot_psd_map(resp: RandomResponse, channel: str, *, fig: Figure | None = Non
         log_frequency = data.low_frequency_content(resp, channel)
     fig, (ax,) = _figure(fig, height=3.4)
     vmax = float(S.max())
+    exponent = 0  # a map far from 1 (e.g. 1e-300) is drawn in units of 10^exponent: log colour bars need headroom
+    if vmax > 0 and not 1e-200 <= vmax <= 1e200:
+        exponent = math.floor(math.log10(vmax))
+        S = S / 10.0 ** exponent
+        vmax = float(S.max())
     positive = S[S > 0]
     if vmax > 0:
         norm = LogNorm(vmin=max(float(positive.min()), vmax / dynamic_range), vmax=vmax)
@@ -129,7 +135,7 @@ def plot_psd_map(resp: RandomResponse, channel: str, *, fig: Figure | None = Non
     cb = fig.colorbar(mesh, ax=ax)
     _plain_log(cb.ax.yaxis)
     cb.ax.yaxis.set_minor_locator(NullLocator())  # up to 8 decades: minor ticks add nothing but drawing time
-    cb.set_label(f"S [{data.psd_unit(du.unit)}]")
+    cb.set_label(f"S [{f'1e{exponent} ' if exponent else ''}{data.psd_unit(du.unit)}]")
     mark_crossing(ax, resp.scenario, position_axis=True, channel=channel)
     ax.set_ylabel("frequency f [Hz]" + (" (log scale)" if log_frequency else ""))
     _time_axis(ax)
@@ -238,7 +244,7 @@ def plot_time_history(th: TimeHistory, channels: str | Sequence[str], *, fig: Fi
     """Deterministic histories of ``channels`` (names or glob patterns), one axes each, in display
     units, with the passage over the bridge marked (each vehicle channel: its own car's) and the
     first axle's position on a top axis."""
-    names = data.select_channels(th, channels)
+    names = data.select_channels(th, channels, where="plot_time_history")
     fig, axes = _figure(fig, nrows=len(names), height=2.0 if len(names) > 1 else 3.0)
     for i, (ax, name) in enumerate(zip(axes, names)):
         du = data.display_unit(th.unit(name))

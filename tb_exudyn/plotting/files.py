@@ -98,10 +98,10 @@ def figure_file(folder: Path, channel: str, kind: str, fmt: str = "png") -> Path
     return folder / "figures" / f"{channel}.{kind}.{fmt}"
 
 
-def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str]) -> list[FigureJob]:
+def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str) -> list[FigureJob]:
     source = path / "meta.json"
     out = []
-    for ch in data.select_channels(result, channels):
+    for ch in data.select_channels(result, channels, where=where, source=str(path)):
         kinds = ("bounds",) if isinstance(result, RandomResponse) else ("history",)
         if data.has_psd(result, ch):
             kinds += ("psd_map", "psd_slices")
@@ -113,17 +113,17 @@ def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str]) -
 
 
 def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels: str | Sequence[str] | None = None,
-                formats: Sequence[str] = ("png",)) -> list[FigureJob]:
+                formats: Sequence[str] = ("png",), where: str = "figure_jobs") -> list[FigureJob]:
     """Every standard figure of the results ``found`` in ``folder`` (see :func:`plot_folder`),
     with its paths checked (:func:`confined_path`)."""
     root = Path(folder)
     jobs: list[FigureJob] = []
     for path, result in found:
-        jobs += _jobs_of(root, path, result, channels, formats)
+        jobs += _jobs_of(root, path, result, channels, formats, where)
     pems = [r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem"]
     mcs = [(p, r) for p, r in found if isinstance(r, RandomResponse) and r.method.startswith("monte_carlo")]
     if pems and mcs:
-        for ch in data.select_channels(pems[0], channels):
+        for ch in data.select_channels(pems[0], channels, where=where):
             if all(ch in r.channels for _, r in mcs):
                 paths = tuple(confined_path(root, root / "figures", f"{ch}.pem_vs_mc", fmt, mcs[0][0] / "meta.json")
                               for fmt in formats)
@@ -222,7 +222,7 @@ def draw_jobs(jobs: Sequence[FigureJob], workers: int | None = None, progress: b
 
 def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
                 formats: Sequence[str] = ("png",), *, workers: int | None = None, progress: bool = False,
-                found: Sequence[tuple[Path, Any]] | None = None) -> list[Path]:
+                found: Sequence[tuple[Path, Any]] | None = None, where: str = "plot_folder") -> list[Path]:
     """Write the standard figures of a saved result folder and return their paths.
 
     ``folder`` is one result folder (``meta.json`` + ``arrays.npz``) or a folder holding several
@@ -233,11 +233,13 @@ def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
     ``workers``: drawing processes (default: all cores); ``progress``: a progress bar over figures.
     ``found``: the results already loaded (``find_results(folder)``), to avoid reading them again.
 
-    Raises ResultsError, before drawing anything, when a figure would be written outside ``folder``.
+    Raises ResultsError, before drawing anything, when a figure would be written outside ``folder``,
+    and SettingError when a pattern of ``channels`` matches no channel of a result (naming ``where``,
+    the caller: "command line" names the option ``--channels``).
     """
     folder = Path(folder)
     found = find_results(folder) if found is None else found
-    return draw_jobs(figure_jobs(folder, found, channels, formats), workers=workers, progress=progress)
+    return draw_jobs(figure_jobs(folder, found, channels, formats, where), workers=workers, progress=progress)
 
 
 __all__ = ["DPI", "FigureJob", "KINDS", "confined_path", "default_workers", "draw_job", "draw_jobs", "figure_file",

@@ -189,11 +189,20 @@ def link(target: str, text: str) -> str:
 
 
 # ============================================================================================ sections
+def provenance_warnings(result: Result) -> list[str]:
+    """A result's provenance ``warnings`` as text: a list of strings as the runs write it (and a loaded
+    result must hold); a result built in Python with one string or another value gives that one line."""
+    found = result.provenance.get("warnings") if isinstance(result.provenance, dict) else None
+    if found is None:
+        return []
+    return [str(w) for w in found] if isinstance(found, (list, tuple)) else [str(found)]
+
+
 def warnings_section(found: Sequence[tuple[Path, Result]], extra: Sequence[str] = ()) -> str:
     """Every result's provenance ``warnings`` (and the report's own), or "none recorded"."""
     items = [(None, w) for w in extra]
     for path, result in found:
-        items += [(result_name(path, result), str(w)) for w in (result.provenance.get("warnings") or [])]
+        items += [(result_name(path, result), w) for w in provenance_warnings(result)]
     out = ['<section id="warnings"><h2>Warnings</h2>']
     if not items:
         out.append("<p>None recorded in the results' provenance.</p>")

@@ -87,15 +87,20 @@ def meta_int(meta: Mapping[str, Any], key: str, path: Path, low: int = 0) -> int
     return value
 
 
-def meta_band(meta: Mapping[str, Any], key: str, path: Path) -> tuple[float, float]:
-    """A frequency band [f_low, f_high] [Hz] with 0 <= f_low < f_high < inf."""
-    allowed = "[f_low, f_high] in Hz with 0 <= f_low < f_high, finite"
+def meta_band(meta: Mapping[str, Any], key: str, path: Path, high: float = math.inf,
+              high_text: str = "") -> tuple[float, float]:
+    """A frequency band [f_low, f_high] [Hz] with 0 <= f_low < f_high < inf, and f_high <= ``high``
+    (``high_text`` says where that bound comes from)."""
+    allowed = "[f_low, f_high] in Hz with 0 <= f_low < f_high, finite" + (
+        f", f_high <= {high:.6g} ({high_text})" if math.isfinite(high) else "")
     value = _get(meta, key, path, allowed)
     ok = (isinstance(value, list) and len(value) == 2
           and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
           and 0 <= value[0] < value[1])
     if not ok:
         raise _where(path, key, value, allowed, "bad value")
+    if not value[1] <= high:
+        raise _where(path, key, value, allowed, "upper edge above any analysis of the result's scenario")
     return float(value[0]), float(value[1])
 
 
@@ -108,14 +113,81 @@ def meta_dict(meta: Mapping[str, Any], key: str, path: Path, optional: bool = Fa
     return value
 
 
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _number_or_null(v: Any) -> bool:
+    return v is None or _is_number(v)
+
+
+def _list_of(check: Callable[[Any], bool]) -> Callable[[Any], bool]:
+    return lambda v: isinstance(v, list) and all(check(x) for x in v)
+
+
+def _object_of(fields: Mapping[str, Callable[[Any], bool]], closed: bool = False) -> Callable[[Any], bool]:
+    """A JSON object whose ``fields`` (those present) pass their checks; ``closed``: no other field."""
+    return lambda v: (isinstance(v, dict) and all(f not in v or ok(v[f]) for f, ok in fields.items())
+                      and (not closed or set(v) <= set(fields)))
+
+
+def _grid_error(v: Any) -> bool:
+    if not isinstance(v, dict):
+        return True  # a sentence saying why it was not estimated: not read as numbers
+    table = v.get("channels", v)
+    if not isinstance(table, dict):
+        return True
+    return all(not isinstance(e, dict) or all(_is_number(e[k]) for k in ("rel_error_max_sigma", "rel_deviation")
+                                              if k in e) for e in table.values())
+
+
+_STR_LIST = _list_of(lambda x: isinstance(x, str))
+_MODE = {"frequency": _is_number, "damping_ratio": _is_number, "label": lambda x: isinstance(x, str),
+         "context": lambda x: isinstance(x, str), "warning": lambda x: isinstance(x, str)}
+#: the provenance fields the code reads back (report, checks, command line), with the types it writes:
+#: key -> (check, what is allowed)
+PROVENANCE_FIELDS: dict[str, tuple[Callable[[Any], bool], str]] = {
+    "warnings": (_STR_LIST, "a list of strings (one warning each)"),
+    "damping_warnings": (_list_of(_object_of({
+        "channels": _STR_LIST, "frequency": _is_number, "damping_ratio": _is_number, "decay_time": _number_or_null,
+        "growth_on_bridge": _is_number, "label": lambda x: isinstance(x, str)})),
+        "a list of objects with 'channels' (a list of patterns), 'frequency', 'damping_ratio', 'decay_time', "
+        "'growth_on_bridge' (numbers) and 'label' (a string)"),
+    "damped_modes": (_list_of(lambda m: _object_of(_MODE, closed=True)(m) and "frequency" in m and "damping_ratio" in m
+                              and "label" in m),
+                     "a list of objects with 'frequency', 'damping_ratio' (numbers), 'label' and optionally "
+                     "'context', 'warning' (strings), nothing else"),
+    "grid_error": (_grid_error, "a sentence, or an object with per channel a number or an object whose "
+                                "'rel_error_max_sigma' and 'rel_deviation' are numbers"),
+    "derived_channels": (_object_of({"channels": lambda c: isinstance(c, dict) and all(
+        not isinstance(e, dict) or _object_of({"window": _is_number})(e) for e in c.values())}),
+        "an object whose 'channels' maps channel names to objects with a 'window' in s (a number)"),
+    "samples_with_loss_of_contact": (lambda v: _is_number(v) and 0 <= v < math.inf, "a number of samples >= 0"),
+    "min_wheel_force_N": (_number_or_null, "a force in N or null"),
+    "seconds": (_is_number, "a run time in s"),
+}
+
+
+def meta_provenance(meta: Mapping[str, Any], path: Path, optional: bool = False) -> dict[str, Any]:
+    """The ``provenance`` object: any JSON, but the fields the code reads back (:data:`PROVENANCE_FIELDS`)
+    of the types it writes them with (e.g. ``warnings`` a list of strings)."""
+    provenance = meta_dict(meta, "provenance", path, optional=optional)
+    for key, (ok, allowed) in PROVENANCE_FIELDS.items():
+        if key in provenance and not ok(provenance[key]):
+            raise _where(path, f"provenance.{key}", provenance[key], allowed, "wrong type")
+    return provenance
+
+
 _UNIT = re.compile(r"[A-Za-z0-9_/^*.()+\- ]{0,32}\Z")
 UNIT_RULE = "units such as m, m/s^2, rad/s, N (at most 32 of A-Z a-z 0-9 _ / ^ * . ( ) + - and space)"
 
 
 def meta_channels(meta: Mapping[str, Any], path: Path) -> tuple[list[str], list[str]]:
-    """Channel names (the naming rule of :mod:`tb_exudyn.system.channels`, all different) and their units."""
+    """Channel names (the naming rule of :mod:`tb_exudyn.system.channels`, all different, at least one) and their units."""
     names = meta_str_list(meta, "channels", path, check=is_channel_name, rule=f"channel names: {CHANNEL_NAME_RULE}",
                           unique=True)
+    if not names:
+        raise _where(path, "channels", names, f"a list of channel names: {CHANNEL_NAME_RULE}", "no channel")
     units = meta_str_list(meta, "units", path, length=len(names), check=lambda u: _UNIT.match(u) is not None,
                           rule=UNIT_RULE)
     return names, units
@@ -140,4 +212,5 @@ def meta_scenario(meta: Mapping[str, Any], path: Path, optional: bool = False) -
         raise _where(path, "scenario_toml", text, "the scenario as TOML text", "nested too deeply") from None
 
 
-__all__ = ["open_result_folder", "meta_str", "meta_str_list", "meta_int", "meta_band", "meta_dict", "meta_channels", "meta_scenario", "UNIT_RULE"]
+__all__ = ["open_result_folder", "meta_str", "meta_str_list", "meta_int", "meta_band", "meta_dict", "meta_channels",
+           "meta_provenance", "meta_scenario", "PROVENANCE_FIELDS", "UNIT_RULE"]

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Mapping
 
 import numpy as np
 
@@ -30,9 +30,10 @@ from . import empirical
 from . import statistics as st
 from .base import ChannelResult, ChannelStatistics
 from .checks import checks as _checks
-from .metadata import (meta_band, meta_channels, meta_dict, meta_int, meta_scenario, meta_str, meta_str_list,
+from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
-from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
+from .storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
+                      check_output_times, check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.random_response/2"
 #: formats this version reads (1: before the exceedance arrays)
@@ -43,23 +44,48 @@ OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force",
                    "rho", "bandwidth", "sample_min", "sample_max")
 #: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
 INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
-#: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples
+#: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples;
+#: standard deviations, PSDs, variances, frequencies and widths are >= 0; values at most MAX_VALUE in
+#: magnitude, PSDs and variances (squares) at most MAX_SQUARE
+_V, _S = MAX_VALUE, MAX_SQUARE
 ARRAYS = {
-    "time": Member(("nt",)), "mean": Member(("nc", "nt")), "std": Member(("nc", "nt")),
-    "freq": Member(("nf",)), "df": Member(("nf",)),
-    "psd": Member(("npsd", "nf", "nt"), required=False), "var_by_type": Member(("ntypes", "nc", "nt"), required=False),
-    "std_ci": Member((2, "nc", "nt"), required=False), "mean_ci": Member((2, "nc", "nt"), required=False),
-    "min_wheel_force": Member(("ns",), required=False, finite=False),  # NaN: a sample without wheel forces
-    "samples": Member(("ns", "nc", "nt"), required=False, finite=False),
-    "mean_rate": Member(("nc", "nt"), required=False, finite=False), "std_rate": Member(("nc", "nt"), required=False),
-    "rho": Member(("nc", "nt"), required=False, finite=False), "bandwidth": Member(("nc", "nt"), required=False,
-                                                                                 finite=False),
-    "sample_min": Member(("ns", "nc"), required=False, finite=False),
-    "sample_max": Member(("ns", "nc"), required=False, finite=False),
+    "time": Member(("nt",), max_abs=_V), "mean": Member(("nc", "nt"), max_abs=_V),
+    "std": Member(("nc", "nt"), nonnegative=True, max_abs=_V),
+    "freq": Member(("nf",), nonnegative=True, max_abs=_V), "df": Member(("nf",), nonnegative=True, max_abs=_V),
+    "psd": Member(("npsd", "nf", "nt"), required=False, nonnegative=True, max_abs=_S),
+    "var_by_type": Member(("ntypes", "nc", "nt"), required=False, nonnegative=True, max_abs=_S),
+    "std_ci": Member((2, "nc", "nt"), required=False, nonnegative=True, max_abs=_V),
+    "mean_ci": Member((2, "nc", "nt"), required=False, max_abs=_V),
+    "min_wheel_force": Member(("ns",), required=False, finite=False, max_abs=_V),  # NaN: a sample without wheel forces
+    "samples": Member(("ns", "nc", "nt"), required=False, finite=False, max_abs=_V),
+    "mean_rate": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "std_rate": Member(("nc", "nt"), required=False, nonnegative=True, max_abs=_V),
+    "rho": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "bandwidth": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
+    "sample_min": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
+    "sample_max": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
 }
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
             "npsd": "the number of psd_channels in meta.json (or of channels)",
             "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
+#: relative round-off allowed on the band's upper limit and on the frequencies inside the band
+BAND_RTOL = 1e-9
+
+
+def band_limit(scenario: Scenario) -> tuple[float, str]:
+    """The highest upper band edge [Hz] an analysis of ``scenario`` can give a result, and where it comes from.
+
+    PEM (and Monte Carlo on the PEM grid) covers the grid's band, inside [freq_min, freq_max], and the
+    scenario keeps freq_max <= 0.1 / analysis.time_step (ten steps per period, Analysis' rule); Monte
+    Carlo with its own sampling covers the track's wavelength band, whose upper edge is
+    speed / track.wavelength_min (tb_exudyn.methods.sampling, the temporal frequency of the shortest
+    wavelength, as tb_exudyn.track.bands converts spatial to temporal frequency). A stored band above
+    the larger of the two (plus round-off, :data:`BAND_RTOL`) was made by no analysis of the result's
+    scenario: e.g. [0.6, 1e308] for the quick scenario, whose bound is 100 Hz."""
+    pem = 0.1 / scenario.analysis.time_step
+    mc = scenario.speed / scenario.track.wavelength_min
+    return max(pem, mc) * (1 + BAND_RTOL), (f"the larger of 0.1 / analysis.time_step = {pem:.6g} Hz and speed / "
+                                            f"track.wavelength_min = {mc:.6g} Hz of the result's scenario")
 
 
 @dataclass(frozen=True, eq=False)
@@ -233,7 +259,10 @@ class RandomResponse(ChannelResult):
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`)."""
+        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+
+        What :func:`load_random_response` would refuse is refused first, nothing written: a
+        ResultsError naming the file and the key (e.g. a negative ``std`` set in Python)."""
         arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
         for name in OPTIONAL_ARRAYS:
             value = getattr(self, name)
@@ -252,7 +281,57 @@ class RandomResponse(ChannelResult):
         }
         if self.psd_channels is not None:
             meta["psd_channels"] = list(self.psd_channels)
-        return save_result_folder(folder, arrays, meta)
+        return save_result_folder(folder, arrays, meta, check=check_folder)
+
+
+def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
+    """The fields of a random response's meta.json, each checked (ResultsError naming ``path`` and the key)."""
+    meta_str(meta, "format", path, choices=READABLE_FORMATS)
+    method = meta_str(meta, "method", path, choices=METHODS)
+    channels, units = meta_channels(meta, path)
+    types = meta_str_list(meta, "types", path, check=is_channel_name, rule="spectrum names (e.g. german_low.vertical)",
+                          unique=True)
+    n_samples = meta_int(meta, "n_samples", path, 0)
+    psd_channels = None
+    if "psd_channels" in meta:
+        psd_channels = meta_str_list(meta, "psd_channels", path, check=lambda c: c in channels,
+                                     rule="names from 'channels'", unique=True)
+    provenance = meta_provenance(meta, path)
+    scenario = meta_scenario(meta, path)
+    band = meta_band(meta, "band_hz", path, *band_limit(scenario))
+    return {"method": str(method), "channels": tuple(channels), "units": tuple(units), "band": band,
+            "types": tuple(types), "n_samples": n_samples, "provenance": provenance, "scenario": scenario,
+            "psd_channels": None if psd_channels is None else tuple(psd_channels)}
+
+
+def _sizes(fields: dict[str, Any]) -> dict[str, int]:
+    channels, psd_channels = fields["channels"], fields["psd_channels"]
+    return {"nc": len(channels), "ntypes": len(fields["types"]), "ns": fields["n_samples"],
+            "npsd": len(channels) if psd_channels is None else len(psd_channels)}
+
+
+def _check_arrays(path: Path, arrays: Mapping[str, np.ndarray], fields: dict[str, Any]) -> None:
+    """The values of the arrays (their shapes already checked): finite and >= 0 where :data:`ARRAYS` says,
+    at least two output times, time and freq increasing, a PEM result's frequencies inside its band."""
+    check_values(path, arrays, ARRAYS)
+    check_output_times(path, arrays["time"])
+    check_increasing(path, arrays, ("time", "freq"))
+    freq, (lo, hi) = arrays["freq"], fields["band"]
+    if "psd" in arrays and freq.size == 0:
+        raise ResultsError(f"{path}: array 'psd' is a map over no frequency ('freq' is empty) (allowed: a PSD map "
+                           "with at least one frequency, or no 'psd')")
+    tol = BAND_RTOL * hi
+    if freq.size and (freq[0] < lo - tol or freq[-1] > hi + tol):
+        raise ResultsError(f"{path}: array 'freq' spans {float(freq[0])!r} to {float(freq[-1])!r} Hz, outside the "
+                           f"band_hz [{lo!r}, {hi!r}] of meta.json (allowed: frequencies inside the band)")
+
+
+def check_folder(folder: Path, arrays: Mapping[str, np.ndarray], meta: dict[str, Any]) -> None:
+    """What :func:`load_random_response` checks, on a result about to be saved to ``folder``
+    (``meta`` as meta.json will give it back): the check :meth:`RandomResponse.save` runs first."""
+    fields = _read_meta(meta, folder / "meta.json")
+    check_members(ArraysInMemory(folder / "arrays.npz", arrays), ARRAYS, _sizes(fields), _MEANING)
+    _check_arrays(folder / "arrays.npz", arrays, fields)
 
 
 def load_random_response(folder: str | Path) -> RandomResponse:
@@ -261,50 +340,20 @@ def load_random_response(folder: str | Path) -> RandomResponse:
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
     folder: see :mod:`.storage`; channel names must follow the naming rule, the arrays' shapes match
     the channels, types and n_samples of meta.json and each other (:data:`ARRAYS`), checked before
-    any array is read; time increasing and values finite.
+    any array is read; time increasing and values finite; standard deviations, PSDs, variances,
+    frequencies and widths >= 0; the band 0 <= f_low < f_high <= :func:`band_limit` of the result's
+    scenario, a PEM result's frequencies inside it; the provenance fields the code reads of the types
+    it writes (:data:`.metadata.PROVENANCE_FIELDS`). The arrays are read-only.
     """
     folder = open_result_folder(folder)
     path = folder / "meta.json"
-    meta = load_json(path)
-    meta_str(meta, "format", path, choices=READABLE_FORMATS)
-    method = meta_str(meta, "method", path, choices=METHODS)
-    channels, units = meta_channels(meta, path)
-    band = meta_band(meta, "band_hz", path)
-    types = meta_str_list(meta, "types", path, check=is_channel_name, rule="spectrum names (e.g. german_low.vertical)",
-                          unique=True)
-    n_samples = meta_int(meta, "n_samples", path, 0)
-    psd_channels = None
-    if "psd_channels" in meta:
-        psd_channels = meta_str_list(meta, "psd_channels", path, check=lambda c: c in channels,
-                                     rule="names from 'channels'", unique=True)
-    provenance = meta_dict(meta, "provenance", path)
-    scenario = meta_scenario(meta, path)
+    fields = _read_meta(load_json(path), path)
     with NpzFile(folder / "arrays.npz") as npz:
-        check_members(npz, ARRAYS, {"nc": len(channels), "ntypes": len(types), "ns": n_samples,
-                                    "npsd": len(channels) if psd_channels is None else len(psd_channels)}, _MEANING)
+        check_members(npz, ARRAYS, _sizes(fields), _MEANING)
         arrays = npz.read_all()
-    check_values(npz.path, arrays, ARRAYS)
-    check_increasing(npz.path, arrays, ("time", "freq"))
+    _check_arrays(npz.path, arrays, fields)
+    freeze(arrays)
     return RandomResponse(
-        method=str(method),
-        time=arrays["time"],
-        channels=tuple(channels),
-        units=tuple(units),
-        mean=arrays["mean"],
-        std=arrays["std"],
-        band=band,
-        scenario=scenario,
-        freq=arrays["freq"],
-        df=arrays["df"],
-        psd=arrays.get("psd"),
-        var_by_type=arrays.get("var_by_type"),
-        types=tuple(types),
-        std_ci=arrays.get("std_ci"),
-        mean_ci=arrays.get("mean_ci"),
-        n_samples=n_samples,
-        min_wheel_force=arrays.get("min_wheel_force"),
-        samples=arrays.get("samples"),
-        provenance=provenance,
-        psd_channels=None if psd_channels is None else tuple(psd_channels),
-        **{name: arrays.get(name) for name in OPTIONAL_ARRAYS[6:]},
+        time=arrays["time"], mean=arrays["mean"], std=arrays["std"], freq=arrays["freq"], df=arrays["df"],
+        **fields, **{name: arrays.get(name) for name in OPTIONAL_ARRAYS},
     )

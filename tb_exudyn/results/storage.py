@@ -19,8 +19,13 @@ Reading (:func:`load_json`, :class:`NpzFile`, :func:`open_result_folder`): files
 folder must be regular files (no symbolic links, FIFOs or devices; :mod:`tb_exudyn.files`); JSON is
 limited in size and depth; every npz member's header (dtype, shape) is read and checked against
 the member's size, and the caller checks the shapes against the metadata and each other, before
-any data is read (:func:`check_members`). Every failure is a one-line :class:`ResultsError`
-naming the file and what is wrong.
+any data is read (:func:`check_members`), then the values (:func:`check_values`: finite, >= 0,
+magnitudes). Every failure is a one-line :class:`ResultsError` naming the file and what is wrong.
+Loaded arrays are made read-only (:func:`freeze`).
+
+Saving runs the format's reading checks first on what would be written (:func:`check_before_save`,
+the arrays seen as an npz by :class:`ArraysInMemory`, the metadata as JSON gives it back): a result
+changed in Python into something that would not load is refused, nothing written.
 """
 
 from __future__ import annotations
@@ -52,6 +57,12 @@ DERIVED_ENTRIES = ("figures", "report.html")
 MAX_JSON_BYTES = 16 * MIB
 MAX_JSON_DEPTH = 64
 MAX_NPZ_MEMBERS = 64
+#: the largest magnitude of a stored value (a response, a standard deviation, a time) and of a stored square
+#: (a PSD, a variance): squares and products of two values, and conversions to display units (x 1e3 for
+#: mm, kN), stay far from the 1.8e308 a double holds; no response of a train on a bridge comes near
+#: either in SI units (forces are below 1e8 N)
+MAX_VALUE = 1e100
+MAX_SQUARE = 1e200
 #: leftovers of a write by another machine (same host name hash unknown to be dead) are kept this long [s]
 FOREIGN_LEFTOVER_AGE = 24 * 3600.0
 _MEMBER = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}\.npy\Z")
@@ -201,15 +212,43 @@ def _write_file(path: Path, write: Callable[[BinaryIO], object]) -> None:
         os.fsync(fh.fileno())
 
 
-def save_result_folder(folder: str | Path, arrays: Mapping[str, np.ndarray], meta: Mapping[str, Any]) -> Path:
+#: a format's check of a folder's contents before they are written: (folder, arrays, meta as JSON gives it back)
+FolderCheck = Callable[[Path, Mapping[str, np.ndarray], dict[str, Any]], None]
+
+
+def check_before_save(folder: Path, arrays: Mapping[str, np.ndarray], text: str, check: FolderCheck) -> None:
+    """Run the checks ``load`` would run on ``arrays`` and the metadata ``text`` (as JSON), before
+    anything is written: ResultsError naming the file and the key, ending ``[not saved: ...]``."""
+    try:
+        meta_path = folder / "meta.json"
+        size = len(text.encode("utf-8"))
+        if size > MAX_JSON_BYTES:
+            raise _error(meta_path, f"{size} bytes, more than the {MAX_JSON_BYTES} allowed")
+        meta = json.loads(text)
+        depth = json_depth(meta)
+        if depth > MAX_JSON_DEPTH:
+            raise _error(meta_path, f"JSON nested {depth} deep, more than the {MAX_JSON_DEPTH} allowed")
+        check(folder, arrays, meta)
+    except ResultsError as exc:
+        raise ResultsError(f"{exc} [not saved: the folder would not load]") from None
+
+
+def save_result_folder(folder: str | Path, arrays: Mapping[str, np.ndarray], meta: Mapping[str, Any],
+                       check: FolderCheck | None = None) -> Path:
     """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all.
 
-    An existing result folder is replaced (with its figures and report, which belong to the old
-    result); a folder holding anything else is refused (OutputFolderError). A symbolic link to a
-    folder is followed (the folder it points to is replaced). Returns ``folder``.
+    ``check``: the format's load-time checks, run first on what would be written (nothing is
+    written if they refuse it: :func:`check_before_save`), so that a save never leaves a folder
+    that does not load. An existing result folder is replaced (with its figures and report, which
+    belong to the old result); a folder holding anything else is refused (OutputFolderError). A
+    symbolic link to a folder is followed (the folder it points to is replaced). Returns ``folder``.
     """
     _refuse_objects(arrays)
-    text = _json_text(meta).encode("utf-8")  # fails on unstorable metadata before anything is written
+    arrays = {k: np.asarray(v) for k, v in arrays.items()}
+    json_text = _json_text(meta)  # fails on unstorable metadata before anything is written
+    if check is not None:
+        check_before_save(Path(folder), arrays, json_text, check)
+    text = json_text.encode("utf-8")
     given = Path(folder)
     folder = Path(os.path.realpath(given))
     parent, name = folder.parent, folder.name
@@ -224,7 +263,7 @@ def save_result_folder(folder: str | Path, arrays: Mapping[str, np.ndarray], met
     moved_old = False
     try:
         os.mkdir(writing)
-        _write_file(writing / "arrays.npz", lambda fh: np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()}))
+        _write_file(writing / "arrays.npz", lambda fh: np.savez(fh, **arrays))
         _write_file(writing / "meta.json", lambda fh: fh.write(text))
         _fsync_dir(writing)
         os.rename(writing, ready)  # complete from here on: recover_folder may put it in place
@@ -418,11 +457,15 @@ def load_npz(path: str | Path) -> dict[str, np.ndarray]:
 @dataclass(frozen=True)
 class Member:
     """What a result format expects of one npz member: dims (ints, or names bound on first use),
-    whether it must be present, and whether its values must all be finite."""
+    whether it must be present, whether its values must all be finite, whether they must be >= 0
+    (a standard deviation, a PSD, a frequency or a width; NaN, where allowed, is not negative), and
+    the largest magnitude of its finite values (:data:`MAX_VALUE`, :data:`MAX_SQUARE`)."""
 
     dims: tuple[int | str, ...]
     required: bool = True
     finite: bool = True
+    nonnegative: bool = False
+    max_abs: float = math.inf
 
 
 def check_members(npz: NpzFile, spec: Mapping[str, Member], sizes: dict[str, int], meaning: Mapping[str, str]) -> None:
@@ -454,17 +497,47 @@ def check_members(npz: NpzFile, spec: Mapping[str, Member], sizes: dict[str, int
                                        f"({_dim_text(dim, meaning)})")
 
 
+class ArraysInMemory:
+    """Arrays about to be saved seen as an opened npz (``path``, ``headers``), so that
+    :func:`check_members` checks them as it would check the file."""
+
+    def __init__(self, path: Path, arrays: Mapping[str, np.ndarray]) -> None:
+        self.path = path
+        self.headers = {name: ArrayHeader(name, a.dtype, tuple(a.shape), False, 0) for name, a in arrays.items()}
+
+
+def freeze(arrays: Mapping[str, np.ndarray]) -> None:
+    """Make loaded arrays read-only: a loaded result is what its files hold (mutate a copy)."""
+    for a in arrays.values():
+        a.flags.writeable = False
+
+
 def _dim_text(dim: int | str, meaning: Mapping[str, str]) -> str:
     return str(dim) if isinstance(dim, int) else meaning.get(dim, dim)
 
 
 def check_values(path: Path, arrays: Mapping[str, np.ndarray], spec: Mapping[str, Member]) -> None:
-    """Values that must be finite are finite (after reading)."""
+    """Values that must be finite are finite, values that must be >= 0 are (after reading)."""
     for name, member in spec.items():
         a = arrays.get(name)
-        if a is not None and member.finite and not np.all(np.isfinite(a)):
+        if a is None:
+            continue
+        if member.finite and not np.all(np.isfinite(a)):
             bad = int(np.size(a) - np.count_nonzero(np.isfinite(a)))
             raise _error(path, f"array {name!r} holds {bad} non-finite value(s) (NaN or inf)")
+        # float32 (a kept PSD map) cannot exceed the limits: compared only where the dtype could
+        large = (np.isfinite(a) & (np.abs(a) > member.max_abs) if float(np.finfo(a.dtype).max) > member.max_abs
+                 else np.zeros(a.shape, dtype=bool))
+        if np.any(large):
+            first = tuple(int(i) for i in np.argwhere(large)[0])
+            raise _error(path, f"array {name!r} holds {int(np.count_nonzero(large))} value(s) of magnitude above "
+                               f"{member.max_abs:.0e}, e.g. {float(a[first])!r} at index {first} (allowed: magnitudes "
+                               f"<= {member.max_abs:.0e}, so that squares and sums stay finite)")
+        if member.nonnegative and np.any(a < 0):
+            negative = a < 0
+            first = tuple(int(i) for i in np.argwhere(negative)[0])
+            raise _error(path, f"array {name!r} holds {int(np.count_nonzero(negative))} negative value(s), e.g. "
+                               f"{float(a[first])!r} at index {first} (allowed: values >= 0)")
 
 
 def check_increasing(path: Path, arrays: Mapping[str, np.ndarray], names: Sequence[str]) -> None:
@@ -475,6 +548,14 @@ def check_increasing(path: Path, arrays: Mapping[str, np.ndarray], names: Sequen
             i = int(np.argmax(~(np.diff(a) > 0)))
             raise _error(path, f"array {name!r} is not increasing (element {i + 1} = {float(a[i + 1])!r} after "
                                f"{float(a[i])!r})")
+
+
+def check_output_times(path: Path, time: np.ndarray) -> None:
+    """At least two output times: a result covers a crossing (its output step is at most the crossing's
+    duration, :func:`tb_exudyn.execution.resources.check_run_length`), and figures need a span of time."""
+    if time.size < 2:
+        raise _error(path, f"array 'time' holds {time.size} output time(s) (allowed: at least 2, the output times "
+                           "of a crossing)")
 
 
 def check_writable(folder: str | Path) -> Path:

@@ -14,14 +14,17 @@ from typing import Any, Mapping
 import numpy as np
 from numpy.typing import NDArray
 
+from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
 from .base import ChannelResult
-from .metadata import meta_channels, meta_dict, meta_scenario, meta_str, open_result_folder
-from .storage import Member, NpzFile, check_increasing, check_members, check_values, load_json, save_result_folder
+from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
+from .storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
+                      check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.time_history/1"
-#: the arrays of arrays.npz: nt output times, nc channels (the channels of meta.json)
-ARRAYS = {"time": Member(("nt",)), "values": Member(("nc", "nt"))}
+#: the arrays of arrays.npz: nt output times (at least 2), nc channels (the channels of meta.json, at least one);
+#: values finite and at most MAX_VALUE in magnitude
+ARRAYS = {"time": Member(("nt",), max_abs=MAX_VALUE), "values": Member(("nc", "nt"), max_abs=MAX_VALUE)}
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json"}
 
 
@@ -83,9 +86,18 @@ class TimeHistory(ChannelResult):
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`)."""
+        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+
+        What :func:`load_time_history` would refuse is refused first, nothing written: a ResultsError
+        naming the file and the key (e.g. a NaN set in Python, a channel of another length)."""
         names = list(self.channels)
-        values = np.array([self.channels[n] for n in names], dtype=float).reshape(len(names), np.size(self.time))
+        n = np.size(self.time)
+        for name in names:
+            if np.shape(self.channels[name]) != (n,):
+                raise ResultsError(f"{Path(folder) / 'arrays.npz'}: array 'values': channel {name!r} has shape "
+                                   f"{np.shape(self.channels[name])}, not ({n},) as 'time' (allowed: one value per "
+                                   "output time) [not saved: the folder would not load]")
+        values = np.array([self.channels[n] for n in names], dtype=float).reshape(len(names), n)
         meta = {
             "format": FORMAT,
             "channels": names,
@@ -93,7 +105,30 @@ class TimeHistory(ChannelResult):
             "provenance": self.provenance,
             "scenario_toml": None if self.scenario is None else scenario_to_toml(self.scenario),
         }
-        return save_result_folder(folder, {"time": np.asarray(self.time, dtype=float), "values": values}, meta)
+        return save_result_folder(folder, {"time": np.asarray(self.time, dtype=float), "values": values}, meta,
+                                  check=check_folder)
+
+
+def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
+    meta_str(meta, "format", path, choices=(FORMAT,))
+    names, units = meta_channels(meta, path)
+    provenance = meta_provenance(meta, path, optional=True)
+    scenario = meta_scenario(meta, path, optional=True)
+    return {"names": names, "units": units, "provenance": provenance, "scenario": scenario}
+
+
+def _check_arrays(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
+    check_values(path, arrays, ARRAYS)
+    check_output_times(path, arrays["time"])
+    check_increasing(path, arrays, ("time",))
+
+
+def check_folder(folder: Path, arrays: Mapping[str, np.ndarray], meta: dict[str, Any]) -> None:
+    """What :func:`load_time_history` checks, on a result about to be saved to ``folder`` (``meta``
+    as meta.json will give it back): the check :meth:`TimeHistory.save` runs first."""
+    fields = _read_meta(meta, folder / "meta.json")
+    check_members(ArraysInMemory(folder / "arrays.npz", arrays), ARRAYS, {"nc": len(fields["names"])}, _MEANING)
+    _check_arrays(folder / "arrays.npz", arrays)
 
 
 def load_time_history(folder: str | Path) -> TimeHistory:
@@ -101,25 +136,24 @@ def load_time_history(folder: str | Path) -> TimeHistory:
 
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
     folder: see :mod:`.storage`; channel names must follow the naming rule and be all different,
-    one unit per channel, the arrays' shapes must match the channels and each other, values finite.
+    one unit per channel, the arrays' shapes must match the channels and each other, values finite;
+    the provenance fields the code reads of the types it writes (:data:`.metadata.PROVENANCE_FIELDS`).
+    The arrays are read-only.
     """
     folder = open_result_folder(folder)
     path = folder / "meta.json"
-    meta = load_json(path)
-    meta_str(meta, "format", path, choices=(FORMAT,))
-    names, units = meta_channels(meta, path)
-    provenance = meta_dict(meta, "provenance", path, optional=True)
-    scenario = meta_scenario(meta, path, optional=True)
+    fields = _read_meta(load_json(path), path)
+    names = fields["names"]
     with NpzFile(folder / "arrays.npz") as npz:
         check_members(npz, ARRAYS, {"nc": len(names)}, _MEANING)
         arrays = npz.read_all()
-    check_values(npz.path, arrays, ARRAYS)
-    check_increasing(npz.path, arrays, ("time",))
+    _check_arrays(npz.path, arrays)
+    freeze(arrays)
     values = arrays["values"]
     return TimeHistory(
         time=arrays["time"],
         channels={n: values[i] for i, n in enumerate(names)},
-        units=dict(zip(names, units)),
-        scenario=scenario,
-        provenance=dict(provenance),
+        units=dict(zip(names, fields["units"])),
+        scenario=fields["scenario"],
+        provenance=dict(fields["provenance"]),
     )

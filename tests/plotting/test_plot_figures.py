@@ -12,6 +12,7 @@ from matplotlib.collections import PolyCollection, QuadMesh
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 
+from tb_exudyn.errors import SettingError
 from tb_exudyn.plotting import (
     crossing_times, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_time_history, select_channels,
 )
@@ -171,7 +172,7 @@ def test_time_history(th):
     assert _crossing_lines(axes[0]) == pytest.approx(EVENTS)
     single = plot_time_history(th, "car1.body.acc_y").axes[0]
     assert single.get_ylabel() == "lateral acceleration [m/s^2]"
-    with pytest.raises(KeyError, match="matches no channel"):
+    with pytest.raises(SettingError, match=r"plot_time_history: key 'channels' = 'car9\.\*': matches no channel"):
         plot_time_history(th, "car9.*")
 
 
