@@ -57,12 +57,13 @@ def frequency_grid(
     """A grid of n frequencies from f_min to f_max (nodes include both ends), or the ``given`` one.
 
     'linear': equally spaced; 'log': equally spaced in log f. Widths: trapezoid rule.
-    A single frequency gets the width f_max - f_min (or f_min if they are equal) as a mid-point cell.
+    A single frequency lies at the band's middle with the width f_max - f_min (or f_min if they are
+    equal) as a mid-point cell, so that the cell is the band (at f_min it reached below 0 Hz).
     """
     if given is not None and len(given):
         f = np.asarray(given, dtype=float)
     elif n == 1:
-        f = np.array([f_min])
+        f = np.array([0.5 * (f_min + f_max)])  # the middle of the band: its cell spans [f_min, f_max]
     elif spacing == "linear":
         f = np.linspace(f_min, f_max, n)
     elif spacing == "log":

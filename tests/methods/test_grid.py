@@ -54,3 +54,15 @@ def test_grid_outside_spectrum_validity_is_refused():
     spectra = {n: get_spectrum(n) for n in sc.track.irregularities}
     with pytest.raises(ScenarioError, match="validity"):
         check_grid_against_spectra(g, sc, spectra)
+
+
+def test_a_single_frequency_covers_the_band_and_no_negative_frequency():
+    """Exact problem: one linear frequency over 0.6-30 Hz. Reference: the midpoint rule on one cell, the
+    band itself: the node at 15.3 Hz, width 29.4 Hz, band [0.6, 30] Hz (to round-off, 1e-12). With the
+    node at f_min the cell reached -14.1 Hz, a band no result may have (the loader refuses it)."""
+    from tb_exudyn.methods.grid import frequency_grid
+
+    g = frequency_grid(0.6, 30.0, 1, 60.0)
+    assert g.f.tolist() == [15.3] and g.df.tolist() == [29.4]
+    lo, hi = g.band
+    assert abs(lo - 0.6) < 1e-12 and abs(hi - 30.0) < 1e-12
