@@ -1,4 +1,4 @@
-"""Measure issue 15's table on any checkout: ``python -m tests.reliability.measure ROOT [--kills N]``.
+"""Measure the hostile-input table (issues 15 and 27) on any checkout: ``python -m tests.reliability.measure ROOT [--kills N]``.
 
 Runs every case of cases.py in its own process against the tb_exudyn at ROOT (2 GB of address
 space, 20 s), and N SIGKILLs of a large save (kill.py) plus one save that raises between the two
@@ -19,7 +19,8 @@ import tempfile
 from collections import Counter
 from pathlib import Path
 
-from .cases import CASES, snapshot, subprocess_command
+from .all_cases import ALL_CASES as CASES
+from .cases import snapshot, subprocess_command
 from .kill import child_env, outcome, save_in_child
 
 RAISE_BETWEEN = """

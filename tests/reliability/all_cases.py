@@ -1,0 +1,13 @@
+"""Every hostile-input case, for the measurement of the issues' tables (tests/reliability/measure.py):
+the cases of issue 15 (cases.py) and those of issue 27 and 25 by topic (cases_<topic>.py), each list
+run by its own test file."""
+
+from __future__ import annotations
+
+from .cases import CASES
+from .cases_en1991 import CASES_EN1991
+from .cases_limits import CASES_LIMITS
+from .cases_results2 import CASES_RESULTS2
+from .cases_writes import CASES_WRITES
+
+ALL_CASES = [*CASES, *CASES_LIMITS, *CASES_WRITES, *CASES_RESULTS2, *CASES_EN1991]
