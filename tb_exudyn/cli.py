@@ -19,7 +19,7 @@ from typing import Sequence
 from .engines import ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
-from .execution.output import SWEEP_FIGURE
+from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
 from .atomic import write_text_atomic
 from .results import find_results
@@ -81,6 +81,10 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     methods = _methods()
     if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
         raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
+    for x in args.position or ():
+        if not math.isfinite(x):
+            raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
+                               "track (0: the bridge start)", "not finite")
     scenario = load_scenario(args.scenario)
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
@@ -192,9 +196,10 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(load_scenario(args.scenario), args)
-    out = check_writable(args.out)
-    with _folder_lock(out):
-        return _run(args, scenario, out)
+    with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
+        out = check_writable(args.out)
+        with _folder_lock(out):
+            return _run(args, scenario, out)
 
 
 def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
@@ -258,21 +263,23 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
         raise SettingError("command line", "--speeds-kmh", args.speeds_kmh,
                            "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
-    if args.speeds_kmh is not None:
-        speeds = sweep.parse_speeds(args.speeds_kmh)
+    if args.speeds_kmh is not None:  # both checked (range, count, distinct) before the series is made
+        speeds = sweep.parse_speeds(args.speeds_kmh, where="command line")
     else:
-        if not args.line_speed_kmh > 0:
-            raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed > 0 km/h")
-        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
+        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh, where="command line")
     if args.freq_spacing is not None and args.freq_spacing not in sweep.FREQ_SPACINGS:
         raise SettingError("command line", "--freq-spacing", args.freq_spacing, " or ".join(sweep.FREQ_SPACINGS))
-    out = check_writable(args.out)
     options = None
     if args.precision != "float64":
         options = methods.BatchedOptions(precision=args.precision)
+    # what the sweep would refuse, refused before --out is created or written
+    sweep.check_sweep(scenario, speeds, channels=args.channels, n_freq=args.n_freq, options=options,
+                      freq_spacing=args.freq_spacing)
     print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
-    with _folder_lock(out):
-        return _sweep(args, methods, scenario, speeds, out, options)
+    with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
+        out = check_writable(args.out)
+        with _folder_lock(out):
+            return _sweep(args, methods, scenario, speeds, out, options)
 
 
 def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, options) -> int:  # noqa: ANN001
@@ -485,8 +492,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
         if getattr(args, attr, None) is not None and not str(getattr(args, attr)).strip():
             raise SettingError("command line", option, getattr(args, attr), "a file or folder path", "empty")
     if args.command == "sweep":
+        n_freq = next(f.metadata["check"] for f in dataclasses.fields(Analysis) if f.name == "n_freq")
         args.workers = _int_option(args.workers, "--workers", 1)
-        args.n_freq = _int_option(args.n_freq, "--n-freq", 1)
+        args.n_freq = _int_option(args.n_freq, "--n-freq", 1, int(n_freq.high), "as analysis.n_freq")
     if args.command != "run":
         return args
     # the ranges of the scenario keys these options override (the schema's checks)

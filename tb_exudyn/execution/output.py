@@ -19,8 +19,10 @@ from __future__ import annotations
 
 import os
 import shutil
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
 from ..errors import OutputFolderError
 
@@ -130,4 +132,29 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
     clear_run(folder, files)
 
 
-__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry"]
+@contextmanager
+def removed_if_left_empty(folder: str | Path) -> Iterator[None]:
+    """On an exception in the block (a refused run, an interruption), remove ``folder`` and the parents
+    of it that did not exist when the block began, as far as they are empty: a run refused after its
+    output folder was created (e.g. by :func:`tb_exudyn.results.storage.check_writable`) leaves no new
+    empty folder. Nothing else is removed: a folder that holds anything, or that existed before, is kept."""
+    new = []  # the folder and its missing parents, innermost first
+    path = Path(os.path.abspath(folder))
+    while not os.path.lexists(path) and path != path.parent:
+        new.append(path)
+        path = path.parent
+    try:
+        yield
+    except BaseException:
+        for path in new:
+            try:
+                if path.is_symlink() or not path.is_dir():
+                    break
+                path.rmdir()  # only an empty folder
+            except OSError:
+                break
+        raise
+
+
+__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry",
+           "removed_if_left_empty"]
