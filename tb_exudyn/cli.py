@@ -411,11 +411,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
-                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300)")
+                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
+                        "each > 0 and <= 1000 km/h")
     p.add_argument("--line-speed-kmh", type=float, default=None, metavar="V",
                    help="EN 1991-2 (6.4.6.2): speeds up to 1.2 x the maximum line speed V, from V/2 in "
                         "--speed-step-kmh steps (instead of --speeds-kmh)")
-    p.add_argument("--speed-step-kmh", type=float, default=10.0, help="step of --line-speed-kmh (default 10)")
+    p.add_argument("--speed-step-kmh", type=float, default=10.0,
+                   help="step of --line-speed-kmh (default 10; > 0, at most 1000 speeds)")
     p.add_argument("--out", default="sweep", help="output folder (default: ./sweep)")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--resume", action="store_true", help="reuse finished speeds (and tasks) in --out")

@@ -12,7 +12,8 @@ files: its checkpoint and figures at once, the folder's comparison figures and r
 old result), and its result when the new one is saved (the result folder is replaced as a whole, so a
 run killed before that leaves the old result, complete). Nothing else in the folder is touched. With
 ``resume`` a folder whose result has no checkpoint to resume from is refused (nothing to resume:
-overwrite instead). Refusals change nothing.
+overwrite instead). Refusals change nothing; an output folder that a refused (or interrupted) command
+created and left empty is removed again (:func:`removed_if_left_empty`).
 """
 
 from __future__ import annotations
