@@ -14,7 +14,8 @@ from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
 from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
-                     VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0, Check, Context, Validated, param, replace, source_file)
+                     VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
+                     Check, Context, Validated, param, replace, source_file)
 
 KMH = 1.0 / 3.6  # m/s per km/h
 
@@ -59,10 +60,10 @@ class SprungMass(_Replaceable):
 
     kind: ClassVar[str] = "sprung_mass"
     name: str = param(doc="identifier")
-    mass: float = param(unit="kg", doc="sprung mass", check=POSITIVE)
+    mass: float = param(unit="kg", doc="sprung mass", check=VEHICLE_MASS)
     stiffness: float = param(unit="N/m", doc="suspension stiffness", check=VEHICLE_STIFFNESS)
     damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=VEHICLE_DAMPING)
-    wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=NONNEGATIVE)
+    wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=VEHICLE_MASS_OR_0)
     length: float = param(unit="m", doc="distance from this wheel to the next vehicle's first axle", check=POSITIVE)
     description: str = param("", doc="one line for listings")
     source: str = param("", doc="citation of the data")
@@ -80,18 +81,18 @@ class SprungMass(_Replaceable):
 class RigidBodyInertia(_Replaceable):
     """Mass and principal moments of inertia about the body's centre of gravity."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
-    inertia_pitch: float = param(unit="kg m^2", doc="moment of inertia about y (pitch)", check=POSITIVE)
-    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
+    inertia_pitch: float = param(unit="kg m^2", doc="moment of inertia about y (pitch)", check=VEHICLE_INERTIA)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)
 class WheelsetInertia(_Replaceable):
     """A wheelset: it follows the rail through the wheel-rail contact."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -191,10 +192,10 @@ class RigidWheelset(_Replaceable):
     """A wheelset with its own lateral displacement, roll, yaw, longitudinal motion and spin (guided
     by creep forces)."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
-    inertia_spin: float = param(unit="kg m^2", doc="moment of inertia about the axle, y (spin)", check=POSITIVE)
-    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
+    inertia_spin: float = param(unit="kg m^2", doc="moment of inertia about the axle, y (spin)", check=VEHICLE_INERTIA)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)

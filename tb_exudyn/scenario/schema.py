@@ -73,6 +73,13 @@ VEHICLE_STIFFNESS_OR_0 = Check(low=0.0, high=1e10, low_inclusive=True)
 #: undamped, at 1e30 the responses are NaN)
 VEHICLE_DAMPING = Check(low=0.0, high=1e9, low_inclusive=True)
 VEHICLE_DAMPER = Check(low=0.0, high=1e9)
+#: a vehicle body's mass [kg] and moments of inertia [kg m^2]: the heaviest rail vehicles (locomotives)
+#: weigh about 2e5 kg in all, so 1e6 kg is five times that, and 1e9 kg m^2 more than such a mass
+#: spread over 100 m (m L^2 / 12 = 8.3e8); a larger value is a unit slip (grams, tonnes squared), and
+#: at 1e30 kg the integration overflows and still ends with a result
+VEHICLE_MASS = Check(low=0.0, high=1e6)
+VEHICLE_MASS_OR_0 = Check(low=0.0, high=1e6, low_inclusive=True)
+VEHICLE_INERTIA = Check(low=0.0, high=1e9)
 
 
 def param(default: Any = MISSING, *, unit: str = "", doc: str = "", check: Check | None = None):

@@ -132,6 +132,12 @@ def _primary_k_z(d: Path) -> Run:
                expect=(str(car), "'primary.k_z'"))
 
 
+def _body_mass(d: Path) -> Run:
+    car = _car_file(d, "[body]\nmass = 48000.0", "[body]\nmass = 1e30")
+    return Run(argv=("run", str(d / "sc.toml"), "--out", str(d / "out"), "--no-figures", "--no-progress"),
+               expect=(str(car), "'body.mass'"))
+
+
 def _sprung_mass_damping(d: Path) -> Run:
     (d / "car.toml").write_text('kind = "sprung_mass"\nname = "sm"\nmass = 5750.0\nstiffness = 1.595e6\n'
                                 'damping = 1e30\nlength = 10.0\n')
@@ -184,6 +190,7 @@ CASES_BOUNDS: list[Case] = [
     Case("run --speed-kmh 1e300", "bounds", _speed_1e300),
     Case("vehicle secondary.c_z = 1e30", "bounds", _secondary_c_z),
     Case("vehicle primary.k_z = 1e30", "bounds", _primary_k_z),
+    Case("vehicle body.mass = 1e30", "bounds", _body_mass),
     Case("sprung mass damping = 1e30", "bounds", _sprung_mass_damping),
     Case("sweep refused: no new empty --out", "bounds", _sweep_refused_in_new_folders),
     Case("sweep refused: existing --out kept", "bounds", _sweep_refused_in_existing_folder),

@@ -14,7 +14,7 @@ from tb_exudyn.errors import ScenarioError, SettingError
 from tb_exudyn.execution.output import removed_if_left_empty
 from tb_exudyn.methods.sweep import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds,
                                      parse_speeds)
-from tb_exudyn.scenario import Suspension, load_scenario
+from tb_exudyn.scenario import RigidBodyInertia, Suspension, load_scenario
 from tb_exudyn.scenario.schema import VEHICLE_DAMPING, VEHICLE_STIFFNESS
 
 from .cases import snapshot
@@ -85,9 +85,10 @@ def test_en1991_series_bounds_at_their_edges():
 
 
 def test_vehicle_bounds_at_their_edges():
-    """Exact problem: a suspension stage at the schema's stated bounds (springs > 0 and <= 1e10 N/m,
-    dampers >= 0 and <= 1e9 N s/m): the bound itself accepted, the next double above it refused,
-    naming the key. Reference: the bounds in tb_exudyn/scenario/schema.py."""
+    """Exact problem: a suspension stage, a car body and a scenario at the schema's stated bounds
+    (springs > 0 and <= 1e10 N/m, dampers >= 0 and <= 1e9 N s/m, masses <= 1e6 kg, inertias <= 1e9
+    kg m^2, speed <= 1000 km/h): the bound itself accepted, the next double above it refused, naming
+    the key. Reference: the bounds in tb_exudyn/scenario/schema.py."""
     assert VEHICLE_STIFFNESS.high == 1e10 and VEHICLE_DAMPING.high == 1e9
     ok = Suspension(k_z=1e10, k_y=1e10, c_z=1e9, c_y=0.0)
     assert ok.c_z == 1e9
@@ -95,6 +96,11 @@ def test_vehicle_bounds_at_their_edges():
         ok.replace(c_z=math.nextafter(1e9, math.inf))
     with pytest.raises(ScenarioError, match="'k_y'"):
         ok.replace(k_y=math.nextafter(1e10, math.inf))
+    body = RigidBodyInertia(mass=1e6, inertia_roll=1e9, inertia_pitch=1e9, inertia_yaw=1e9)
+    with pytest.raises(ScenarioError, match="'mass'"):
+        body.replace(mass=math.nextafter(1e6, math.inf))
+    with pytest.raises(ScenarioError, match="'inertia_yaw'"):
+        body.replace(inertia_yaw=math.nextafter(1e9, math.inf))
     sc = load_scenario("quick")
     assert sc.replace(speed_kmh=1000.0).speed_kmh == 1000.0
     with pytest.raises(ScenarioError, match="'speed_kmh'"):
