@@ -121,18 +121,20 @@ def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | N
         raise SettingError(where, key, shown, allowed, f"{len(speeds)} speeds")
     if not speeds:
         raise SettingError(where, key, shown, allowed, "no speed")
-    out = []
+    seen: dict[str, float] = {}  # label -> speed
     for v in speeds:
-        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)) or not SPEED_CHECK.ok(float(v)):
+        if not (_is_number(v) and SPEED_CHECK.ok(float(v))):
             raise SettingError(where, key, shown, allowed, f"speed {v!r} out of range")
-        out.append(float(v))
-    labels: dict[str, int] = {}
-    for i, v in enumerate(out):
-        other = out[labels.setdefault(speed_label(v), i)]
-        if labels[speed_label(v)] != i:
+        label = speed_label(float(v))
+        if label in seen:
             raise SettingError(where, key, shown, allowed + " (different in the 6 significant digits of a speed's "
-                               "folder and task key)", f"{other!r} and {v!r} are the same speed {speed_label(v)!r}")
-    return tuple(out)
+                               "folder and task key)", f"{seen[label]!r} and {float(v)!r} are the same speed {label!r}")
+        seen[label] = float(v)
+    return tuple(seen.values())
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
 
 
 def parse_speeds(text: str, where: str = "command line") -> tuple[float, ...]:
@@ -185,20 +187,20 @@ def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: floa
     top_high = SPEED_CHECK.high / EN1991_SPEED_FACTOR
     line_allowed = f"a line speed V > 0 and <= {top_high:g} km/h (so that {EN1991_SPEED_FACTOR:g} V is " \
                    f"{SPEED_CHECK.describe()} km/h)"
-    if not (isinstance(line_speed_kmh, (int, float)) and SPEED_CHECK.ok(EN1991_SPEED_FACTOR * float(line_speed_kmh))):
+    if not (_is_number(line_speed_kmh) and SPEED_CHECK.ok(EN1991_SPEED_FACTOR * float(line_speed_kmh))):
         raise SettingError(where, keys["line"], line_speed_kmh, line_allowed, "out of range")
     top = EN1991_SPEED_FACTOR * line_speed_kmh
-    if not (isinstance(step_kmh, (int, float)) and math.isfinite(step_kmh) and step_kmh > 0):
+    if not (_is_number(step_kmh) and math.isfinite(step_kmh) and step_kmh > 0):
         raise SettingError(where, keys["step"], step_kmh, f"a finite step > 0 km/h (at most {MAX_SPEEDS} speeds)",
                            "out of range")
-    if start_kmh is not None and not (SPEED_CHECK.ok(start_kmh) and start_kmh <= top):
+    if start_kmh is not None and not (_is_number(start_kmh) and SPEED_CHECK.ok(float(start_kmh)) and start_kmh <= top):
         raise SettingError(where, keys["start"], start_kmh, f"a speed > 0 and <= {EN1991_SPEED_FACTOR:g} x the line "
                            f"speed ({top:g} km/h)", "out of range")
     start = start_kmh if start_kmh is not None else max(step_kmh, step_kmh * round(0.5 * line_speed_kmh / step_kmh))
     if start > top:  # a step above the top speed: the top speed alone
         return check_speeds((round(top, 9),), where, keys["line"], line_speed_kmh)
-    count = range_count(start, top, step_kmh)
-    if count is None or count > MAX_SPEEDS:  # (one more, 1.2 V itself, refused by check_speeds)
+    count = range_count(start, top, step_kmh) or 0.0
+    if count > MAX_SPEEDS:  # (one more, 1.2 V itself, refused by check_speeds)
         raise SettingError(where, keys["step"], step_kmh, f"a step giving at most {MAX_SPEEDS} speeds from {start:g} "
                            f"to {top:g} km/h (at least {(top - start) / (MAX_SPEEDS - 1):.3g} km/h)",
                            f"{count:.4g} speeds")

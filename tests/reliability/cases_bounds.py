@@ -121,7 +121,8 @@ def _car_file(d: Path, old: str, new: str) -> Path:
 
 
 def _secondary_c_z(d: Path) -> Run:
-    car = _car_file(d, "[secondary]\nk_z = 4.0e5\nk_y = 4.8e5\nc_z = 6.0e4", "[secondary]\nk_z = 4.0e5\nk_y = 4.8e5\nc_z = 1e30")
+    stage = "[secondary]\nk_z = 4.0e5\nk_y = 4.8e5\n"
+    car = _car_file(d, stage + "c_z = 6.0e4", stage + "c_z = 1e30")
     return Run(argv=("run", str(d / "sc.toml"), "--out", str(d / "out"), "--no-figures", "--no-progress"),
                expect=(str(car), "'secondary.c_z'", "1e+30"))
 

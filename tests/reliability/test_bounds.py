@@ -151,3 +151,20 @@ def test_run_refused_after_creating_out_leaves_no_new_folder(tmp_path, capsys, m
     for text in run.expect:
         assert text in err, f"{text!r} not in {err!r}"
     assert sorted(snapshot(tmp_path)) == before
+
+
+def test_a_speed_whose_sweep_scenario_is_invalid_is_named():
+    """Exact problem: quick with time_step = output_step = 0.05 s, so that the highest frequency the step
+    resolves is 0.1 / 0.05 = 2 Hz; at speed v the sweep's band starts at v / wavelength_max = v / 120 m,
+    empty from 240 m/s = 864 km/h on. Reference: the band rule of sweep_scenario (module docstring).
+    check_sweep accepts 200 km/h and refuses 900 km/h naming the argument speeds_kmh and the speed
+    (not the derived scenario's key alone, as '<scenario>: key freq_min' did)."""
+    from tb_exudyn.methods.sweep import check_sweep
+
+    sc = load_scenario("quick")
+    sc = sc.replace(analysis=sc.analysis.replace(time_step=0.05, output_step=0.05, freq_min=0.5, freq_max=2.0,
+                                                 freq_spacing="linear"))
+    assert check_sweep(sc, [200.0, 860.0]) == (200.0, 860.0)
+    with pytest.raises(SettingError, match=r"run_sweep: key 'speeds_kmh' = 900\.0: at 900 km/h freq_min") as info:
+        check_sweep(sc, [200.0, 900.0])
+    assert "empty frequency band" in str(info.value)
