@@ -272,9 +272,16 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     options = None
     if args.precision != "float64":
         options = methods.BatchedOptions(precision=args.precision)
-    # what the sweep would refuse, refused before --out is created or written
-    sweep.check_sweep(scenario, speeds, channels=args.channels, n_freq=args.n_freq, options=options,
-                      freq_spacing=args.freq_spacing)
+    # what the sweep would refuse, refused before --out is created or written, naming the option
+    try:
+        sweep.check_sweep(scenario, speeds, channels=args.channels, n_freq=args.n_freq, options=options,
+                          freq_spacing=args.freq_spacing)
+    except SettingError as exc:
+        typed = {"speeds_kmh": ("--speeds-kmh", args.speeds_kmh) if args.speeds_kmh is not None else
+                 ("--line-speed-kmh", args.line_speed_kmh), "channels": ("--channels", args.channels)}
+        if exc.where != "run_sweep" or exc.key not in typed:
+            raise
+        raise SettingError("command line", *typed[exc.key], exc.allowed, exc.reason) from None
     print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)

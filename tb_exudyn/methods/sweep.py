@@ -56,9 +56,10 @@ import numpy as np
 
 from ..builder.model import channel_list
 from ..engines import check_engine
-from ..errors import ScenarioError, SettingError
+from ..errors import ResourceError, ScenarioError, SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
+from ..execution.resources import MAX_STEPS, check_run_length
 from ..results.checks import grid_error_of
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
@@ -246,14 +247,28 @@ def sweep_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str] | N
 
 def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n_freq: int | None,
                     freq_spacing: str | None) -> Scenario:
-    """:func:`sweep_scenario`, a speed at which it is not valid refused naming the speed (not the key of
-    the derived scenario that failed)."""
+    """:func:`sweep_scenario` with its run length checked (:func:`check_run_length`, as the speed's PEM
+    will), a speed at which either fails refused naming the speed (not the key of the derived scenario
+    that failed, nor the base's file for a speed it does not hold)."""
+    label = speed_label(speed_kmh)
     try:
-        return sweep_scenario(base, speed_kmh, patterns, n_freq, freq_spacing)
+        sc = sweep_scenario(base, speed_kmh, patterns, n_freq, freq_spacing)
     except ScenarioError as exc:
         raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds at which the sweep's scenario is valid "
-                           f"({exc.key} {exc.allowed})", f"at {speed_label(speed_kmh)} km/h {exc.key} = "
-                           f"{exc.value!r}: {exc.reason}") from None
+                           f"({exc.key} {exc.allowed})", f"at {label} km/h {exc.key} = {exc.value!r}: {exc.reason}"
+                           ) from None
+    try:
+        check_run_length(sc)
+    except ResourceError as exc:
+        dt, distance = sc.analysis.time_step, sc.duration * sc.speed
+        if not sc.duration / dt > MAX_STEPS:
+            raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
+                               "allows", f"at {label} km/h: {exc}") from None
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds whose crossing takes at most "
+                           f"{MAX_STEPS:.0e} steps of analysis.time_step = {dt:g} s: here from "
+                           f"{distance / (dt * MAX_STEPS) / KMH:.3g} km/h", f"at {label} km/h the crossing of "
+                           f"{distance:.4g} m takes {sc.duration:.4g} s, {sc.duration / dt:.4g} steps") from None
+    return sc
 
 
 # ------------------------------------------------------------------------------------- resonances

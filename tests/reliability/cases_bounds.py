@@ -92,6 +92,12 @@ def _en1991_library(d: Path) -> Run:
     return Run(code=code, expect=("en1991_speeds", "'step_kmh'"), isolate=True)
 
 
+def _speed_too_slow(d: Path) -> Run:
+    """0.01 km/h: quick's crossing of 146.9 m takes 5.3e7 steps of 1 ms, above the 1e7 of MAX_STEPS; was
+    refused in the speed's task (naming quick.toml's speed_kmh) after checkpoint-sweep/ was written."""
+    return Run(argv=_sweep(d, "--speeds-kmh", "0.01,200"), expect=(*_option("--speeds-kmh"), "0.01 km/h", "steps"))
+
+
 # ------------------------------------------------------------------------------------ what the message names
 def _speeds_nan(d: Path) -> Run:
     return Run(argv=_sweep(d, "--speeds-kmh", "nan"), expect=(*_option("--speeds-kmh"), "nan"))
@@ -148,16 +154,17 @@ def _sprung_mass_damping(d: Path) -> Run:
 
 # ------------------------------------------------------------------------------------ no empty --out left
 def _sweep_refused_in_new_folders(d: Path) -> Run:
-    """Refused by run_sweep after the command created --out (and its two missing parents)."""
+    """A key quantity that matches no channel, in an --out whose two parents are missing too: refused by
+    the sweep's checks (check_sweep) before any of them is created; was refused by run_sweep after."""
     argv = ("sweep", "quick", "--speeds-kmh", "200", "--channels", "nomatch.*", "--out", str(d / "a" / "b" / "out"),
             "--no-progress", "--no-figures")
-    return Run(argv=argv, expect=("run_sweep", "'channels'"))
+    return Run(argv=argv, expect=_option("--channels"))
 
 
 def _sweep_refused_in_existing_folder(d: Path) -> Run:
     """The same refusal in an --out that existed (empty): kept."""
     (d / "out").mkdir()
-    return Run(argv=_sweep(d, "--speeds-kmh", "200", "--channels", "nomatch.*"), expect=("run_sweep", "'channels'"))
+    return Run(argv=_sweep(d, "--speeds-kmh", "200", "--channels", "nomatch.*"), expect=_option("--channels"))
 
 
 def run_refused_in_new_folder(d: Path) -> Run:
@@ -183,6 +190,7 @@ CASES_BOUNDS: list[Case] = [
     Case("sweep --speed-step-kmh nan", "bounds", _step("nan")),
     Case("sweep --speeds-kmh 100,100.0000001", "bounds", _speeds_same_key),
     Case("sweep --n-freq 1e9", "bounds", _n_freq_huge),
+    Case("sweep --speeds-kmh 0.01 (too many steps)", "bounds", _speed_too_slow),
     Case("run_sweep over 1e9 speeds", "bounds", _run_sweep_many),
     Case("en1991_speeds step 1e-9", "bounds", _en1991_library),
     Case("sweep --speeds-kmh nan", "bounds", _speeds_nan),

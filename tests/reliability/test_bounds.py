@@ -168,3 +168,19 @@ def test_a_speed_whose_sweep_scenario_is_invalid_is_named():
     with pytest.raises(SettingError, match=r"run_sweep: key 'speeds_kmh' = 900\.0: at 900 km/h freq_min") as info:
         check_sweep(sc, [200.0, 900.0])
     assert "empty frequency band" in str(info.value)
+
+
+def test_a_speed_whose_crossing_is_too_long_is_refused_before_any_work():
+    """Exact problem: quick's crossing is 85 m lead-in + 32 m bridge + 19.875 m axle spread + 10 m run-out
+    = 146.875 m, in steps of 1 ms, at most MAX_STEPS = 1e7 of them (execution/resources.py): the
+    slowest speed is 146.875 m / (1e-3 s x 1e7) = 0.0146875 m/s = 0.052875 km/h. Reference: that
+    arithmetic (the sweep keeps the base's lead-in below the base speed). check_sweep accepts 0.053 km/h
+    (9.98e6 steps) and refuses 0.0528 km/h (1.0014e7 steps) naming speeds_kmh, the speed and the bound,
+    before any folder (the speed's task refused it after checkpoint-sweep/ was written)."""
+    from tb_exudyn.methods.sweep import check_sweep
+
+    sc = load_scenario("quick")
+    assert check_sweep(sc, [0.053, 200.0]) == (0.053, 200.0)
+    with pytest.raises(SettingError, match=r"key 'speeds_kmh' = 0\.0528: at 0\.0528 km/h the crossing of 146\.9 m "
+                                           r".*here from 0\.0529 km/h"):
+        check_sweep(sc, [200.0, 0.0528])
