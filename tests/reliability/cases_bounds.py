@@ -176,6 +176,13 @@ def run_refused_in_new_folder(d: Path) -> Run:
                expect=("fryba_moving_force.toml", "'track.irregularities'"))
 
 
+def run_refused_by_memory_in_new_folder(d: Path) -> Run:
+    """PEM of quick with --max-memory 1KB, refused when its tasks are set up, after the run wrote
+    --out/checkpoint/manifest.json (no task finished): not a case of the list, as above."""
+    return Run(argv=("run", "quick", "--max-memory", "1KB", "--out", str(d / "new" / "out"), "--no-figures",
+                     "--no-progress"), expect=_option("--max-memory"))
+
+
 CASES_BOUNDS: list[Case] = [
     Case("sweep --speeds-kmh 1:1000:0.001", "bounds", _speeds_million),
     Case("sweep --speeds-kmh 1:1e12:1", "bounds", _speeds_1e12),

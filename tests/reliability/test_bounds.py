@@ -18,7 +18,7 @@ from tb_exudyn.scenario import RigidBodyInertia, Suspension, load_scenario
 from tb_exudyn.scenario.schema import VEHICLE_DAMPING, VEHICLE_STIFFNESS
 
 from .cases import snapshot
-from .cases_bounds import CASES_BOUNDS, run_refused_in_new_folder
+from .cases_bounds import CASES_BOUNDS, run_refused_by_memory_in_new_folder, run_refused_in_new_folder
 from .test_cases import run_case
 
 
@@ -134,23 +134,55 @@ def test_removed_if_left_empty(tmp_path: Path):
     assert (tmp_path / "done").is_dir()
 
 
-def test_run_refused_after_creating_out_leaves_no_new_folder(tmp_path, capsys, monkeypatch):
+@pytest.mark.parametrize("build", [run_refused_in_new_folder, run_refused_by_memory_in_new_folder],
+                         ids=["no irregularities", "--max-memory 1KB"])
+def test_run_refused_after_creating_out_leaves_no_new_folder(build, tmp_path, capsys, monkeypatch):
     """Behaviour: ``run fryba_moving_force --out work/new/out`` (PEM of a scenario without track
-    irregularities) is refused by run_pem after the command created --out and its parent; the one-line
-    error names the scenario file and track.irregularities, and both folders are removed again (the
-    scratch folder holds what it held before; its modification time changes, so this is not a case of
+    irregularities: refused by run_pem after the command created --out and its parent) and ``run quick
+    --max-memory 1KB --out work/new/out`` (refused when the tasks are set up, after --out/checkpoint/
+    was opened, no task finished) give the one-line error, and both new folders are removed again (the
+    scratch folder holds what it held before; its modification time changes, so these are not cases of
     the list, whose snapshot compares times too)."""
     work, cwd = tmp_path / "work", tmp_path / "cwd"
     work.mkdir()
     cwd.mkdir()
     monkeypatch.chdir(cwd)
-    run = run_refused_in_new_folder(work)
+    run = build(work)
     before = sorted(snapshot(tmp_path))
     code, err = run_case(run, cwd, capsys, monkeypatch)
-    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    errors = [line for line in err.splitlines() if line.startswith("tb-exudyn: error:")]
+    assert code == 2 and "Traceback" not in err and len(errors) == 1, err  # (quick's damping guard warns first)
     for text in run.expect:
-        assert text in err, f"{text!r} not in {err!r}"
+        assert text in errors[0], f"{text!r} not in {errors[0]!r}"
     assert sorted(snapshot(tmp_path)) == before
+
+
+def test_removed_if_left_empty_after_a_refusal_with_an_unstarted_checkpoint(tmp_path: Path):
+    """Behaviour: a new folder holding only a checkpoint manifest and an empty tasks/ is removed after a
+    refusal (UserError); with a finished task, or after an interruption (not a refusal), it is kept."""
+    def opened(folder: Path, task: bool = False) -> None:
+        (folder / "checkpoint" / "tasks").mkdir(parents=True)
+        (folder / "checkpoint" / "manifest.json").write_text("{}")
+        if task:
+            (folder / "checkpoint" / "tasks" / "t.npz").write_bytes(b"x")
+
+    new = tmp_path / "new" / "out"
+    with pytest.raises(SettingError):
+        with removed_if_left_empty(new):
+            opened(new)
+            raise SettingError("command line", "--max-memory", "1KB", "more")
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(SettingError):
+        with removed_if_left_empty(new):
+            opened(new, task=True)
+            raise SettingError("command line", "--max-memory", "1KB", "more")
+    assert (new / "checkpoint" / "tasks" / "t.npz").is_file()
+    other = tmp_path / "other"
+    with pytest.raises(KeyboardInterrupt):
+        with removed_if_left_empty(other):
+            opened(other)
+            raise KeyboardInterrupt
+    assert (other / "checkpoint" / "manifest.json").is_file()
 
 
 def test_a_speed_whose_sweep_scenario_is_invalid_is_named():
