@@ -7,7 +7,7 @@ under the scratch folder written, moved or deleted: a sweep refused for its sett
 before its --out is created (the sweep's checks, tb_exudyn.methods.sweep.check_sweep, come first),
 and an --out that existed is left as it was. Cases that would allocate without end if their defence
 failed (a series of 1e6 or 1e12 speeds, a line speed of 1e300 km/h in 10 km/h steps, a step of 1e-6
-km/h, 1e9 speeds given to run_sweep) are ``isolate=True``.
+km/h, 1e9 speeds given to run_sweep, 1001 PEM runs) are ``isolate=True``.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ def _speeds_step_zero(d: Path) -> Run:
 
 def _speeds_list_too_long(d: Path) -> Run:
     text = ",".join(str(100 + 0.1 * i) for i in range(1001))
-    return Run(argv=_sweep(d, "--speeds-kmh", text), expect=(*_option("--speeds-kmh"), "1001 speeds"))
+    return Run(argv=_sweep(d, "--speeds-kmh", text), expect=(*_option("--speeds-kmh"), "1001 speeds"), isolate=True)
 
 
 def _line_speed_1e300(d: Path) -> Run:
