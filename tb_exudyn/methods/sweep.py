@@ -106,7 +106,7 @@ def _keys(where: str) -> dict[str, str]:
     """How to name the speeds' arguments in a message: command-line options, or function arguments."""
     if where == "command line":
         return {"speeds": "--speeds-kmh", "line": "--line-speed-kmh", "step": "--speed-step-kmh",
-                "start": "--speed-start-kmh"}
+                "start": "start_kmh"}  # (no option sets the start)
     return {"speeds": "speeds_kmh", "line": "line_speed_kmh", "step": "step_kmh", "start": "start_kmh"}
 
 
