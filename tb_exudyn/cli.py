@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import fnmatch
 import math
 import sys
 import warnings
@@ -21,21 +20,19 @@ from .codes.trains import list_trains
 from .engines import ENGINES
 from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
-from .execution.output import SWEEP_FIGURE
+from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
+from . import cli_text
 from .atomic import write_text_atomic
 from .results import find_results
-from .results.checks import default_limits, verdict_lines
+from .results.checks import default_limits
 from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
 from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
 from .scenario.show import run_label, scenario_table
-from .structure import StructureError, modal_bridge
-from .system.labels import default_patterns, display_unit, format_number
 from .system.damping_guard import merged_messages
-from .system.modes import DIRECTIONS, nth_frequency
 from .track import get_spectrum, spectrum_names
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
@@ -61,26 +58,9 @@ def _cmd_list(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
-    """Rows with f1 and f3 of the bridge per direction (vertical, lateral, torsion) [Hz]: the
-    finite-element modes of the bridge alone (no train), up to analysis.mode_max_frequency."""
-    an = scenario.analysis
-    try:
-        mb = modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
-    except StructureError as exc:
-        return [("(derived) bridge modes", "not available", "", str(exc))]
-    rows = []
-    for d in DIRECTIONS:
-        f = [nth_frequency(mb.frequencies, mb.mode_types, d, n) for n in (1, 3)]
-        text = ", ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
-        rows.append((f"(derived) bridge f1, f3 {d}", text, "Hz",
-                     f"1st and 3rd {d} mode of the whole bridge alone (FE; '-': none up to mode_max_frequency)"))
-    return rows
-
-
 def _cmd_show(args: argparse.Namespace) -> int:
     scenario = load_scenario(args.scenario)
-    print(scenario_table(scenario, bridge_frequency_rows(scenario)))
+    print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
     return EXIT_OK
 
 
@@ -88,6 +68,10 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     methods = _methods()
     if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
         raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
+    for x in args.position or ():
+        if not math.isfinite(x):
+            raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
+                               "track (0: the bridge start)", "not finite")
     scenario = load_scenario(args.scenario)
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
@@ -117,46 +101,6 @@ DEFAULT_ENGINE = "batched"
 DEFAULT_OUT = "tb_exudyn_out"
 #: the channel table of a run, written into its output folder (the terminal shows a short summary)
 TABLE_FILE = "channels.txt"
-#: channels listed on the terminal, the largest max |mean| + 3 sigma relative to max |mean| first
-SHOWN_CHANNELS = 8
-
-
-def _summary_table(result, k: float = 3.0) -> str:
-    """Per channel: max |mean|, max sigma, max |mean| + k sigma, with units."""
-    rows = result.summary_rows(k)
-    width = max(len(r[0]) for r in rows)
-    band = f"{result.band[0]:.3g}-{result.band[1]:.3g} Hz"
-    lines = [f"{'channel':<{width}}  {'unit':<8} {'max|mean|':>11} {'max sigma':>11} {f'max|mean|+{k:g}s':>13}"]
-    lines += [f"{n:<{width}}  {u:<8} {m:>11.4e} {s:>11.4e} {p:>13.4e}" for n, u, m, s, p in rows]
-    lines.append(f"(sigma over the band {band}; {result.method}, {result.n_samples or len(result.freq)} "
-                 f"{'samples' if result.n_samples else 'frequencies'})")
-    return "\n".join(lines)
-
-
-def _short_summary(result, table_path, k: float = 3.0) -> str:
-    """What a user reads first on the terminal: the warnings (lightly damped modes, grid error,
-    loss of contact), the channels whose random part is largest against their mean, and where the
-    full table is."""
-    lines = verdict_lines(result)
-    warnings_ = [str(w) for w in result.provenance.get("warnings", [])]
-    if warnings_:
-        lines.append(f"{len(warnings_)} warning(s) (also in the report):")
-        lines += [f"  - {w}" for w in warnings_[:6]]
-        if len(warnings_) > 6:
-            lines.append(f"  ... and {len(warnings_) - 6} more")
-    rows = result.summary_rows(k)
-    patterns = [p for _, group in default_patterns(result.channels) for p in group]
-    key = [r for r in rows if any(fnmatch.fnmatchcase(r[0], p) for p in patterns)] or rows[:SHOWN_CHANNELS]
-    width = max((len(r[0]) for r in key), default=10)
-    lines.append(f"key channels ({len(rows)} channels in {table_path}):")
-    lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
-    for n, u, m, sd, p in key:
-        du = display_unit(u)
-        lines.append(f"  {n:<{width}}  {format_number(du.factor * m):>12} {format_number(du.factor * sd):>12} "
-                     f"{format_number(du.factor * p):>14} {du.unit}")
-    return "\n".join(lines)
-
-
 def _scenario_with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
     """The scenario with the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels); a
     bad value names the option."""
@@ -200,9 +144,10 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(load_scenario(args.scenario), args)
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
-    out = check_writable(args.out)
-    with _folder_lock(out):
-        return _run(args, scenario, out)
+    with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
+        out = check_writable(args.out)
+        with _folder_lock(out):
+            return _run(args, scenario, out)
 
 
 def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
@@ -232,8 +177,8 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
     if args.method != "det":
         table = out / TABLE_FILE
-        write_text_atomic(table, _summary_table(result) + "\n")
-        print(_short_summary(result, table))
+        write_text_atomic(table, cli_text.summary_table(result) + "\n")
+        print(cli_text.short_summary(result, table))
     if not args.no_figures:
         reporting = _figures()
         found = find_results(out)
@@ -267,22 +212,31 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
         raise SettingError("command line", "--speeds-kmh", args.speeds_kmh,
                            "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
-    if args.speeds_kmh is not None:
-        speeds = sweep.parse_speeds(args.speeds_kmh)
+    if args.speeds_kmh is not None:  # both checked (range, count, distinct) before the series is made
+        speeds = sweep.parse_speeds(args.speeds_kmh, where="command line")
     else:
-        if not args.line_speed_kmh > 0:
-            raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed > 0 km/h")
-        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh)
+        speeds = sweep.en1991_speeds(args.line_speed_kmh, args.speed_step_kmh, where="command line")
     if args.freq_spacing is not None and args.freq_spacing not in sweep.FREQ_SPACINGS:
         raise SettingError("command line", "--freq-spacing", args.freq_spacing, " or ".join(sweep.FREQ_SPACINGS))
     default_limits()  # the limit files of each speed's checks, before the folder is made
-    out = check_writable(args.out)
     options = None
     if args.precision != "float64":
         options = methods.BatchedOptions(precision=args.precision)
+    # what the sweep would refuse, refused before --out is created or written, naming the option
+    try:
+        sweep.check_sweep(scenario, speeds, channels=args.channels, n_freq=args.n_freq, options=options,
+                          freq_spacing=args.freq_spacing)
+    except SettingError as exc:
+        typed = {"speeds_kmh": ("--speeds-kmh", args.speeds_kmh) if args.speeds_kmh is not None else
+                 ("--line-speed-kmh", args.line_speed_kmh), "channels": ("--channels", args.channels)}
+        if exc.where != "run_sweep" or exc.key not in typed:
+            raise
+        raise SettingError("command line", *typed[exc.key], exc.allowed, exc.reason) from None
     print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
-    with _folder_lock(out):
-        return _sweep(args, methods, scenario, speeds, out, options)
+    with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
+        out = check_writable(args.out)
+        with _folder_lock(out):
+            return _sweep(args, methods, scenario, speeds, out, options)
 
 
 def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, options) -> int:  # noqa: ANN001
@@ -315,10 +269,8 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 def _cmd_plot(args: argparse.Namespace) -> int:
     found = find_results(args.folder)  # read (and refused) before the lock touches the folder
     if args.channels is not None:  # a pattern matching no channel: refused before the lock too
-        from .plotting.data import select_channels  # matplotlib: only for commands that draw
-
-        for path, result in found:
-            select_channels(result, args.channels, where="command line", source=str(path))
+        for path, result in found:  # the report package loads matplotlib: only for commands that draw
+            _figures().pdata.select_channels(result, args.channels, where="command line", source=str(path))
     with _folder_lock(args.folder):
         paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats),
                                        where="command line")
@@ -455,11 +407,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
-                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300)")
+                   help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
+                        "each > 0 and <= 1000 km/h")
     p.add_argument("--line-speed-kmh", type=float, default=None, metavar="V",
                    help="EN 1991-2 (6.4.6.2): speeds up to 1.2 x the maximum line speed V, from V/2 in "
                         "--speed-step-kmh steps (instead of --speeds-kmh)")
-    p.add_argument("--speed-step-kmh", type=float, default=10.0, help="step of --line-speed-kmh (default 10)")
+    p.add_argument("--speed-step-kmh", type=float, default=10.0,
+                   help="step of --line-speed-kmh (default 10; > 0, at most 1000 speeds)")
     p.add_argument("--out", default="sweep", help="output folder (default: ./sweep)")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--resume", action="store_true", help="reuse finished speeds (and tasks) in --out")
@@ -565,8 +519,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
         if getattr(args, attr, None) is not None and not str(getattr(args, attr)).strip():
             raise SettingError("command line", option, getattr(args, attr), "a file or folder path", "empty")
     if args.command == "sweep":
+        n_freq = next(f.metadata["check"] for f in dataclasses.fields(Analysis) if f.name == "n_freq")
         args.workers = _int_option(args.workers, "--workers", 1)
-        args.n_freq = _int_option(args.n_freq, "--n-freq", 1)
+        args.n_freq = _int_option(args.n_freq, "--n-freq", 1, int(n_freq.high), "as analysis.n_freq")
     if args.command != "run":
         return args
     # the ranges of the scenario keys these options override (the schema's checks)

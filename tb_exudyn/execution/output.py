@@ -12,17 +12,20 @@ files: its checkpoint and figures at once, the folder's comparison figures and r
 old result), and its result when the new one is saved (the result folder is replaced as a whole, so a
 run killed before that leaves the old result, complete). Nothing else in the folder is touched. With
 ``resume`` a folder whose result has no checkpoint to resume from is refused (nothing to resume:
-overwrite instead). Refusals change nothing.
+overwrite instead). Refusals change nothing; an output folder that a refused (or interrupted) command
+created and left unused is removed again (:func:`removed_if_left_empty`).
 """
 
 from __future__ import annotations
 
 import os
 import shutil
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Iterator
 
-from ..errors import OutputFolderError
+from ..errors import OutputFolderError, UserError
 
 #: files of an output folder drawn from all its results (tb_exudyn.plotting.files.plot_folder writes
 #: ``figures/<channel>.pem_vs_mc.<format>``, tb_exudyn.report.write_report ``report.html``)
@@ -130,4 +133,51 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
     clear_run(folder, files)
 
 
-__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry"]
+@contextmanager
+def removed_if_left_empty(folder: str | Path) -> Iterator[None]:
+    """On an exception in the block, remove ``folder`` and the parents of it that did not exist when the
+    block began, as far as they are left unused: a command refused (or interrupted) after its output
+    folder was created (e.g. by :func:`tb_exudyn.results.storage.check_writable`) leaves no new empty
+    folder. After a refusal (a :class:`~tb_exudyn.errors.UserError`) a new folder that holds only
+    checkpoints without a finished task (``manifest.json`` beside an empty ``tasks/``: a run refused
+    when its tasks were set up, e.g. by the memory estimate) is unused too. Nothing else is removed: a
+    folder that holds anything more, or that existed before, is kept."""
+    new = []  # the folder and its missing parents, innermost first
+    path = Path(os.path.abspath(folder))
+    while not os.path.lexists(path) and path != path.parent:
+        new.append(path)
+        path = path.parent
+    try:
+        yield
+    except BaseException as exc:
+        refused = isinstance(exc, UserError)
+        for path in new:
+            try:
+                if path.is_symlink() or not path.is_dir():
+                    break
+                if refused and _only_unstarted_checkpoints(path):
+                    shutil.rmtree(path)
+                else:
+                    path.rmdir()  # only an empty folder
+            except OSError:
+                break
+        raise
+
+
+def _only_unstarted_checkpoints(folder: Path) -> bool:
+    """Whether ``folder`` holds nothing but folders and checkpoint manifests whose ``tasks/`` beside them
+    is empty or missing (no symbolic link, no other file)."""
+    for dirpath, dirnames, filenames in os.walk(folder):
+        here = Path(dirpath)
+        if any((here / d).is_symlink() for d in dirnames):
+            return False
+        for name in filenames:
+            tasks = here / "tasks"
+            if name != "manifest.json" or (here / name).is_symlink() or (
+                    tasks.is_dir() and any(tasks.iterdir())):
+                return False
+    return True
+
+
+__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry",
+           "removed_if_left_empty"]

@@ -38,8 +38,10 @@ EN 1991-2 (6.4.6.2) analyses a series of speeds up to 1.2 x the maximum line spe
 
 from __future__ import annotations
 
+import dataclasses
 import fnmatch
 import importlib
+import itertools
 import json
 import math
 import re
@@ -48,15 +50,16 @@ import typing
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Iterable, Sequence
 
 import numpy as np
 
 from ..builder.model import channel_list
 from ..engines import check_engine
-from ..errors import SettingError
+from ..errors import ResourceError, ScenarioError, SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
+from ..execution.resources import MAX_STEPS, check_run_length
 from ..results.checks import default_limits, grid_error_of
 from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
@@ -89,21 +92,83 @@ SWEEP_TABLE = "speed_sweep.csv"
 
 
 # ------------------------------------------------------------------------------------- speeds
+#: a sweep's speeds follow the scenario's rule for speed_kmh (the schema's check: what a scenario file
+#: and ``run --speed-kmh`` accept, finite, > 0 and <= 1000 km/h)
+SPEED_CHECK = next(f.metadata["check"] for f in dataclasses.fields(Scenario) if f.name == "speed_kmh")
+#: at most this many speeds in one sweep: each speed is a whole PEM run (13.6-25.5 s of a worker for
+#: the reference study, docs/speed.md) and its own folder, so 1000 speeds are already 4-7 hours on
+#: one core, a 0.6 km/h step over the whole range of speeds, and 18 times EN 1991-2's series at 5 km/h
+#: steps up to 1.2 x 350 km/h (56 speeds); more is a slip (a step in m/s, a missing digit)
+MAX_SPEEDS = 1000
+
+
+def _keys(where: str) -> dict[str, str]:
+    """How to name the speeds' arguments in a message: command-line options, or function arguments."""
+    if where == "command line":
+        return {"speeds": "--speeds-kmh", "line": "--line-speed-kmh", "step": "--speed-step-kmh",
+                "start": "start_kmh"}  # (no option sets the start)
+    return {"speeds": "speeds_kmh", "line": "line_speed_kmh", "step": "step_kmh", "start": "start_kmh"}
+
+
+def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | None = None,
+                 shown: Any = None) -> tuple[float, ...]:
+    """The speeds of a sweep [km/h] as floats, checked before any work (SettingError naming ``where``
+    and ``key``, showing ``shown``, default the speeds): at most :data:`MAX_SPEEDS`, each within
+    :data:`SPEED_CHECK`, no two with the same :func:`speed_label` (the folder and task key of a speed)."""
+    key = key or _keys(where)["speeds"]
+    shown = list(speeds) if shown is None else shown
+    allowed = f"1 to {MAX_SPEEDS} distinct speeds, each {SPEED_CHECK.describe()} km/h"
+    if len(speeds) > MAX_SPEEDS:
+        raise SettingError(where, key, shown, allowed, f"{len(speeds)} speeds")
+    if not speeds:
+        raise SettingError(where, key, shown, allowed, "no speed")
+    seen: dict[str, float] = {}  # label -> speed
+    for v in speeds:
+        if not (_is_number(v) and SPEED_CHECK.ok(float(v))):
+            raise SettingError(where, key, shown, allowed, f"speed {v!r} out of range")
+        label = speed_label(float(v))
+        if label in seen:
+            raise SettingError(where, key, shown, allowed + " (different in the 6 significant digits of a speed's "
+                               "folder and task key)", f"{seen[label]!r} and {float(v)!r} are the same speed {label!r}")
+        seen[label] = float(v)
+    return tuple(seen.values())
+
+
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
+
+
 def parse_speeds(text: str, where: str = "command line") -> tuple[float, ...]:
-    """'START:STOP:STEP' (km/h, STOP included) or a comma list '160,220,300'."""
+    """'START:STOP:STEP' (km/h, STOP included) or a comma list '160,220,300', checked by
+    :func:`check_speeds` (the count before the list is made)."""
+    key = _keys(where)["speeds"]
+    allowed = (f"START:STOP:STEP with 0 < START <= STOP <= {SPEED_CHECK.high:g} and STEP > 0, or speeds separated "
+               f"by commas, each {SPEED_CHECK.describe()} km/h; at most {MAX_SPEEDS} speeds")
     try:
         if ":" in text:
             start, stop, step = (float(x) for x in text.split(":"))
-            if not (step > 0 and stop >= start > 0):
-                raise ValueError
-            return speed_range(start, stop, step)
-        speeds = tuple(float(x) for x in text.split(",") if x.strip())
-        if not speeds or min(speeds) <= 0:
-            raise ValueError
-        return speeds
+        else:
+            speeds = tuple(float(x) for x in text.split(",") if x.strip())
     except ValueError:
-        raise SettingError(where, "speeds-kmh", text, "START:STOP:STEP with 0 < START <= STOP and STEP > 0, "
-                           "or positive speeds separated by commas (km/h)") from None
+        raise SettingError(where, key, text, allowed, "not numbers") from None
+    if ":" not in text:
+        return check_speeds(speeds, where, key, text)
+    if not (SPEED_CHECK.ok(start) and SPEED_CHECK.ok(stop) and start <= stop):
+        raise SettingError(where, key, text, allowed, "START or STOP out of range")
+    count = range_count(start, stop, step)
+    if count is None:
+        raise SettingError(where, key, text, allowed, "STEP not finite and > 0")
+    if count > MAX_SPEEDS:
+        raise SettingError(where, key, text, allowed, f"{count:.4g} speeds")
+    return check_speeds(speed_range(start, stop, step), where, key, text)
+
+
+def range_count(start: float, stop: float, step: float) -> float | None:
+    """How many speeds :func:`speed_range` gives (a float: inf or 1e12 are counted, not made), or None
+    when the step is not finite and > 0."""
+    if not (math.isfinite(step) and step > 0):
+        return None
+    return math.floor((stop - start) / step + 1e-9) + 1.0 if stop >= start else 0.0
 
 
 def speed_range(start: float, stop: float, step: float) -> tuple[float, ...]:
@@ -112,16 +177,38 @@ def speed_range(start: float, stop: float, step: float) -> tuple[float, ...]:
     return tuple(round(start + i * step, 9) for i in range(n))
 
 
-def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: float | None = None) -> tuple[float, ...]:
+def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: float | None = None,
+                  where: str = "en1991_speeds") -> tuple[float, ...]:
     """EN 1991-2 (6.4.6.2): a series of speeds up to 1.2 x the maximum line speed, in steps of
     ``step_kmh`` from ``start_kmh`` (default: half the line speed, rounded to a step) [km/h]; the
-    last speed is 1.2 x the line speed itself."""
+    last speed is 1.2 x the line speed itself. Checked before the series is made (SettingError naming
+    ``where`` and the argument, or the option with ``where="command line"``): the top speed within
+    :data:`SPEED_CHECK`, the step finite and > 0, at most :data:`MAX_SPEEDS` speeds."""
+    keys = _keys(where)
+    top_high = SPEED_CHECK.high / EN1991_SPEED_FACTOR
+    line_allowed = f"a line speed V > 0 and <= {top_high:g} km/h (so that {EN1991_SPEED_FACTOR:g} V is " \
+                   f"{SPEED_CHECK.describe()} km/h)"
+    if not (_is_number(line_speed_kmh) and SPEED_CHECK.ok(EN1991_SPEED_FACTOR * float(line_speed_kmh))):
+        raise SettingError(where, keys["line"], line_speed_kmh, line_allowed, "out of range")
     top = EN1991_SPEED_FACTOR * line_speed_kmh
+    if not (_is_number(step_kmh) and math.isfinite(step_kmh) and step_kmh > 0):
+        raise SettingError(where, keys["step"], step_kmh, f"a finite step > 0 km/h (at most {MAX_SPEEDS} speeds)",
+                           "out of range")
+    if start_kmh is not None and not (_is_number(start_kmh) and SPEED_CHECK.ok(float(start_kmh)) and start_kmh <= top):
+        raise SettingError(where, keys["start"], start_kmh, f"a speed > 0 and <= {EN1991_SPEED_FACTOR:g} x the line "
+                           f"speed ({top:g} km/h)", "out of range")
     start = start_kmh if start_kmh is not None else max(step_kmh, step_kmh * round(0.5 * line_speed_kmh / step_kmh))
+    if start > top:  # a step above the top speed: the top speed alone
+        return check_speeds((round(top, 9),), where, keys["line"], line_speed_kmh)
+    count = range_count(start, top, step_kmh) or 0.0
+    if count > MAX_SPEEDS:  # (one more, 1.2 V itself, refused by check_speeds)
+        raise SettingError(where, keys["step"], step_kmh, f"a step giving at most {MAX_SPEEDS} speeds from {start:g} "
+                           f"to {top:g} km/h (at least {(top - start) / (MAX_SPEEDS - 1):.3g} km/h)",
+                           f"{count:.4g} speeds")
     speeds = [v for v in speed_range(start, top, step_kmh)]
     if abs(speeds[-1] - top) > 1e-9:
         speeds.append(round(top, 9))
-    return tuple(speeds)
+    return check_speeds(speeds, where, keys["step"], step_kmh)
 
 
 def speed_label(speed_kmh: float) -> str:
@@ -156,6 +243,32 @@ def sweep_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str] | N
     return sc.replace(analysis=an.replace(
         freq_min=v / tr.wavelength_max, freq_max=min(v / tr.wavelength_min, 0.1 / an.time_step),
         n_freq=int(n_freq or an.n_freq), freq_spacing=freq_spacing or an.freq_spacing, channels=patterns))
+
+
+def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n_freq: int | None,
+                    freq_spacing: str | None) -> Scenario:
+    """:func:`sweep_scenario` with its run length checked (:func:`check_run_length`, as the speed's PEM
+    will), a speed at which either fails refused naming the speed (not the key of the derived scenario
+    that failed, nor the base's file for a speed it does not hold)."""
+    label = speed_label(speed_kmh)
+    try:
+        sc = sweep_scenario(base, speed_kmh, patterns, n_freq, freq_spacing)
+    except ScenarioError as exc:
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds at which the sweep's scenario is valid "
+                           f"({exc.key} {exc.allowed})", f"at {label} km/h {exc.key} = {exc.value!r}: {exc.reason}"
+                           ) from None
+    try:
+        check_run_length(sc)
+    except ResourceError as exc:
+        dt, distance = sc.analysis.time_step, sc.duration * sc.speed
+        if not sc.duration / dt > MAX_STEPS:
+            raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
+                               "allows", f"at {label} km/h: {exc}") from None
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds whose crossing takes at most "
+                           f"{MAX_STEPS:.0e} steps of analysis.time_step = {dt:g} s: here from "
+                           f"{distance / (dt * MAX_STEPS) / KMH:.3g} km/h", f"at {label} km/h the crossing of "
+                           f"{distance:.4g} m takes {sc.duration:.4g} s, {sc.duration / dt:.4g} steps") from None
+    return sc
 
 
 # ------------------------------------------------------------------------------------- resonances
@@ -347,6 +460,39 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
     return rows
 
 
+def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str = "batched",
+                channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
+                freq_spacing: str | None = None) -> tuple[float, ...]:
+    """What :func:`run_sweep` checks before it creates its output folder, with the same arguments and
+    the same errors (SettingError or ScenarioError naming ``run_sweep`` and the argument): the speeds
+    (:func:`check_speeds`), the spacing, the key quantities, the engine and options, every speed's
+    scenario, grid and spectra. Returns the speeds as checked (floats). Cheap (no model is built): a
+    caller that creates the output folder itself calls it first, so that a refused sweep writes nothing."""
+    return _plan(scenario, speeds_kmh, engine, channels, n_freq, options, freq_spacing)[0]
+
+
+def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels: Sequence[str] | None,
+          n_freq: int | None, options: Any, freq_spacing: str | None) -> tuple[Any, ...]:
+    """The checks of :func:`check_sweep`; (speeds, key quantities, engine class, each speed's scenario)."""
+    if hasattr(speeds_kmh, "__len__") and len(speeds_kmh) > MAX_SPEEDS:  # type: ignore[arg-type]
+        raise SettingError("run_sweep", "speeds_kmh", speeds_kmh, f"at most {MAX_SPEEDS} speeds",
+                           f"{len(speeds_kmh)} speeds")  # type: ignore[arg-type]
+    items = tuple(itertools.islice(speeds_kmh, MAX_SPEEDS + 1))  # an iterator of any length: the bound's worth
+    if len(items) > MAX_SPEEDS:
+        raise SettingError("run_sweep", "speeds_kmh", speeds_kmh, f"at most {MAX_SPEEDS} speeds",
+                           f"more than {MAX_SPEEDS} speeds")
+    speeds = check_speeds(items, "run_sweep", "speeds_kmh")
+    if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
+        raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
+    quantities = key_patterns(scenario, channels)
+    cls = check_engine(engine, scenario, options)
+    patterns = tuple(dict.fromkeys(q[1] for q in quantities))
+    scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
+    for sc in scenarios:  # every speed's grid and spectra checked before any run
+        prepare_sweep(sc)
+    return speeds, quantities, cls, scenarios
+
+
 def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = "batched", workers: int | None = None,
               executor: Any = None, out: str | Path | None = None, resume: bool = False, progress: bool = True,
               channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
@@ -374,20 +520,10 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
         written (default: removed)
     """
     t0 = _time.perf_counter()
-    speeds = tuple(float(v) for v in speeds_kmh)
-    if not speeds or min(speeds) <= 0 or len(set(speeds)) != len(speeds):
-        raise SettingError("run_sweep", "speeds_kmh", list(speeds), "distinct positive speeds [km/h]")
-    if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
-        raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     default_limits()  # the limit files of check_columns, read and checked before any speed runs
-    quantities = key_patterns(scenario, channels)
+    speeds, quantities, cls, scenarios = _plan(scenario, speeds_kmh, engine, channels, n_freq, options, freq_spacing)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
-    cls = check_engine(engine, scenario, options)
-    patterns = tuple(dict.fromkeys(q[1] for q in quantities))
-    scenarios = [sweep_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
-    for sc in scenarios:  # every speed's grid and spectra checked before any run
-        prepare_sweep(sc)
     root = execution.output_folder()
     cuts = tuple(slices) if slices is not None else tuple(default_slices(execution.cores))
     tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(sc, engine, options, None if root is None else
@@ -423,6 +559,8 @@ def write_sweep(result: SweepResult, folder: str | Path) -> Path:
     return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
 
 
-__all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "SWEEP_TABLE", "Resonance", "SpeedTask", "SweepResult", "check_columns", "grid_errors",
-           "en1991_speeds", "key_patterns", "parse_speeds", "resonance_speeds", "run_sweep", "speed_label",
-           "speed_range", "speed_summary", "sweep_rows", "sweep_scenario", "train_distances", "write_sweep"]
+__all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK", "SWEEP_TABLE",
+           "Resonance", "SpeedTask", "SweepResult", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
+           "grid_errors", "key_patterns", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
+           "speed_label", "speed_range", "speed_summary", "sweep_rows", "sweep_scenario", "train_distances",
+           "write_sweep"]

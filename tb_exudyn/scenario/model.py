@@ -14,7 +14,9 @@ from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
 from .code_data import CodeData, check_ballast
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace, source_file
+from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
+                     VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
+                     Check, Context, Validated, param, replace, source_file)
 
 KMH = 1.0 / 3.6  # m/s per km/h
 
@@ -59,10 +61,10 @@ class SprungMass(_Replaceable):
 
     kind: ClassVar[str] = "sprung_mass"
     name: str = param(doc="identifier")
-    mass: float = param(unit="kg", doc="sprung mass", check=POSITIVE)
-    stiffness: float = param(unit="N/m", doc="suspension stiffness", check=POSITIVE)
-    damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=NONNEGATIVE)
-    wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=NONNEGATIVE)
+    mass: float = param(unit="kg", doc="sprung mass", check=VEHICLE_MASS)
+    stiffness: float = param(unit="N/m", doc="suspension stiffness", check=VEHICLE_STIFFNESS)
+    damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=VEHICLE_DAMPING)
+    wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=VEHICLE_MASS_OR_0)
     length: float = param(unit="m", doc="distance from this wheel to the next vehicle's first axle", check=POSITIVE)
     description: str = param("", doc="one line for listings")
     source: str = param("", doc="citation of the data")
@@ -80,28 +82,28 @@ class SprungMass(_Replaceable):
 class RigidBodyInertia(_Replaceable):
     """Mass and principal moments of inertia about the body's centre of gravity."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
-    inertia_pitch: float = param(unit="kg m^2", doc="moment of inertia about y (pitch)", check=POSITIVE)
-    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
+    inertia_pitch: float = param(unit="kg m^2", doc="moment of inertia about y (pitch)", check=VEHICLE_INERTIA)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)
 class WheelsetInertia(_Replaceable):
     """A wheelset: it follows the rail through the wheel-rail contact."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)
 class Suspension(_Replaceable):
     """One suspension stage, values PER SIDE (one of the two elements left and right)."""
 
-    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=POSITIVE)
-    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=POSITIVE)
-    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=NONNEGATIVE)
-    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=NONNEGATIVE)
+    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=VEHICLE_STIFFNESS)
+    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=VEHICLE_STIFFNESS)
+    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=VEHICLE_DAMPING)
+    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=VEHICLE_DAMPING)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -116,7 +118,7 @@ class YawDamper(_Replaceable):
     :mod:`tb_exudyn.builder.vehicles`).
     """
 
-    c_x: float = param(unit="N s/m", doc="longitudinal damping of each damper (one per side and bogie)", check=POSITIVE)
+    c_x: float = param(unit="N s/m", doc="longitudinal damping of each damper (one per side and bogie)", check=VEHICLE_DAMPER)
     half_span: float = param(unit="m", doc="lateral offset of each damper from the car's centre line", check=POSITIVE)
 
 
@@ -191,10 +193,10 @@ class RigidWheelset(_Replaceable):
     """A wheelset with its own lateral displacement, roll, yaw, longitudinal motion and spin (guided
     by creep forces)."""
 
-    mass: float = param(unit="kg", doc="mass", check=POSITIVE)
-    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=POSITIVE)
-    inertia_spin: float = param(unit="kg m^2", doc="moment of inertia about the axle, y (spin)", check=POSITIVE)
-    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=POSITIVE)
+    mass: float = param(unit="kg", doc="mass", check=VEHICLE_MASS)
+    inertia_roll: float = param(unit="kg m^2", doc="moment of inertia about x (roll)", check=VEHICLE_INERTIA)
+    inertia_spin: float = param(unit="kg m^2", doc="moment of inertia about the axle, y (spin)", check=VEHICLE_INERTIA)
+    inertia_yaw: float = param(unit="kg m^2", doc="moment of inertia about z (yaw)", check=VEHICLE_INERTIA)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -202,12 +204,12 @@ class Suspension3(_Replaceable):
     """One suspension stage in all three directions, values PER SIDE (one of the two elements left
     and right, at the stage's lateral span)."""
 
-    k_x: float = param(unit="N/m", doc="longitudinal stiffness per side", check=NONNEGATIVE)
-    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=POSITIVE)
-    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=POSITIVE)
-    c_x: float = param(0.0, unit="N s/m", doc="longitudinal damping per side", check=NONNEGATIVE)
-    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=NONNEGATIVE)
-    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=NONNEGATIVE)
+    k_x: float = param(unit="N/m", doc="longitudinal stiffness per side", check=VEHICLE_STIFFNESS_OR_0)
+    k_y: float = param(unit="N/m", doc="lateral stiffness per side", check=VEHICLE_STIFFNESS)
+    k_z: float = param(unit="N/m", doc="vertical stiffness per side", check=VEHICLE_STIFFNESS)
+    c_x: float = param(0.0, unit="N s/m", doc="longitudinal damping per side", check=VEHICLE_DAMPING)
+    c_y: float = param(unit="N s/m", doc="lateral damping per side", check=VEHICLE_DAMPING)
+    c_z: float = param(unit="N s/m", doc="vertical damping per side", check=VEHICLE_DAMPING)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -554,7 +556,7 @@ class Scenario(_Replaceable):
     """A train crossing a bridge at constant speed over an irregular track, with analysis settings."""
 
     name: str = param(doc="identifier")
-    speed_kmh: float = param(unit="km/h", doc="train speed", check=POSITIVE)
+    speed_kmh: float = param(unit="km/h", doc="train speed", check=SPEED_KMH)
     train: Train = param(doc="the train")
     bridge: Bridge = param(doc="the bridge")
     track: Track = param(Track(), doc="track irregularities and approach lengths")

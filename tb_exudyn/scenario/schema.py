@@ -56,6 +56,30 @@ NONNEGATIVE = Check(low=0.0, low_inclusive=True)
 STIFFNESS = Check(low=0.0, low_inclusive=True, allow_inf=True)
 ANY = Check()
 RATIO = Check(low=0.0, high=1.0, low_inclusive=True, high_inclusive=False)
+#: a train speed [km/h]: above every rail vehicle's record (574.8 km/h wheel on rail, 2007; 603 km/h
+#: maglev, 2015), with room for the moving-load theory checks (speed parameter 1 on a 20 m span of
+#: 5 Hz: 720 km/h, tests/builder/test_builder_fryba.py); a larger value is a typo or a unit mix-up
+SPEED_KMH = Check(low=0.0, high=1000.0)
+#: a vehicle's spring per side [N/m]: real suspension springs are 1e5-1e8 N/m (the shipped cars: 3e5 to
+#: 8.5e7); 1e10 is five times the linear wheel-rail contact stiffness (analysis.contact_stiffness_z,
+#: 2e9), the stiffest element of the model. Beyond it the spring is a rigid link that the time step
+#: does not resolve, and in double precision the model loses the motions it locks (1e30 N/m: NaN
+#: responses)
+VEHICLE_STIFFNESS = Check(low=0.0, high=1e10)
+VEHICLE_STIFFNESS_OR_0 = Check(low=0.0, high=1e10, low_inclusive=True)
+#: a vehicle's damper [N s/m]: real railway dampers are 1e3-1e6 N s/m (the shipped cars: 3e4 to 4e5,
+#: yaw dampers 3e5); 1e9 is a thousand times the largest. Beyond it the damper is a rigid link and the
+#: model loses the motions it locks in round-off (at 1e15 N s/m the ICE car's bogie yaw mode comes out
+#: undamped, at 1e30 the responses are NaN)
+VEHICLE_DAMPING = Check(low=0.0, high=1e9, low_inclusive=True)
+VEHICLE_DAMPER = Check(low=0.0, high=1e9)
+#: a vehicle body's mass [kg] and moments of inertia [kg m^2]: the heaviest rail vehicles (locomotives)
+#: weigh about 2e5 kg in all, so 1e6 kg is five times that, and 1e9 kg m^2 more than such a mass
+#: spread over 100 m (m L^2 / 12 = 8.3e8); a larger value is a unit slip (grams, tonnes squared), and
+#: at 1e30 kg the integration overflows and still ends with a result
+VEHICLE_MASS = Check(low=0.0, high=1e6)
+VEHICLE_MASS_OR_0 = Check(low=0.0, high=1e6, low_inclusive=True)
+VEHICLE_INERTIA = Check(low=0.0, high=1e9)
 
 
 def param(default: Any = MISSING, *, unit: str = "", doc: str = "", check: Check | None = None):
