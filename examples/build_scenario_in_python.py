@@ -72,7 +72,7 @@ def shinkansen_car(name: str = "shinkansen_s300") -> Car15:
     return Car15(
         name=name,
         description="Shinkansen S300-like coach (vertical: Wu & Yang 2003; lateral: ICE motor car [check])",
-        source="Wu Y.S., Yang Y.B., Engineering Structures 25 (2003) 251-265 (shared/reference/vehicles.md)",
+        source="Wu Y.S., Yang Y.B., Engineering Structures 25 (2003) 251-265 (docs/references.md, vehicles)",
         notes="[check] roll and yaw inertias, all lateral suspension values, lateral spans and heights: ICE motor car",
         body=RigidBodyInertia(mass=41_750.0, inertia_roll=1.15e5, inertia_pitch=2.08e6, inertia_yaw=2.08e6),
         bogie=RigidBodyInertia(mass=3_040.0, inertia_roll=3_200.0, inertia_pitch=3_930.0, inertia_yaw=3_930.0),

@@ -1,4 +1,4 @@
-"""Fixtures of the builder tests: the ICE cars of shared/reference/vehicles.md as dataclasses."""
+"""Fixtures of the builder tests: the ICE cars of docs/references.md (vehicles) as dataclasses."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from tb_exudyn.scenario import Car15, Car15Geometry, RigidBodyInertia, Suspensio
 
 
 def _ice(motor: bool) -> Car15:
-    """ICE motor car / trailer, 15-DOF set of vehicles.md (values per side)."""
+    """ICE motor car / trailer, 15-DOF ICE parameters of the Xia/Zhang research code (values per side)."""
     return Car15(
         name="ice_motor" if motor else "ice_trailer",
         body=RigidBodyInertia(mass=48000.0 if motor else 44000.0, inertia_roll=1.15e5 if motor else 1.0e5,

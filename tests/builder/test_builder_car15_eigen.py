@@ -104,7 +104,7 @@ def _label(v: np.ndarray) -> str:
 
 def test_car15_converges_to_the_15dof_model(ice_motor, ice_trailer):
     """Exact problem: the 15 body-and-bogie eigenfrequencies of an ICE motor car and trailer
-    (vehicles.md) on rigid track, Exudyn rigid bodies with wheelsets in linear contact of stiffness
+    (docs/references.md, vehicles) on rigid track, Exudyn rigid bodies with wheelsets in linear contact of stiffness
     k = 2e7 ... 2e10 N/m (per wheel vertically, per wheelset laterally). Reference: the independent
     linear 15-DOF model above with the wheelsets fixed to the track (the limit k -> infinity).
     Tolerance: within 0.5 % for every mode at the default k = 2e9 N/m (the acceptance criterion),
@@ -131,7 +131,7 @@ def test_car15_converges_to_the_15dof_model(ice_motor, ice_trailer):
 
 def test_car15_vertical_frequencies_match_published_motor_car(ice_motor):
     """Exact problem: vertical eigenfrequencies of the ICE motor car on rigid track (k = 2e9).
-    Reference: Zeng et al., Shock and Vibration 2014, 304219, Table 1 (vehicles.md): car body
+    Reference: Zeng et al., Shock and Vibration 2014, 304219, Table 1 (docs/references.md, vehicles): car body
     bounce 0.84 Hz, pitch 0.97 Hz, bogie bounce 4.78 Hz, bogie pitch 6.28 Hz, from the same
     (summed) vertical stiffnesses. Compared as sets: by its mode shape the 4.78 Hz mode is the
     bogie pitch and 6.28 Hz the bounce (bounce sqrt((4 k_p + 2 k_s) / m) / 2 pi = 6.27 Hz; pitch

@@ -25,7 +25,7 @@ N_VERTICAL = 4  # vertical modes below 100 Hz: 5, 20, 45, 80 Hz
 def fryba_midspan(t: np.ndarray, c: float, n_modes: int) -> np.ndarray:
     """Midspan deflection (positive DOWN) of an undamped simply supported beam under a constant
     force P entering at t = 0 with speed c (Fryba, Vibration of Solids and Structures under Moving
-    Loads, ch. 1; validation_cases.md section 2), modes j = 1..n_modes; after the force leaves at
+    Loads, ch. 1; docs/references.md, validation case 2), modes j = 1..n_modes; after the force leaves at
     T = L / c every mode vibrates freely from its state at T."""
     w1 = (math.pi / L) ** 2 * math.sqrt(EI / MU)
     om = math.pi * c / L
@@ -79,7 +79,7 @@ def test_moving_force_midspan_history_matches_fryba(alpha):
     """Exact problem: constant force P = 100 kN crossing an undamped simply supported 20 m span
     (m = 1e4 kg/m, f1 = 5 Hz) at speed parameter alpha = c / (2 f1 L) = 1 (c = 200 m/s) and 0.2
     (40 m/s), starting 2 m before the span; the midspan deflection during and after the crossing.
-    Reference: Fryba's modal closed form (validation_cases.md section 2), evaluated here with the
+    Reference: Fryba's modal closed form (docs/references.md, validation case 2), evaluated here with the
     same four vertical modes the model keeps (<= 100 Hz), the free vibration after exit from each
     mode's exit state. Tolerance 1 % of the peak (the acceptance criterion); the measured error
     is 1e-5 of the peak at dt = 1e-4 s (7e-4 at dt = 1 ms: generalized-alpha's period error on

@@ -17,7 +17,7 @@ from tb_exudyn.structure import simply_supported_modes  # noqa: E402
 
 pytestmark = pytest.mark.exudyn
 
-# VBI-2D analytical verification data (validation_cases.md section 3)
+# VBI-2D analytical verification data (Cantero's public code; docs/references.md, validation case 3)
 L, E, I, MU = 25.0, 3.5e10, 1.3901, 18358.0
 MV, KV, V, G = 5750.0, 1.595e6, 25.0, 9.81
 LEAD, RUN_OUT = 10.1, 4.9  # no kink of the input (entry, exit, ramp corners) falls on an output time
@@ -111,7 +111,7 @@ def _rel_err(value: np.ndarray, ref: np.ndarray, offset: float = 0.0) -> float:
     ids=["undamped", "damped", "undamped-ramp"],
 )
 def test_sprung_mass_matches_independent_modal_solver(c, time_step, ramped):
-    """Exact problem (VBI-2D analytical verification, validation_cases.md section 3): a 5750 kg
+    """Exact problem (VBI-2D analytical verification, docs/references.md, validation case 3): a 5750 kg
     mass on a 1595 kN/m spring (damping 0 or 4e5 N s/m, no wheel mass: the spring's lower end
     follows the rail) crosses an undamped simply supported 25 m beam (E = 3.5e10, I = 1.3901,
     m = 18358 kg/m) at 25 m/s, g = 9.81, starting in static equilibrium 10.1 m before the beam; the

@@ -152,7 +152,7 @@ def car_modes(car, k_contact: float, kinds: tuple[str, ...]):
 
 @pytest.mark.parametrize("yaw_damper", [None, YawDamper(c_x=2.0e4, half_span=1.3)])
 def test_car_on_rigid_track_matches_independent_model_with_contact(ice_motor, ice_trailer, yaw_damper):
-    """Exact problem: every damped mode of an ICE motor car and trailer (vehicles.md values) on
+    """Exact problem: every damped mode of an ICE motor car and trailer (values of docs/references.md, vehicles) on
     rigid track with its wheelsets on the stiff linear contact (k = 2e9 N/m, zeta 0.5 against the
     wheel mass, the builder's default), without and with a yaw damper (a test value, c_x 20 kN s/m
     per damper at 1.3 m). Reference: the independent 27-DOF numpy model above with the same contact

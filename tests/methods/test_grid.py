@@ -26,7 +26,7 @@ def test_linear_grid_trapezoid_weights_cover_exactly_the_band():
 
 def test_spatial_conversion():
     """Omega = 2 pi f / v and dOmega = 2 pi df / v, so S(Omega) dOmega = S_hz(f) df with
-    S_hz = 2 pi S(Omega) / v (track_spectra.md conventions)."""
+    S_hz = 2 pi S(Omega) / v (docs/references.md, track spectra: conventions)."""
     v = 220 / 3.6
     g = frequency_grid(0.3, 60.0, 50, speed=v, spacing="log")
     assert np.allclose(g.omega_spatial, 2 * math.pi * g.f / v, rtol=1e-14)

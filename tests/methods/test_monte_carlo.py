@@ -84,7 +84,7 @@ def test_sigma_agrees_with_pem_within_the_sampling_error(pem, mc_large):
 
     Reference: PEM (same model, same grid), exact for this discrete process because the system is
     linear and, with the taper, both methods start in equilibrium with zero input
-    (validation_cases.md, section 5). Tolerance: the sample sigma's relative standard error is
+    (docs/references.md, validation case 5). Tolerance: the sample sigma's relative standard error is
     about 1/sqrt(2N) for a Gaussian response (smaller for a random-phase sum, whose tails are
     lighter), so each time point lies within 3/sqrt(2N) = 10.6 % with probability >= 99.7 %; the
     points are correlated in time, so we ask 95 % of the time points where sigma_PEM exceeds 5 % of
@@ -237,12 +237,12 @@ def test_loss_of_contact_is_flagged():
 
 # ------------------------------------------------------------------------------ sampling, checks
 def test_pem_grid_profiles_have_the_discretised_band_variance(scenario):
-    """The pem_grid sampler's harmonics: frequencies Omega_k = 2 pi f_k / v and amplitudes
-    sqrt(2 S(Omega_k) dOmega_k) with the German low-interference vertical spectrum typed in here
-    (track_spectra.md: A_v Oc^2 / ((O^2 + Or^2)(O^2 + Oc^2)), A_v = 4.032e-7, Oc = 0.8246, Or = 0.0206)
-    and trapezoid widths on the grid 1-20 Hz (8 points), so sum of a_k^2 / 2 is PEM's sum S dOmega
-    (to 1e-12). Ensemble over 4000 samples at 3 points: variance within 4 standard errors
-    (sqrt(2/n) relative for a near-Gaussian sum: 9 %)."""
+    """The pem_grid sampler's harmonics: frequencies Omega_k = 2 pi f_k / v and amplitudes sqrt(2 S(Omega_k)
+    dOmega_k) with the German low-interference vertical spectrum typed in here (docs/references.md, track
+    spectra: A_v Oc^2 / ((O^2 + Or^2)(O^2 + Oc^2)), A_v = 4.032e-7, Oc = 0.8246, Or = 0.0206) and trapezoid
+    widths on the grid 1-20 Hz (8 points), so sum of a_k^2 / 2 is PEM's sum S dOmega (to 1e-12). Ensemble over
+    4000 samples at 3 points: variance within 4 standard errors (sqrt(2/n) relative for a near-Gaussian
+    sum: 9 %)."""
     v = 300 / 3.6
     f = np.linspace(1.0, 20.0, 8)
     df = np.full(8, f[1] - f[0])

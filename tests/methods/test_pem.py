@@ -42,9 +42,9 @@ def test_stationary_sprung_mass_on_rigid_track_matches_quadrature():
     low-interference vertical profile; PEM on 20 frequencies from 1 to 20 Hz.
 
     Reference: for a base-excited SDOF the absolute-displacement transfer is
-    H = (k + i c w) / (k - m w^2 + i c w) (validation_cases.md, section 4), so on the same discrete grid
+    H = (k + i c w) / (k - m w^2 + i c w) (docs/references.md, validation case 4), so on the same discrete grid
     sigma_z^2 = sum_k |H(w_k)|^2 S_hz(f_k) df_k and sigma_a^2 = sum_k w_k^4 |H|^2 S_hz df_k, with
-    S_hz(f) = 2 pi S(Omega) / v, Omega = 2 pi f / v (the spectrum formula from track_spectra.md is
+    S_hz(f) = 2 pi S(Omega) / v, Omega = 2 pi f / v (the spectrum formula of docs/references.md, track spectra, is
     typed in here). Compared over t = 2.0-2.9 s: the start-up transient (slowest pole 4.2 rad/s) has
     decayed to < 1e-3 and the mass has not reached the bridge (t = 3.0 s).
 

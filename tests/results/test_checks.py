@@ -106,11 +106,11 @@ def test_a_caveat_is_a_condition_only_where_its_own_numbers_can_turn_the_verdict
 
 
 def test_limits_from_data_speed_bands_and_static_loads(lateral):
-    """Reference: code_limits.md typed here: Prud'homme H <= 0.85 (10 kN + P/3) with P the static axle
-    load, here the ICE motor car's weight (48000 + 2 x 3200 + 4 x 2400 kg, models/vehicles/ice_motor.toml)
-    x g / 4 = 156.9 kN; the model's static wheel loads at t = 0 (what the check uses) equal it to
-    1e-6 (a symmetric car in static equilibrium on rigid track). The twist limit at 220 km/h is the
-    1.5 mm band."""
+    """Reference: docs/references.md, code limits, typed here: Prud'homme H <= 0.85 (10 kN + P/3) with P the
+    static axle load, here the ICE motor car's weight (48000 + 2 x 3200 + 4 x 2400 kg,
+    models/vehicles/ice_motor.toml) x g / 4 = 156.9 kN; the model's static wheel loads at t = 0 (what the
+    check uses) equal it to 1e-6 (a symmetric car in static equilibrium on rigid track). The twist limit at
+    220 km/h is the 1.5 mm band."""
     table = lateral.checks()
     row = next(r for r in table.rows if r.criterion == "running_safety/lateral_force_prudhomme")
     ice = tbx.scenario.load_vehicle("ice_motor")

@@ -1,8 +1,8 @@
 """Ride-comfort weightings and the Sperling index (tb_exudyn.results.comfort) against independent forms.
 
 References written here: the EN 12299 weightings as products over their poles and zeros (roots of
-the quadratics of code_limits.md, computed in the test), steady-state sinusoid amplitudes fitted by
-least squares, Sperling's single-frequency formula (B a)^0.3 and the GB 5599 form
+the quadratics of docs/references.md, code limits, computed in the test), steady-state sinusoid
+amplitudes fitted by least squares, Sperling's single-frequency formula (B a)^0.3 and the GB 5599 form
 7.08 (A^3 F(f)/f)^0.1, and a stationary Gaussian signal synthesised from a known PSD.
 """
 
@@ -25,7 +25,7 @@ from tb_exudyn.results.comfort import (
     windowed_rms,
 )
 
-# code_limits.md, typed again here (not read from the module)
+# EN 12299 weighting parameters (docs/references.md, code limits), typed again here (not read from the module)
 PARAMS = {
     "wb": dict(f1=0.4, f2=100.0, f3=16.0, f4=16.0, q4=0.63, f5=2.5, q5=0.8, f6=4.0, q6=0.8, k=0.4),
     "wd": dict(f1=0.4, f2=100.0, f3=2.0, f4=2.0, q4=0.63),
@@ -145,9 +145,9 @@ def test_sperling_of_an_off_bin_harmonic_within_leakage():
 
 
 def test_sperling_b_weighting_against_gb5599_form():
-    """Wz of a harmonic from B(f) against GB 5599's 7.08 (A_g^3 F(f)/f)^0.1 (code_limits.md): B is a fit
-    of F; they agree within 1.2 % vertical and 2.5 % lateral at 1-10 Hz away from F's corners (5.9 Hz
-    vertical: 2.5 %, 5.4 Hz lateral: 2.8 %), the fit accuracy measured when writing this test."""
+    """Wz of a harmonic from B(f) against GB 5599's 7.08 (A_g^3 F(f)/f)^0.1 (docs/references.md, code limits):
+    B is a fit of F; they agree within 1.2 % vertical and 2.5 % lateral at 1-10 Hz away from F's corners
+    (5.9 Hz vertical: 2.5 %, 5.4 Hz lateral: 2.8 %), the fit accuracy measured when writing this test."""
     amp = 1.0
     for direction, freqs, tol in (("vertical", (1, 2, 3, 4, 5, 7, 10), 0.012),
                                   ("lateral", (1, 2, 3, 4, 5, 7, 10), 0.025)):

@@ -351,10 +351,10 @@ def test_poisson_error_broad_band(stationary_sdofs):
 
 # ============================================================================================ 3 sigma numbers
 def test_code_limits_28_and_15_percent():
-    """code_limits.md: a stationary 5 Hz response over 3 s (nu0 T = 15) exceeds +3 sigma in 15 % of
-    passages and |y| > 3 sigma in 28 %: the classical Poisson form (initial=False) gives
-    1 - exp(-15 e^-4.5) = 0.1535 and 1 - exp(-30 e^-4.5) = 0.2835, i.e. 15 % and 28 % to the percent
-    the note states; counting the chance of starting outside (the default) adds 0.1-0.2 points."""
+    """docs/references.md, code limits (extremes, [computed]): a stationary 5 Hz response over 3 s
+    (nu0 T = 15) exceeds +3 sigma in 15 % of passages and |y| > 3 sigma in 28 %: the classical Poisson form
+    (initial=False) gives 1 - exp(-15 e^-4.5) = 0.1535 and 1 - exp(-30 e^-4.5) = 0.2835, i.e. 15 % and 28 % to
+    the percent the note states; counting the chance of starting outside (the default) adds 0.1-0.2 points."""
     t = np.linspace(0.0, 3.0, 31)
     r = GaussianResponse(t, 0.0, 0.0, 1.0, 2 * np.pi * 5.0, 0.0)
     one = first_passage_probability(r, upper=3.0, initial=False).probability

@@ -31,10 +31,10 @@ def test_ice_creep_cars_keep_the_reference_study_cars():
 
 
 def test_static_axle_load_and_creep_coefficients():
-    """Exact problem: the ICE motor creep car's static axle load and creep coefficients. Reference:
-    hand calculation W = g (48000/4 + 3200/2 + 2400) = 156 960 N at g = 9.81 (vehicles.md: 157 kN);
-    the coefficients of a 78.5 kN wheel on r0 = 0.46 m, a 0.3 m crown, steel: f11 and f22 of order
-    1e7 N (the magnitude the linear-theory literature quotes for such loads), a/b > 1 (the contact
+    """Exact problem: the ICE motor creep car's static axle load and creep coefficients. Reference: hand
+    calculation W = g (48000/4 + 3200/2 + 2400) = 156 960 N at g = 9.81 (the ICE data of docs/references.md,
+    vehicles: 157 kN); the coefficients of a 78.5 kN wheel on r0 = 0.46 m, a 0.3 m crown, steel: f11 and f22
+    of order 1e7 N (the magnitude the linear-theory literature quotes for such loads), a/b > 1 (the contact
     longer than wide on a conical tread). Tolerance: exact for W; orders of magnitude for f."""
     car = load_vehicle("ice_motor_creep")
     W = car.static_axle_load(9.81)

@@ -1,6 +1,6 @@
 """Limit files (models/limits/*.toml), their loader and the quantity vocabulary (tb_exudyn.scenario.limits).
 
-The values are checked against shared/reference/code_limits.md, typed again here.
+The values are checked against the codes' values of docs/references.md (code limits), typed again here.
 """
 
 from __future__ import annotations
@@ -50,8 +50,9 @@ def test_every_limit_file_loads(name):
 
 
 def test_en1990_deck_values():
-    """code_limits.md: 3.5 m/s^2 ballasted, 5.0 direct-fastened, on the code-range-filtered deck
-    acceleration; twist over 3 m 4.5 / 3.0 / 1.5 mm for V <= 120, <= 200, > 200 km/h; total 7.5 mm."""
+    """EN 1990 Annex A2, A2.4.4.2 (docs/references.md, code limits): 3.5 m/s^2 ballasted, 5.0 direct-fastened,
+    on the code-range-filtered deck acceleration; twist over 3 m 4.5 / 3.0 / 1.5 mm for V <= 120, <= 200,
+    > 200 km/h; total 7.5 mm."""
     deck = load_limits("en1990_deck")
     bal, df = deck.criterion("deck_acc_ballasted"), deck.criterion("deck_acc_direct_fastened")
     assert (bal.limit_value(), df.limit_value()) == (3.5, 5.0)

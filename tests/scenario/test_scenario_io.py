@@ -75,7 +75,7 @@ def test_reference_study_scenario_matches_the_paper():
 
 def test_ice_car_geometry():
     """Axle positions from the ICE geometry: 2 (8.6875 + 1.25) + 4.9 = 24.775 m between first axles of
-    neighbouring cars (vehicles.md); axles of one car at 0, 2.5, 17.375, 19.875 m."""
+    neighbouring cars (docs/references.md, vehicles); axles of one car at 0, 2.5, 17.375, 19.875 m."""
     car = load_vehicle("ice_motor")
     assert isinstance(car, Car15)
     assert car.axle_offsets == pytest.approx((0.0, 2.5, 17.375, 19.875), abs=1e-12)

@@ -1,7 +1,7 @@
 """The reference study's bridge (Li & Zhu: 3 x 32 m simply supported spans on 15 m piers) with
 the calibrated substructure: its first lateral mode must lie at the study's 3.33 Hz.
 
-The girder comes from models/bridges/li_zhu_2011_bridge.toml (bridges.md third row). The paper
+The girder comes from models/bridges/li_zhu_2011_bridge.toml (docs/references.md, bridges). The paper
 gives no pier or bearing data, so the values below are a calibration (see the structure report):
 a round-ended solid pier 7.0 m x 3.0 m (section properties computed in the test from that shape),
 bearings 2.3 m below the girder's shear centre, and a pile-group footing whose rotational

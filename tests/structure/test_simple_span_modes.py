@@ -1,10 +1,10 @@
 """A simply supported span (SimpleBeam): frequencies, mesh convergence, static deflection.
 
-The girder is the 32 m box girder of shared/reference/bridges.md (third row) with its total
+The girder is the 32 m box girder of the Xia/Zhang research code (docs/references.md, bridges) with its total
 vibrating mass of 3.39e4 kg/m. References are closed forms evaluated in the tests:
 bending f_j = (j pi / L)^2 sqrt(E I / m) / (2 pi), torsion f_j = (j pi / L) sqrt(G J / I_p) / (2 pi),
 static midspan deflection P L^3 / (48 E I) and its modal series
-(2 P L^3 / (pi^4 E I)) sum over odd j of 1 / j^4 (validation_cases.md, case 1).
+(2 P L^3 / (pi^4 E I)) sum over odd j of 1 / j^4 (docs/references.md, validation case 1).
 """
 
 from __future__ import annotations

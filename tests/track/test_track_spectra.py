@@ -17,7 +17,8 @@ OMEGAS = np.array([1e-3, 0.0206, 0.1, 0.4380, 0.8246, 2.0, 6.0, 20.0])  # rad/m,
 @pytest.mark.parametrize("level, a_v, a_a, a_g", [("low", 4.032e-7, 2.119e-7, 5.32e-8),
                                                   ("high", 1.080e-6, 6.125e-7, 1.032e-7)])
 def test_german_point_values(level, a_v, a_a, a_g):
-    """German S_v, S_a, S_c (angle and height), S_g at 8 frequencies vs the formulas of track_spectra.md.
+    """German S_v, S_a, S_c (angle and height), S_g at 8 frequencies vs the formulas of
+    docs/references.md (track spectra).
 
     Reference: the formulas with the coefficients typed here from the reference table (not read
     from the code). Tolerance 1e-9 relative: both sides are the same few floating-point operations,
@@ -40,7 +41,7 @@ def test_german_point_values(level, a_v, a_a, a_g):
 def test_german_full_band_variance_closed_form():
     """Full-band (0..inf) variance of German low vertical: quadrature vs pi A_v Oc / (2 Or (Or + Oc)).
 
-    Reference: closed form in track_spectra.md with typed coefficients. Tolerance 1e-10 relative:
+    Reference: closed form of docs/references.md (track spectra) with typed coefficients. Tolerance 1e-10 relative:
     band_variance promises 1e-10 (quad at epsrel 1e-12 per piece), the closed form is exact.
     """
     a_v, oc, o_r = 4.032e-7, 0.8246, 0.0206
@@ -74,7 +75,7 @@ def test_band_variance_quadrature_matches_closed_forms(spectrum):
 def test_chinese_continuous_at_breaks(name):
     """TB/T 3352 piecewise power law is continuous within 0.5 % at each break frequency.
 
-    Reference: the standard's segments join to 0.4 % (track_spectra.md); a transcription error in A
+    Reference: the standard's segments join to 0.4 % (docs/references.md, track spectra); a transcription error in A
     or k typically makes a jump of tens of percent. PSD evaluated 1e-9 (relative) either side of each
     break, where the smooth variation (~k * 2e-9) is negligible against 0.5 %.
     """
@@ -87,8 +88,8 @@ def test_chinese_continuous_at_breaks(name):
 def test_chinese_unit_conversion():
     """TB/T 3352 vertical at n = 0.1 1/m (segment 3): S(O) = 1e-6 A n^-k / (2 pi) m^2/(rad/m), O = 2 pi n.
 
-    Reference: A = 1.9784e-2, k = 1.3643 typed from track_spectra.md; mm^2 -> m^2 and cycles/m -> rad/m
-    done here by hand. Tolerance 1e-12 relative (rounding only).
+    Reference: A = 1.9784e-2, k = 1.3643 typed from TB/T 3352-2014 (docs/references.md); mm^2 -> m^2
+    and cycles/m -> rad/m done here by hand. Tolerance 1e-12 relative (rounding only).
     """
     n = 0.1
     ref = 1e-6 * 1.9784e-2 / n**1.3643 / (2 * math.pi)
@@ -101,7 +102,7 @@ def test_chinese_unit_conversion():
 def test_fra_point_values_both_forms():
     """FRA class 3: rad/m form (cm^2 -> m^2) and Fryba's cycles/m form (S(O) = S(n)/(2 pi)) at O = 0.5 rad/m.
 
-    Reference: formulas of track_spectra.md with coefficients typed here. Tolerance 1e-12 relative
+    Reference: formulas of docs/references.md (track spectra) with coefficients typed here. Tolerance 1e-12 relative
     (rounding only).
     """
     o, oc = 0.5, 0.8245
@@ -120,7 +121,8 @@ def test_fra_point_values_both_forms():
 def test_registry_has_the_scenario_names_and_conventions():
     """Every name the scenario files use exists, with the documented kind and unit; [check] values say so.
 
-    Reference: the names and units fixed in issue 3 and track_spectra.md. Exact comparisons (strings).
+    Reference: the names and units fixed in issue 3 and docs/references.md (track spectra). Exact
+    comparisons (strings).
     """
     names = set(spectrum_names())
     for level in ("low", "high"):
