@@ -30,7 +30,7 @@ columns k; sums over columns are over frequencies and irregularity types):
   time), the last time by a backward difference;
 - ratios N/D to first order about the means: the parent gets the covariances of (N, D, N', D')
   summed over columns and forms, with a = 1/D, b = -N/D^2 (means), sigma_r^2 = a^2 s_NN + b^2 s_DD +
-  2 a b s_ND (code_limits.md), the PSD and lambda_i alike, and the derivative's statistics from
+  2 a b s_ND (docs/references.md, code limits), the PSD and lambda_i alike, and the derivative's statistics from
   r' = a N' + b D' + a' N + b' D;
 - Sperling inputs: the B-weighted power sum_k 2 (100 B(f_k))^2 |z_k|^2 per time.
 

@@ -12,7 +12,7 @@ Discretisation of a spectrum S (one-sided, rad/m):
   PEM grid frequencies f_k inside the wavelength band,
   r(x) = sum_k sqrt(2 S(Omega_k) dOmega_k) cos(Omega_k x + phi_k), Omega_k = 2 pi f_k / v,
   dOmega_k = 2 pi df_k / v, phi_k ~ U[0, 2 pi). Then E[r^2] = sum_k S dOmega_k, and for the linear
-  system PEM gives the exact sigma of this very process (validation_cases.md, section 5). On a
+  system PEM gives the exact sigma of this very process (docs/references.md, validation case 5). On a
   linear grid the sample repeats itself (up to one phase shift common to all harmonics) every
   v / df metres (``profile_period_m`` in the provenance; 204 m for the reference study's grid),
   which may be shorter than the track: that is the process PEM analyses too. The harmonic sums use

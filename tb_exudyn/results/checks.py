@@ -23,7 +23,7 @@ What is compared, per statistic of the criterion (tb_exudyn.scenario.limits.STAT
 
 The target probability (``probability``) is a choice, not a code value: the clauses state limits on
 peaks without a probability. The default is the per-passage target used in the literature for 100
-train pairs a day over a one-year return period, 2.74e-5 (shared/reference/code_limits.md, [abstract]).
+train pairs a day over a one-year return period, 2.74e-5 (a target used in the literature [abstract]; docs/references.md, code limits).
 
 What a model can answer (:data:`MODEL_REQUIREMENTS`): a criterion on a quantity the result's vehicle
 model cannot give (running safety on a car whose wheelsets follow the rail) is NOT EVALUATED, with
@@ -61,7 +61,7 @@ from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, 
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
 from .empirical import binomial_interval
 
-#: the literature's per-passage target (code_limits.md [abstract]): 100 train pairs a day, 1-year return period
+#: the literature's per-passage target (docs/references.md, code limits [abstract]): 100 train pairs a day, 1-year return period
 DEFAULT_TARGET_PROBABILITY = 2.74e-5
 #: grid errors of max sigma above this make a caveat (the grid-error estimate's tolerance)
 GRID_ERROR_TOLERANCE = 0.01
@@ -486,7 +486,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
     contact_caveats = {} if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
-             + (" (the default: the literature's 100 train pairs a day over a 1-year return period, code_limits.md "
+             + (" (the default: the literature's 100 train pairs a day over a 1-year return period, docs/references.md "
                 "[abstract]; not a code value: the clauses give no probability)" if probability == DEFAULT_TARGET_PROBABILITY
                 else " (chosen by the caller)")]
     if getattr(result, "method", "") == "pem":

@@ -1,6 +1,6 @@
 """Ride-comfort weightings and indices: EN 12299 filters Wb, Wc, Wd and the Sperling ride index Wz.
 
-Plain numpy/scipy. Sources: shared/reference/code_limits.md ("Ride comfort", read in public code:
+Plain numpy/scipy. Sources: docs/references.md (ride comfort; the weightings read in public code:
 comfpy filters.py; a BS 6841 band-limit script).
 
 EN 12299 weightings (analog, s = j 2 pi f, w_i = 2 pi f_i), W = H_h H_l H_t H_s:
@@ -29,7 +29,7 @@ symmetric (zero phase), so the cascade is causal up to their half-length (about 
 original rate). A signal that does not start at 0 gives a start-up transient of a few seconds (the
 0.4 Hz high-pass).
 
-Sperling ride index (:func:`sperling_weighting`, code_limits.md): with the frequency weighting
+Sperling ride index (:func:`sperling_weighting`, docs/references.md, ride comfort): with the frequency weighting
 B(f) = 0.588 sqrt((1.911 f^2 + (0.25 f^2)^2) / ((1 - 0.277 f^2)^2 + (1.563 f - 0.0368 f^3)^2)) for
 vertical motion and 1.25 B(f) for lateral motion, and the one-sided acceleration PSD G_a [(m/s^2)^2/Hz],
 the form used here is the integral form (Forstberg's)
@@ -71,7 +71,7 @@ Q1 = 1.0 / math.sqrt(2.0)
 
 @dataclass(frozen=True)
 class WeightingParameters:
-    """Pole/zero data of an EN 12299 weighting (code_limits.md): frequencies [Hz], quality factors, gain.
+    """Pole/zero data of an EN 12299 weighting (docs/references.md, ride comfort): frequencies [Hz], quality factors, gain.
     ``f5`` = 0 means no H_s section (Wc, Wd)."""
 
     name: str
@@ -295,7 +295,7 @@ def sperling_window_energy(acc: ArrayLike, fs: float, direction: Direction = "ve
 def sperling_windows(acc: ArrayLike, fs: float, direction: Direction = "vertical", *, window: float = 5.0,
                      band: tuple[float, float] | None = None, start_time: float = 0.0) -> WindowedIndex:
     """Sperling Wz of an acceleration time history [m/s^2] sampled at fs [Hz], per window of ``window`` s
-    (default 5 s, GB/T 5599-2019 per code_limits.md [check]); several histories (..., n_t) give
+    (default 5 s, GB/T 5599-2019 [check]; docs/references.md, ride comfort); several histories (..., n_t) give
     values (..., n_w).
 
     Each window's one-sided periodogram (rectangular window, G_k = 2 |X_k|^2 / (N fs), the Nyquist bin

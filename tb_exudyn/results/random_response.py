@@ -96,7 +96,7 @@ class RandomResponse(ChannelResult):
     ----------
     method : 'pem' or 'monte_carlo' (or 'monte_carlo_linear' for the batched linear model)
     time : (nt,) output times [s]; t = 0 when the first axle is at x = -lead_in
-    channels, units : channel names (DESIGN.md naming) and their units
+    channels, units : channel names (docs/channels.md naming) and their units
     mean : (nc, nt) mean response (PEM: the deterministic run with gravity, no irregularity)
     std : (nc, nt) standard deviation over the band ``band``
     band : (f_low, f_high) [Hz] the band sigma covers

@@ -20,7 +20,7 @@ m = mu' + rho sigma_yd z and s = sigma_yd sqrt(1 - rho^2)):
     nu+(b, t) = phi(z)/sigma_y * E[max(y', 0) | y = b] = phi(z)/sigma_y * [s phi(m/s) + m Phi(m/s)]
     nu-(a, t) = phi(z_a)/sigma_y * E[max(-y', 0) | y = a] = phi(z_a)/sigma_y * [s phi(m/s) - m Phi(-m/s)]
 
-(phi, Phi: standard normal density and distribution; code_limits.md, "derived from Rice's formula").
+(phi, Phi: standard normal density and distribution; derived from Rice's formula: docs/references.md, extremes).
 Stationary limit (mu' = 0, rho = 0): nu+ = sigma_yd / (2 pi sigma_y) exp(-(b - mu)^2 / (2 sigma_y^2)).
 Rice's formula is exact for the expected number of crossings; the approximations are in the
 first-passage probabilities:
@@ -28,11 +28,11 @@ first-passage probabilities:
 * ``"poisson"``: out-crossings of [lower, upper] are independent events,
   P = 1 - (1 - P0) exp(-Lambda), Lambda = integral over the window of nu+(upper) + nu-(lower)
   (trapezoidal rule on the given time samples), P0 = probability that y is outside at the window's
-  start (``initial=False``: P0 = 0, the classical form of code_limits.md). Poisson ignores the
+  start (``initial=False``: P0 = 0, the classical Poisson form). Poisson ignores the
   clumping of crossings of a narrow-band process and then overestimates P (errs on the safe side).
 * ``"vanmarcke"``: Vanmarcke's (1975) hazard, which counts only the "qualified" envelope crossings
   (E. H. Vanmarcke, On the distribution of the first-passage time for normal stationary random
-  processes, J. Appl. Mech. 42 (1975) 215-220 [recalled, formula as in code_limits.md and the
+  processes, J. Appl. Mech. 42 (1975) 215-220 [recalled, formula as in the
   textbooks]): for a single barrier at r = (b - mu)/sigma_y sigmas
 
       h = nu+ [1 - exp(-sqrt(2 pi) delta_e r)] / [1 - exp(-r^2/2)],   delta_e = delta^1.2,

@@ -60,7 +60,7 @@ car<k>.axle<j>.right.derailment                wheel as H / P_R (H = axle<j>.for
                                                +y: the right wheel's flange is loaded): the whole axle
                                                force on the flanging wheel, an upper bound, because the
                                                15-DOF model has one lateral contact per wheelset and
-                                               no Q per wheel (first order, code_limits.md)
+                                               no Q per wheel (first order; docs/references.md, running safety)
 car<k>.body.acc_z_wb                   m/s^2   car-body vertical acceleration, EN 12299 Wb-weighted
 car<k>.body.acc_y_wd                   m/s^2   car-body lateral acceleration, EN 12299 Wd-weighted
 car<k>.body.sperling_z                 -       Sperling Wz of car<k>.body.acc_z per window (PEM: of the

@@ -56,7 +56,7 @@ Kinds, and how each method forms them:
   amplitude; the filter's start-up from rest and the spread of a modulated response around f_k are
   left out: see tb_exudyn.methods.reduction).
 - ``ratio``: N / D with N = ``terms`` and D = ``denominator`` (linear in the outputs); first order
-  about the means (code_limits.md): r~ = N~ / D - N D~ / D^2 (bars dropped), so PEM gets it from the
+  about the means (docs/references.md, code limits): r~ = N~ / D - N D~ / D^2 (bars dropped), so PEM gets it from the
   covariances of N, D and their derivatives; Monte Carlo takes the exact ratio of every sample.
 - ``sperling``: Sperling Wz of one acceleration per window (``window`` s): PEM from the expected
   B-weighted power averaged over the window, Monte Carlo from each sample's periodogram.
@@ -89,7 +89,7 @@ DERIVED_KINDS: tuple[str, ...] = ("linear", "weighted", "ratio", "sperling")
 TWIST_HALF_BASE = 1.5
 #: EN 1990 A2.4.4.2.1: frequencies considered up to max(30 Hz, 1.5 f1, f3)
 EN1990_MIN_CUT = 30.0
-#: Sperling window [s] (GB/T 5599-2019 per code_limits.md [check])
+#: Sperling window [s] (GB/T 5599-2019 [check]; docs/references.md, ride comfort)
 SPERLING_WINDOW = 5.0
 
 _STATION = re.compile(r"span(\d+)\.(q1|mid|q3|start|end)\Z")

@@ -2,7 +2,7 @@
 
 Every spectrum is ONE-SIDED in spatial circular frequency ``omega`` [rad/m] on (0, inf):
 ``sigma^2 = integral S(omega) d omega``, with ``S`` in ``unit^2/(rad/m)``. Formulas, coefficients
-and their provenance are in ``/work/shared/reference/track_spectra.md``; values tagged ``[check]``
+and their provenance are in docs/references.md (track spectra); values tagged ``[check]``
 there carry ``[check]`` in the ``source`` string here.
 
 Cross-level comes in two forms, and the name says which:

@@ -7,7 +7,7 @@ a clone of the repository. What the code, the data and the docs cite must be in 
 path, ``DESIGN.md`` and the reference notes (``code_limits.md``, ``seed_paper.md``, ``bridges.md``,
 ``vehicles.md``, ``track_spectra.md``, ``validation_cases.md``, ``en1991_dynamic.md``).
 
-Files outside tb_exudyn/ must be clean; tb_exudyn/'s docstrings are the lead's (an xfail until then).
+Every tracked file must be clean, the package's docstrings and messages included.
 """
 
 from __future__ import annotations
@@ -82,7 +82,6 @@ def test_no_file_outside_the_package_cites_the_shared_folder():
     assert not found, "cite the primary source (docs/references.md) instead:\n" + "\n".join(found)
 
 
-@pytest.mark.xfail(strict=False, reason="tb_exudyn docstrings: issue 30, the lead")
 def test_no_package_file_cites_the_shared_folder():
     found = citations([p for p in tracked_files() if p.startswith("tb_exudyn/")])
     assert not found, "cite the primary source (docs/references.md) instead:\n" + "\n".join(found)
