@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import re
 import math
 import sys
 import warnings
@@ -31,6 +32,7 @@ from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
 from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
+from .scenario.io import parse_setting, with_settings
 from .scenario.show import run_label, scenario_table
 from .system.damping_guard import merged_messages
 from .track import get_spectrum, spectrum_names
@@ -59,7 +61,7 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    scenario = load_scenario(args.scenario)
+    scenario = _load(args)
     print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
     return EXIT_OK
 
@@ -72,7 +74,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         if not math.isfinite(x):
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
-    scenario = load_scenario(args.scenario)
+    scenario = _load(args)
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
         table = methods.system_modes(scenario, position, model=model)
@@ -101,6 +103,20 @@ DEFAULT_ENGINE = "batched"
 DEFAULT_OUT = "tb_exudyn_out"
 #: the channel table of a run, written into its output folder (the terminal shows a short summary)
 TABLE_FILE = "channels.txt"
+def _load(args: argparse.Namespace) -> Scenario:
+    """The scenario named on the command line with its ``--set KEY=VALUE`` settings, each checked by
+    the schema as in a file (a bad key or value names --set and what is allowed)."""
+    scenario = load_scenario(args.scenario)
+    for text in getattr(args, "settings", None) or ():
+        try:
+            scenario = with_settings(scenario, [parse_setting(text)])
+        except ScenarioError as exc:  # before ValueError: a ScenarioError is one
+            raise SettingError("command line", "--set", text, f"{exc.key}: {exc.allowed}", exc.reason) from None
+        except ValueError as exc:
+            raise SettingError("command line", "--set", text, str(exc)) from None
+    return scenario
+
+
 def _scenario_with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
     """The scenario with the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels); a
     bad value names the option."""
@@ -142,7 +158,7 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    scenario = _scenario_with_options(load_scenario(args.scenario), args)
+    scenario = _scenario_with_options(_load(args), args)
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
@@ -208,7 +224,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     methods = _methods()
     sweep = methods.sweep
-    scenario = load_scenario(args.scenario)
+    scenario = _load(args)
     if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
         raise SettingError("command line", "--speeds-kmh", args.speeds_kmh,
                            "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
@@ -341,10 +357,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_list)
     p = sub.add_parser("show", help="the resolved scenario as a table")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
                    help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
                         "the start of the run (vehicles on rigid track, the bridge alone)")
@@ -363,6 +383,8 @@ def build_parser() -> argparse.ArgumentParser:
 """)
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
@@ -406,6 +428,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
                    help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
                         "each > 0 and <= 1000 km/h")
@@ -538,9 +562,20 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
+#: a warning that asks for a scenario value ("use track.lead_in >= 110 m"): the --set that makes it
+_ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=|<=) ([0-9.eE+-]+)")
+
+
+def with_set_hint(text: str) -> str:
+    """A warning's text with the ``--set KEY=VALUE`` that makes the change it asks for."""
+    hints = [f"--set {k}={v}" for k, v in _ASKS.findall(text)]
+    return text + (f" ({', '.join(hints)})" if hints else "")
+
+
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
-    """Warnings and notices as one line each (no source line)."""
-    print(f"tb-exudyn: warning: {' '.join(str(message).split())}", file=sys.stderr if file is None else file)
+    """Warnings and notices as one line each (no source line), with the --set a change needs."""
+    text = with_set_hint(" ".join(str(message).split()))
+    print(f"tb-exudyn: warning: {text}", file=sys.stderr if file is None else file)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

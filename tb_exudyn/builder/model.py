@@ -14,6 +14,7 @@ approach track, or rest).
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 from typing import Literal
@@ -80,6 +81,24 @@ def _sparse_zero(n: int) -> exu.MatrixContainer:
 # checks
 
 
+
+def _round_up(x: float, digits: int = 3) -> float:
+    """x rounded up to ``digits`` significant digits: a bound a warning asks for ("use ... >= X") that
+    the rounded value still meets."""
+    if not (math.isfinite(x) and x > 0):
+        return x
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return math.ceil(x / scale - 1e-9) * scale
+
+
+def _round_down(x: float, digits: int = 3) -> float:
+    """x rounded down to ``digits`` significant digits (a "use ... <= X" bound)."""
+    if not (math.isfinite(x) and x > 0):
+        return x
+    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
+    return math.floor(x / scale + 1e-9) * scale
+
+
 def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicle_frequencies: list[float]) -> list[str]:
     """Warnings about a scenario's resolution; raises ValueError for a scenario that cannot run.
 
@@ -114,7 +133,7 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
                 f"track.lead_in = {scenario.track.lead_in:g} m: the first axle reaches the bridge after "
                 f"{t_in:.3g} s, less than one period ({1 / f_min:.3g} s) of the slowest vehicle mode "
                 f"({f_min:.3g} Hz); runs that start at rest (pseudo-excitation, Monte Carlo) have not "
-                f"settled on the approach: use track.lead_in >= {v / f_min:.3g} m"
+                f"settled on the approach: use track.lead_in >= {_round_up(v / f_min):g} m"
             )
     if contact_frequencies:
         f_c = max(contact_frequencies)
@@ -122,8 +141,8 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
             out.append(
                 f"analysis.time_step = {dt:g} s resolves the wheel-rail contact mode "
                 f"(sqrt(k_contact / wheel mass) / 2 pi = {f_c:.4g} Hz) with only {1 / (f_c * dt):.2g} steps "
-                f"per period (< {CONTACT_STEPS_PER_PERIOD:g}): use time_step <= "
-                f"{1 / (CONTACT_STEPS_PER_PERIOD * f_c):.3g} s or a smaller contact stiffness"
+                f"per period (< {CONTACT_STEPS_PER_PERIOD:g}): use analysis.time_step <= "
+                f"{_round_down(1 / (CONTACT_STEPS_PER_PERIOD * f_c)):g} s or a smaller contact stiffness"
             )
     if an.freq_max * dt * 10.0 > 1.0 + 1e-12:
         out.append(

@@ -9,9 +9,10 @@ loading it again gives an equal object.
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import Any, Sequence
 
 from . import model as m
+from .errors import ScenarioError
 from .registry import model_path
 from .schema import Context, convert, set_source_file, to_dict
 from .toml_io import dumps_toml, read_toml, write_text_atomic
@@ -53,6 +54,59 @@ def scenario_from_dict(data: dict, file: str | None = None, resolve_names: bool 
     paths are looked up: for scenarios stored in result files)."""
     ctx = Context(file, "", _resolver if resolve_names else None)
     return set_source_file(convert(m.Scenario, data, ctx), file)
+
+
+def parse_setting(text: str) -> tuple[str, Any]:
+    """``KEY=VALUE`` of a setting (``--set track.lead_in=150``): the dotted key and the value read as
+    a TOML value (150, 1.5e3, true, "text", [1, 2], inf), a bare word that is no TOML value as a
+    string (``analysis.freq_spacing=adaptive``). ValueError names what is wrong."""
+    key, sep, raw = text.partition("=")
+    key, raw = key.strip(), raw.strip()
+    if not sep or not key or not raw:
+        raise ValueError("KEY=VALUE with a dotted scenario key, e.g. track.lead_in=150")
+    import tomllib
+
+    try:
+        return key, tomllib.loads(f"v = {raw}")["v"]
+    except tomllib.TOMLDecodeError:
+        return key, raw
+
+
+def with_settings(scenario: m.Scenario, settings: Sequence[tuple[str, Any]]) -> m.Scenario:
+    """The scenario with ``settings`` ((dotted key, value), ...: ``("track.lead_in", 150.0)``; a list
+    index as a segment: ``train.vehicles.0.body.mass``) applied to its plain form and read again
+    through the schema, so that every value is checked as in a file. Raises ScenarioError naming the
+    key (an unknown key: what the table holds)."""
+    data = to_dict(scenario)
+    for key, value in settings:
+        node: Any = data
+        parts = key.split(".")
+        for depth, part in enumerate(parts):
+            last = depth == len(parts) - 1
+            where = ".".join(parts[:depth + 1])
+            if isinstance(node, list):
+                if not part.isdigit() or int(part) >= len(node):
+                    raise ScenarioError(None, where, part, f"an index 0 ... {len(node) - 1}", "no such entry")
+                if last:
+                    node[int(part)] = value
+                else:
+                    node = node[int(part)]
+                continue
+            if not isinstance(node, dict) or part not in node and not _is_field(node, part):
+                known = sorted(node) if isinstance(node, dict) else []
+                raise ScenarioError(None, where, value if last else part,
+                                    "a key of the scenario: " + (", ".join(known) or "none here"), "unknown key")
+            if last:
+                node[part] = value
+            else:
+                node = node.setdefault(part, {})
+    return scenario_from_dict(data, scenario.source_file)
+
+
+def _is_field(table: dict, key: str) -> bool:
+    """Whether ``key`` is a key the table may hold although its plain form leaves it out (an absent
+    optional table): judged by the schema when the table is read again."""
+    return key in ("yaw_damper", "code")
 
 
 def load_scenario(path_or_name: str | Path) -> m.Scenario:
