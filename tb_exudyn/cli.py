@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import re
 import math
 import sys
 import warnings
@@ -562,19 +561,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
-#: a warning that asks for a scenario value ("use track.lead_in >= 110 m"): the --set that makes it
-_ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=|<=) ([0-9.eE+-]+)")
-
-
-def with_set_hint(text: str) -> str:
-    """A warning's text with the ``--set KEY=VALUE`` that makes the change it asks for."""
-    hints = [f"--set {k}={v}" for k, v in _ASKS.findall(text)]
-    return text + (f" ({', '.join(hints)})" if hints else "")
-
-
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
     """Warnings and notices as one line each (no source line), with the --set a change needs."""
-    text = with_set_hint(" ".join(str(message).split()))
+    text = cli_text.with_set_hint(" ".join(str(message).split()))
     print(f"tb-exudyn: warning: {text}", file=sys.stderr if file is None else file)
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import fnmatch
 import math
+import re
 
 from .results.checks import verdict_lines
 from .scenario import Scenario
@@ -70,4 +71,14 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table"]
+#: a warning that asks for a scenario value ("use track.lead_in >= 110 m"): the --set that makes it
+_ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=|<=) ([0-9.eE+-]+)")
+
+
+def with_set_hint(text: str) -> str:
+    """A warning's text with the ``--set KEY=VALUE`` that makes the change it asks for."""
+    hints = [f"--set {k}={v}" for k, v in _ASKS.findall(text)]
+    return text + (f" ({', '.join(hints)})" if hints else "")
+
+
+__all__ = ["SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "with_set_hint"]

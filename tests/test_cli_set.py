@@ -6,7 +6,8 @@ from __future__ import annotations
 import pytest
 
 import tb_exudyn as tbx
-from tb_exudyn.cli import main, with_set_hint
+from tb_exudyn.cli import main
+from tb_exudyn.cli_text import with_set_hint
 from tb_exudyn.scenario.io import parse_setting, with_settings
 
 
