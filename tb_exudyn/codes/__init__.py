@@ -5,7 +5,7 @@
 - :mod:`.trains`: HSLM-A1 ... A10 (Annex E) and real trains as axle loads (models/trains);
 - :mod:`.moving_force`: the modal response to moving forces at all speeds in one integration;
 - :mod:`.check`: :func:`check` -> :class:`CheckResult` (the table, ``to_csv``, the verdict);
-- :mod:`.plot`: the figure (matplotlib, imported on use).
+- the figure: :func:`tb_exudyn.plotting.plot_check` (``CheckResult.plot()``, matplotlib loaded on use).
 
 Pure numpy/scipy, no Exudyn. What the check does clause by clause: docs/en1991.md.
 """

@@ -5,12 +5,13 @@ every speed, and its verdict.
 (optionally with eq. 6.13's additional damping), the modes up to the cut-off max(30 Hz, 1.5 f1, f3)
 and the speed series of 6.4.6.2 for each train, runs :func:`moving_force_response` (all speeds of a
 train in one integration) and returns a :class:`CheckResult`: the rows, the limit and what decided
-the values. Figures: :func:`tb_exudyn.codes.plot.plot_check`. Clause by clause: docs/en1991.md.
+the values. Figures: :func:`tb_exudyn.plotting.plot_check` (``CheckResult.plot()``). Clause by clause: docs/en1991.md.
 """
 
 from __future__ import annotations
 
 import csv
+import importlib
 import io
 import math
 import time
@@ -29,7 +30,6 @@ from ..scenario.registry import model_files
 from ..structure import StructureError, modal_bridge
 from . import en1991 as code
 from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
-from .plot import plot_check
 from .trains import ForceTrain, resolve_trains
 
 #: the table's file in an output folder
@@ -145,8 +145,8 @@ class CheckResult:
         return write_text_atomic(path, self.csv_text())
 
     def plot(self):  # noqa: ANN201
-        """The figure of :func:`tb_exudyn.codes.plot.plot_check`."""
-        return plot_check(self)
+        """The figure of :func:`tb_exudyn.plotting.plot_check` (matplotlib, loaded on first use)."""
+        return importlib.import_module("tb_exudyn.plotting").plot_check(self)
 
 
 def _vertical(mb) -> np.ndarray:  # noqa: ANN001

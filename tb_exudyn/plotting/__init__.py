@@ -7,6 +7,7 @@ shows (no matplotlib: display units, readable labels, crossing events, PSD stati
 standard figures of saved results, in parallel.
 """
 
+from .check_figure import plot_check
 from .data import (
     KEY_CHANNELS, Crossing, axis_label, channel_label, crossing_times, default_channels, display_unit, psd_slices,
     select_channels,
@@ -15,7 +16,7 @@ from .figures import (mark_crossing, plot_bounds, plot_pem_vs_mc, plot_psd_map, 
                       plot_time_history)
 from .files import draw_jobs, figure_jobs, plot_folder, save_figure
 
-__all__ = [
+__all__ = ["plot_check", 
     "Crossing", "KEY_CHANNELS", "axis_label", "channel_label", "crossing_times", "default_channels", "display_unit",
     "draw_jobs", "figure_jobs", "mark_crossing", "plot_bounds", "plot_folder", "plot_pem_vs_mc", "plot_psd_map",
     "plot_psd_slices", "plot_speed_sweep", "plot_time_history", "psd_slices", "save_figure", "select_channels",

@@ -1,5 +1,6 @@
 """The figure of an EN 1991-2 check: peak deck acceleration against speed, one line per train, with
-the limit and the resonant speeds v_i = n0 D / i inside the speed range. Matplotlib (imported here only)."""
+the limit and the resonant speeds v_i = n0 D / i inside the speed range (``CheckResult.plot()`` hands off
+to it, as ``result.plot()`` does for results)."""
 
 from __future__ import annotations
 
