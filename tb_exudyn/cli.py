@@ -51,6 +51,11 @@ def _cmd_list(args: argparse.Namespace) -> int:
     width_t = max(len(n) for n, _ in trains)
     for name, description in trains:
         print(f"  {name:<{width_t}}  {description}")
+    print("limits (criteria of the code checks, models/limits; docs/verdicts.md):")
+    rows = [(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria]
+    width_l = max((len(n) for n, _ in rows), default=0)
+    for name, title in rows:
+        print(f"  {name:<{width_l}}  {title}")
     print("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
     names = spectrum_names()
     width = max(len(n) for n in names)

@@ -74,10 +74,23 @@ class Comparison:
                 return r
         raise KeyError(f"channel {channel!r} not compared; compared: {[r.channel for r in self.rows]}")
 
+    def summary(self) -> str:
+        """One line first: how many channels have their median sigma ratio in the band, and the worst
+        channel (the largest |median ratio - 1|, then the smallest share of times inside)."""
+        lo, hi = self.band
+        if not self.rows:
+            return "no channel compared"
+        ok = sum(lo <= r.ratio_median <= hi for r in self.rows)
+        worst = max(self.rows, key=lambda r: (abs(r.ratio_median - 1.0), -r.inside))
+        return (f"{ok} of {len(self.rows)} channels with the median sigma ratio in [{lo:.3f}, {hi:.3f}]; worst "
+                f"{worst.channel}: median {worst.ratio_median:.3f}, {100 * worst.inside:.0f} % of the times inside, "
+                f"max |z| of the mean {worst.mean_z_max:.2f}")
+
     def table(self) -> str:
         lo, hi = self.band
         k = f"{self.k:g}"
         lines = [
+            self.summary(),
             f"PEM against Monte Carlo (N = {self.n_samples}): sigma ratio MC/PEM expected in 1 +- {k}/sqrt(2N) "
             f"= [{lo:.3f}, {hi:.3f}]; mean difference in standard errors z, expected |z| <= {k}",
             f"compared: t >= {self.t_min:.3g} s where sigma_PEM > {100 * self.threshold:g} % of its maximum; "

@@ -74,8 +74,15 @@ def test_table_and_folders(scenario, tmp_path):
     """The printed table names every channel with its numbers; saved results compare alike from
     the result folders or from an --out folder holding pem/ and mc/."""
     pem, mc = _pair(scenario, 1.05, 1.0)
-    table = compare(pem, mc).table()
+    c = compare(pem, mc)
+    table = c.table()
     assert "a.disp_z" in table and "b.acc_z" in table and "[0.894, 1.106]" in table and "1.050" in table
+    # the first line sums it up: every channel's median ratio (1.05 and 1.0) lies in the band, the worst
+    # is the one furthest from 1
+    worst = max(c.rows, key=lambda r: abs(r.ratio_median - 1))
+    assert table.splitlines()[0] == c.summary()
+    assert c.summary().startswith(f"{len(c.rows)} of {len(c.rows)} channels with the median sigma ratio in [0.894, 1.106]")
+    assert f"worst {worst.channel}: median {worst.ratio_median:.3f}" in c.summary()
     pem.save(tmp_path / "pem")
     mc.save(tmp_path / "mc")
     assert compare_folders(tmp_path / "pem", tmp_path / "mc") == table
