@@ -10,13 +10,13 @@ import argparse
 import dataclasses
 import math
 import sys
+import textwrap
 import warnings
 from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, check
-from .codes.trains import list_trains
 from .engines import ENGINES
 from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
@@ -30,37 +30,16 @@ from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
-from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
+from .scenario import Analysis, Scenario, ScenarioError, load_scenario
 from .scenario.io import parse_setting, with_settings
 from .scenario.show import run_label, scenario_table
 from .system.damping_guard import merged_messages
-from .track import get_spectrum, spectrum_names
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
-    entries = list_models()
-    width = max((len(e.name) for e in entries), default=0)
-    for category in ("vehicles", "bridges", "scenarios"):
-        print(f"{category}:")
-        for e in (e for e in entries if e.category == category):
-            print(f"  {e.name:<{width}}  {e.description}")
-    trains = list_trains()
-    print("trains (moving forces for `tb-exudyn check`; hslm_a: all ten HSLM-A):")
-    width_t = max(len(n) for n, _ in trains)
-    for name, description in trains:
-        print(f"  {name:<{width_t}}  {description}")
-    print("limits (criteria of the code checks, models/limits; docs/verdicts.md):")
-    rows = [(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria]
-    width_l = max((len(n) for n, _ in rows), default=0)
-    for name, title in rows:
-        print(f"  {name:<{width_l}}  {title}")
-    print("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
-    names = spectrum_names()
-    width = max(len(n) for n in names)
-    for name in names:
-        print(f"  {name:<{width}}  {get_spectrum(name).describe()}")
+    print(cli_text.library_listing())
     return EXIT_OK
 
 
@@ -172,7 +151,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
     methods = _methods()
-    print(f"scenario {scenario.name}: {run_label(scenario)}")
+    print(textwrap.fill(f"scenario {scenario.name}: {run_label(scenario)}", cli_text.TERMINAL_WIDTH,
+                        subsequent_indent="  ", break_on_hyphens=False))
     common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
               "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
               "max_memory": args.max_memory, "keep_checkpoint": args.keep_checkpoint, "where": "command line"}
@@ -567,9 +547,17 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
 
 
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
-    """Warnings and notices as one line each (no source line), with the --set a change needs."""
+    """Warnings and notices, each once, in at most two lines of 100 characters (no source line), with
+    the --set a change needs; the report has them in full."""
     text = cli_text.with_set_hint(" ".join(str(message).split()))
-    print(f"tb-exudyn: warning: {text}", file=sys.stderr if file is None else file)
+    if text in _SHOWN:  # each warning once (a sweep repeats a speed's)
+        return
+    _SHOWN.add(text)
+    print("\n".join(cli_text.terminal_warning(text)), file=sys.stderr if file is None else file)
+
+
+#: the warnings printed by this command (each once)
+_SHOWN: set[str] = set()
 
 
 def main(argv: Sequence[str] | None = None) -> int:

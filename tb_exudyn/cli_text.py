@@ -7,7 +7,10 @@ import fnmatch
 import math
 import re
 
-from .results.checks import verdict_lines
+from .codes.trains import list_trains
+from .results.checks import default_limits, verdict_lines
+from .scenario import list_models
+from .track import get_spectrum, spectrum_names
 from .scenario import Scenario
 from .structure import StructureError, modal_bridge
 from .system.labels import default_patterns, display_unit, format_number
@@ -52,17 +55,14 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
     loss of contact), the channels whose random part is largest against their mean, and where the
     full table is."""
     lines = verdict_lines(result)
-    warnings_ = [str(w) for w in result.provenance.get("warnings", [])]
-    if warnings_:
-        lines.append(f"{len(warnings_)} warning(s) (also in the report):")
-        lines += [f"  - {w}" for w in warnings_[:6]]
-        if len(warnings_) > 6:
-            lines.append(f"  ... and {len(warnings_) - 6} more")
+    n_warn = len(result.provenance.get("warnings", []) or [])
+    if n_warn:  # printed once as they came (tb-exudyn: warning: ...); here only where they are in full
+        lines.append(f"{n_warn} warning{'s' if n_warn != 1 else ''} above, each in full in the report (Warnings)")
     rows = result.summary_rows(k)
     patterns = [p for _, group in default_patterns(result.channels) for p in group]
     key = [r for r in rows if any(fnmatch.fnmatchcase(r[0], p) for p in patterns)] or rows[:SHOWN_CHANNELS]
     width = max((len(r[0]) for r in key), default=10)
-    lines.append(f"key channels ({len(rows)} channels in {table_path}):")
+    lines.append(f"key channels (all {len(rows)}: {table_path.name} in the output folder):")
     lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
     for n, u, m, sd, p in key:
         du = display_unit(u)
@@ -72,7 +72,37 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
 
 
 #: a warning that asks for a scenario value ("use track.lead_in >= 110 m"): the --set that makes it
-_ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=|<=) ([0-9.eE+-]+)")
+_ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=|<=|=) '?([A-Za-z0-9.eE+_-]+)'?")
+
+
+#: a terminal line's width and a warning's lines on it (the report has the whole text)
+TERMINAL_WIDTH, WARNING_LINES = 100, 2
+
+
+def terminal_warning(text: str, width: int = TERMINAL_WIDTH, lines: int = WARNING_LINES) -> list[str]:
+    """A warning as at most ``lines`` lines of at most ``width`` characters, "tb-exudyn: warning: "
+    first, the rest indented; a longer text is cut at a word and ends with a pointer to the report."""
+    head, indent = "tb-exudyn: warning: ", "  "
+    hint = re.search(r" \((--set [^()]*)\)$", text)  # the change it asks for is never cut
+    if hint:
+        text = text[: hint.start()]
+    words, out, line = text.split(), [], head
+    tail = " ... (report)" + (f" {hint.group(1)}" if hint else "")
+    if hint and len(head) + len(text) + len(hint.group(0)) <= width * lines - len(indent):
+        words += hint.group(0).split()
+        hint, tail = None, " ... (in full in the report)"
+    for i, word in enumerate(words):
+        if len(line) + 1 + len(word) > width and line.strip():
+            if len(out) == lines - 1:  # the last line: cut here, with the pointer
+                while len(line) + len(tail) > width and " " in line.strip():
+                    line = line[: line.rstrip().rfind(" ")]
+                out.append(line.rstrip() + tail)
+                return out
+            out.append(line.rstrip())
+            line = indent
+        line += ("" if line in (head, indent) else " ") + word
+    out.append(line.rstrip())
+    return out
 
 
 def with_set_hint(text: str) -> str:
@@ -81,4 +111,33 @@ def with_set_hint(text: str) -> str:
     return text + (f" ({', '.join(hints)})" if hints else "")
 
 
-__all__ = ["SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "with_set_hint"]
+def library_listing() -> str:
+    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, trains, limits, spectra."""
+    out: list[str] = []
+    entries = list_models()
+    width = max((len(e.name) for e in entries), default=0)
+    for category in ("vehicles", "bridges", "scenarios"):
+        out.append(f"{category}:")
+        for e in (e for e in entries if e.category == category):
+            out.append(f"  {e.name:<{width}}  {e.description}")
+    trains = list_trains()
+    out.append("trains (moving forces for `tb-exudyn check`; hslm_a: all ten HSLM-A):")
+    width_t = max(len(n) for n, _ in trains)
+    for name, description in trains:
+        out.append(f"  {name:<{width_t}}  {description}")
+    out.append("limits (criteria of the code checks, models/limits; docs/verdicts.md):")
+    rows = [(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria]
+    width_l = max((len(n) for n, _ in rows), default=0)
+    for name, title in rows:
+        out.append(f"  {name:<{width_l}}  {title}")
+    out.append("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
+    names = spectrum_names()
+    width = max(len(n) for n in names)
+    for name in names:
+        out.append(f"  {name:<{width}}  {get_spectrum(name).describe()}")
+
+
+    return "\n".join(out)
+
+
+__all__ = ["library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]

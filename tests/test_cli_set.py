@@ -54,3 +54,28 @@ def test_a_warning_asking_for_a_change_names_its_set():
     assert with_set_hint("use analysis.time_step <= 0.000125 s or a smaller contact stiffness").endswith(
         "(--set analysis.time_step=0.000125)")
     assert with_set_hint("nothing to change") == "nothing to change"
+
+
+def test_the_terminal_fits_an_engineers_screen(tmp_path, capsys):
+    """Exact problem: ``tb-exudyn run quick`` (PEM, adaptive grid, one car over one span). Reference:
+    issue 26's screen, lines of about 100 characters (at most 105: a verdict line with a long
+    location) and each warning once in at most two lines; the whole terminal under 50 lines."""
+    assert main(["run", "quick", "--out", str(tmp_path / "q"), "--no-figures", "--no-progress"]) == 0
+    cap = capsys.readouterr()
+    lines = (cap.out + cap.err).splitlines()
+    assert len(lines) < 50, len(lines)
+    assert max(map(len, lines)) <= 105, max(lines, key=len)
+    warnings = [i for i, ln in enumerate(cap.err.splitlines()) if ln.startswith("tb-exudyn: warning:")]
+    assert warnings and len(cap.err.splitlines()) <= 2 * len(warnings)
+    assert len(set(cap.err.splitlines())) == len(cap.err.splitlines())  # each once
+
+
+def test_a_long_warning_keeps_its_set_hint():
+    from tb_exudyn.cli_text import terminal_warning
+
+    text = with_set_hint("the frequency grid is too coarse for 242 of 559 channels: their max sigma changes by more "
+                         "than 1 % when the grid is refined (largest -17 % on car2.bogie1.acc_rz; e.g. car1.body."
+                         "disp_y); use analysis.freq_spacing = 'adaptive' or more frequencies (analysis.n_freq)")
+    lines = terminal_warning(text)
+    assert len(lines) == 2 and max(map(len, lines)) <= 100
+    assert lines[-1].endswith("--set analysis.freq_spacing=adaptive") and "(report)" in lines[-1]

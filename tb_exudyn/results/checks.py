@@ -511,25 +511,54 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
     )
 
 
+#: the order of the limit sets on a terminal: the bridge's first (deck acceleration, twist), then
+#: the vehicle's (ride comfort, running safety); others after them
+SET_ORDER = ("en1990_deck", "ride_comfort", "running_safety")
+
+
 def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
-    """Lines for a terminal summary (the CLI): the counts, then per criterion its deciding location."""
+    """Lines for a terminal summary (the CLI), each under about 100 characters: the counts, then per
+    limit set (the bridge's first) one line per criterion with its deciding location, estimate, limit
+    and probability, and once per set why its rows are not evaluated or conditional."""
     table = checks(result, limits, **options)
     counts = table.counts()
     n_cond = sum(r.conditional for r in table.rows)
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
              + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
-    for r in table.worst():
-        shown = "" if r.probability is None else format_probability(r)
-        p = "" if not shown else f", P {shown}" if shown.startswith("<") else f", P = {shown}"
-        est = format_value(r.estimate, r.unit, with_unit=False)
-        lim = format_value(r.limit, r.unit)
-        tags = sorted({c.kind for c in r.caveats if c.changes_verdict})
-        why = next((c.text.split(":")[0] for c in r.caveats if c.kind == "model"), "")
-        lines.append(f"  {r.verdict_text:<24} {r.criterion} at {r.channel}: {est} vs {lim}{p}"
-                     + (f" (caveats: {', '.join(tags)})" if tags else "") + (f" ({why})" if why else ""))
-    return lines
+    worst = table.worst()
+    sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
+                  key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
+    for name in sets:
+        lines.append(f" {name}:")
+        notes: list[str] = []
+        for r in (r for r in worst if r.criterion.split("/")[0] == name):
+            shown = "" if r.probability is None else format_probability(r)
+            p = "" if not shown else f", P {shown}" if shown.startswith("<") else f", P = {shown}"
+            est = format_value(r.estimate, r.unit, with_unit=False)
+            where = r.channel.removeprefix("bridge.")
+            value = "" if r.verdict == "NOT EVALUATED" else f": {est} vs {format_value(r.limit, r.unit)}{p}"
+            lines.append(f"  {r.verdict_text:<19} {r.criterion.split('/', 1)[1]} at {where}{value}")
+            short = r.criterion.split("/", 1)[1]
+            for c in r.caveats:
+                if c.kind == "model":
+                    text = c.text
+                elif r.verdict == "NOT EVALUATED" and c.kind == "statistic":
+                    text = f"{short} not evaluated, {c.text.split(':')[0].replace('is not evaluated', 'not formed')}"
+                elif c.changes_verdict and r.verdict != "NOT EVALUATED":  # conditional: by how much, if it says
+                    how = c.text.rsplit("; it moves ", 1)
+                    text = f"{short} conditional, {c.kind.replace('_', ' ')}" + (
+                        f": it moves {how[1].replace(' between the estimate and the limit', ' to the limit')}"
+                        if len(how) == 2 else "")
+                else:
+                    continue
+                if text not in notes:
+                    notes.append(text)
+        for text in notes:  # a model's reason and what to run instead on two lines
+            first, _, then = text.partition(": ")
+            lines.append(f"    note: {first}" + ("" if not then else f"\n          {then}"))
+    return [ln for line in lines for ln in line.split("\n")]
 
 
 __all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "MODEL_REQUIREMENTS",
            "ModelRequirement", "VERDICTS", "can_turn", "checks", "damping_caveats", "default_limits", "grid_error_of",
-           "static_axle_load", "unmet_requirement", "verdict_lines"]
+           "SET_ORDER", "static_axle_load", "unmet_requirement", "verdict_lines"]

@@ -135,13 +135,12 @@ def damping_warnings(
         channels = table.affected_channels(i)
         growth = envelope_growth(float(tau[i]), run.bridge_entry, run.bridge_exit)
         t_text = "infinite (undamped)" if not math.isfinite(tau[i]) else f"{tau[i]:.3g} s"
-        message = (
-            f"lightly damped mode at {f:.4g} Hz ({table.label[i]}): damping ratio {z:.2g}, decay time "
-            f"1 / (zeta omega) = {t_text}, longer than the run ({run.duration:.3g} s): sigma of the channels it "
-            f"moves ({', '.join(channels)}) grows through the whole run instead of settling (by about "
-            f"{100 * growth:.0f} % while the train is on the bridge; it depends on the run's length), and PEM "
-            f"peaks near {f:.4g} Hz depend on the frequency grid (spacing finer than about "
-            f"{1.0 / (4.0 * run.duration):.2g} Hz there)"
+        message = (  # what decides first (a terminal shows two lines of it): the mode, its damping, the effect
+            f"lightly damped mode at {f:.4g} Hz, damping ratio {z:.2g}: sigma of {', '.join(channels)} grows "
+            f"through the run (about {100 * growth:.0f} % on the bridge) instead of settling, as the decay time "
+            f"1 / (zeta omega) = {t_text} is longer than the run ({run.duration:.3g} s); it depends on the run's "
+            f"length, and PEM peaks near {f:.4g} Hz on the frequency grid (spacing finer than about "
+            f"{1.0 / (4.0 * run.duration):.2g} Hz there). The mode: {table.label[i]}"
         )
         out.append(DampingWarning(i, table.label[i], table.kind[i], f, z, float(tau[i]), growth, channels, message))
     return out
@@ -162,11 +161,11 @@ def merged_messages(warnings: Sequence[DampingWarning]) -> list[str]:
         channels = list(dict.fromkeys(c for x in ws for c in x.channels))
         t_text = "infinite (undamped)" if not math.isfinite(w.decay_time) else f"{w.decay_time:.3g} s"
         out.append(
-            f"{len(ws)} lightly damped modes at {w.frequency:.4g} Hz ({'; '.join(x.label for x in ws)}): damping "
-            f"ratio {w.damping_ratio:.2g}, decay time 1 / (zeta omega) = {t_text}, longer than the run: sigma of "
-            f"the channels they move ({', '.join(channels)}) grows through the whole run instead of settling (by "
-            f"about {100 * w.growth_on_bridge:.0f} % while the train is on the bridge), and PEM peaks near "
-            f"{w.frequency:.4g} Hz depend on the frequency grid"
+            f"{len(ws)} lightly damped modes at {w.frequency:.4g} Hz, damping ratio {w.damping_ratio:.2g}: sigma "
+            f"of {', '.join(channels)} grows through the run (about {100 * w.growth_on_bridge:.0f} % on the "
+            f"bridge) instead of settling, as the decay time 1 / (zeta omega) = {t_text} is longer than the run; "
+            f"PEM peaks near {w.frequency:.4g} Hz depend on the frequency grid. The modes: "
+            f"{'; '.join(x.label for x in ws)}"
         )
     return out
 

@@ -186,7 +186,7 @@ def test_damping_guard_warns_only_for_lightly_damped_excited_modes_in_band():
     assert w8.decay_time == pytest.approx(1 / (1e-4 * 2 * np.pi * 8.0), rel=1e-9)
     assert w8.damping_ratio == pytest.approx(1e-4, rel=1e-9)
     assert w8.channels == ("car1.*",) and w8.label == "car 1 (x), leading bogie, yaw"
-    assert "8 Hz" in w8.message and "grows through the whole run" in w8.message and "frequency grid" in w8.message
+    assert "8 Hz" in w8.message and "grows through the run" in w8.message and "frequency grid" in w8.message
     bridge = next(w for w in w5 if abs(w.frequency - 3.0) < 1e-9)
     assert bridge.channels == ("bridge.*",)
     assert [round(w.frequency, 6) for w in damping_warnings(t, band, RunTimes(10.0, 1.0, 4.0))] == [8.0]
