@@ -20,7 +20,9 @@ KMH = 1.0 / 3.6  # m/s per km/h
 
 class _Replaceable(Validated):
     def replace(self, **changes):
-        """A modified copy, validated again; e.g. ``scenario.replace(speed_kmh=300.0)``."""
+        """A modified copy, checked as the TOML loader checks each value (types included: no bool, str,
+        NaN, complex or array for a number; no dict for a nested table) and validated again; e.g.
+        ``scenario.replace(speed_kmh=300.0)`` (:func:`.schema.replace`)."""
         return replace(self, **changes)
 
 
