@@ -19,6 +19,7 @@ from typing import Sequence
 from .engines import ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
+from .execution.resources import check_run_length
 from .execution.output import SWEEP_FIGURE
 from ._version import __version__
 from .atomic import write_text_atomic
@@ -82,6 +83,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
         raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
     scenario = load_scenario(args.scenario)
+    check_run_length(scenario)  # the run's checks (the damping guard follows the whole run), before the build
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
         table = methods.system_modes(scenario, position, model=model)
