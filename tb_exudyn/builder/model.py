@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 from ..errors import CapabilityError
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
-from ..structure import modal_bridge
+from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
 from ..system import derived as dch
@@ -53,7 +53,10 @@ def bridge_modes(scenario: Scenario) -> ModalBridge:
     ``analysis.max_modes`` (0: no limit)."""
 
     an = scenario.analysis
-    return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    try:
+        return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    except StructureError as exc:  # named in the scenario's (or the bridge's) file
+        raise located(exc, scenario) from None
 
 
 def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int = 0) -> ModalBridge:

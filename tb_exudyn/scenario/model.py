@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
+from .bounds import check_spans
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace, source_file
 
 KMH = 1.0 / 3.6  # m/s per km/h
@@ -20,9 +21,7 @@ KMH = 1.0 / 3.6  # m/s per km/h
 
 class _Replaceable(Validated):
     def replace(self, **changes):
-        """A modified copy, checked as the TOML loader checks each value (types included: no bool, str,
-        NaN, complex or array for a number; no dict for a nested table) and validated again; e.g.
-        ``scenario.replace(speed_kmh=300.0)`` (:func:`.schema.replace`)."""
+        """A copy checked as the TOML loader checks (:func:`.schema.replace`); e.g. ``sc.replace(speed_kmh=300.0)``."""
         return replace(self, **changes)
 
 
@@ -386,9 +385,7 @@ class SimpleBeam(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+    _validate = check_spans
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -440,9 +437,7 @@ class Frame(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+    _validate = check_spans
 
 
 Bridge = Union[SimpleBeam, Frame]
