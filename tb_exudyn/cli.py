@@ -19,7 +19,6 @@ from typing import Sequence
 from .engines import ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
-from .execution.resources import check_run_length
 from .execution.output import SWEEP_FIGURE
 from ._version import __version__
 from .atomic import write_text_atomic
@@ -32,6 +31,7 @@ from .results.storage import check_writable
 from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
 from .scenario.show import scenario_table
 from .structure import StructureError, modal_bridge
+from .structure.guards import check_scenario_size
 from .system.labels import default_patterns, display_unit, format_number
 from .system.damping_guard import merged_messages
 from .system.modes import DIRECTIONS, nth_frequency
@@ -83,7 +83,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
     if args.band is not None and not 0.0 <= args.band[0] < args.band[1]:
         raise SettingError("command line", "--band", args.band, "F_MIN F_MAX with 0 <= F_MIN < F_MAX [Hz]")
     scenario = load_scenario(args.scenario)
-    check_run_length(scenario)  # the run's checks (the damping guard follows the whole run), before the build
+    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
         table = methods.system_modes(scenario, position, model=model)
@@ -194,6 +194,7 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(load_scenario(args.scenario), args)
+    check_scenario_size(scenario)  # before the output folder is made
     out = check_writable(args.out)
     with _folder_lock(out):
         return _run(args, scenario, out)

@@ -25,6 +25,7 @@ from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
 from ..errors import CapabilityError
+from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
 from ..structure import StructureError, located, modal_bridge
@@ -416,6 +417,7 @@ def build_model(
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
     bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
+    check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
     model = TrainBridgeModel(scenario, bridge)
     if excitation is not None:
         model.set_excitation(excitation)

@@ -271,14 +271,21 @@ def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int) -> tuple
     return "<top level>", None
 
 
-def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]:
+def _extreme_value(label: str, s: BeamSection) -> tuple[str, float]:
     """The section value farthest from 1 in orders of magnitude (what makes the matrices overflow)."""
+    items = [(f"{label}.{k}", getattr(s, k)) for k in ("E", "G", "area", "I_y", "I_z", "J", "mass_per_length",
+                                                        "rot_mass_per_length")]
+    return max(items, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
+
+
+def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]:
+    """The section value of the bridge farthest from 1 in orders of magnitude (girder or pier)."""
     if bridge is None:
         return "<top level>", None
-    sections = [("girder", bridge.girder)] + ([("pier.section", bridge.pier.section)] if isinstance(bridge, Frame) else [])
-    items = [(f"{label}.{k}", getattr(s, k)) for label, s in sections
-             for k in ("E", "G", "area", "I_y", "I_z", "J", "mass_per_length", "rot_mass_per_length")]
-    return max(items, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
+    found = [_extreme_value("girder", bridge.girder)]
+    if isinstance(bridge, Frame):
+        found.append(_extreme_value("pier.section", bridge.pier.section))
+    return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
 
 
 # ============================================================================================
@@ -312,18 +319,26 @@ class _Builder:
         self.k_vals.append(np.zeros(n * n) if k is None else np.asarray(k, dtype=float).ravel())
         self.m_vals.append(np.zeros(n * n) if m is None else np.asarray(m, dtype=float).ravel())
 
-    def element(self, n1: int, n2: int, section: BeamSection, smass: np.ndarray) -> tuple[float, float]:
-        """A beam element between nodes n1 and n2; returns its shear parameters (lateral, vertical)."""
+    def element(self, n1: int, n2: int, section: BeamSection, smass: np.ndarray,
+                label: str = "girder") -> tuple[float, float]:
+        """A beam element between nodes n1 and n2; returns its shear parameters (lateral, vertical).
+        Section values whose element matrices overflow raise a StructureError naming the extreme one."""
         p1, p2 = np.array(self.coords[n1]), np.array(self.coords[n2])
         rot = rotation(p1, p2)
         length = float(np.linalg.norm(p2 - p1))
         a_s = section.shear_area_factor * section.area
         phi_y = shear_parameter(section.E, section.I_z, section.G, a_s, length)
         phi_z = shear_parameter(section.E, section.I_y, section.G, a_s, length)
-        k = element_stiffness(length, section.E, section.G, section.area, section.I_y, section.I_z, section.J, a_s)
-        m = element_mass(length, smass, phi_y, phi_z)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            k = element_stiffness(length, section.E, section.G, section.area, section.I_y, section.I_z, section.J, a_s)
+            m = element_mass(length, smass, phi_y, phi_z)
+            k, m = to_global(k, rot), to_global(m, rot)
+        if not (np.all(np.isfinite(k)) and np.all(np.isfinite(m))):
+            key, value = _extreme_value(label, section)
+            raise _fail(self.name, key, value, "section values whose element stiffness and mass are finite numbers",
+                        "the finite-element matrices overflow")
         dofs = np.concatenate([np.arange(6 * n1, 6 * n1 + 6), np.arange(6 * n2, 6 * n2 + 6)])
-        self._add(dofs, to_global(k, rot), to_global(m, rot))
+        self._add(dofs, k, m)
         return phi_y, phi_z
 
     def lumped_mass(self, node: int, mass: float) -> None:
@@ -478,7 +493,7 @@ def _add_pier(b: _Builder, pier: Pier, x: float, top_z: float, n_el: int, index:
     zs = top_z - pier.height + np.linspace(0.0, pier.height, n_el + 1)
     nodes = [b.node((x, 0.0, z), PIER, index) for z in zs]
     for i in range(n_el):
-        b.element(nodes[i], nodes[i + 1], pier.section, smass)
+        b.element(nodes[i], nodes[i + 1], pier.section, smass, "pier.section")
     base = 6 * nodes[0]
     if pier.footing == "fixed":
         springs = (math.inf,) * 6

@@ -30,8 +30,10 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as sla
 
 from ..scenario.model import Frame, SimpleBeam
-from .assembly import DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assemble, extreme_section_key, mechanism_key
+from .assembly import (DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assemble, extreme_section_key, mechanism_key,
+                       validate_bridge)
 from .beam import SIGN_VERTICAL, cubic_coefficients
+from .size import check_bridge_size
 from .modal import ModalBridge, RailShapes
 
 #: kinetic-energy groups used to name a mode
@@ -214,7 +216,8 @@ def solve_modes(model: FEModel, max_frequency: float, max_modes: int = 0) -> FEM
         raise StructureError(f"bridge '{model.name}'", "max_frequency", max_frequency, "a finite frequency > 0 [Hz]")
     if max_modes < 0:
         raise StructureError(f"bridge '{model.name}'", "max_modes", max_modes, ">= 0 (0: no limit)")
-    k_r, m_r = model.reduced()
+    with np.errstate(over="ignore", invalid="ignore"):  # huge (finite) element values: refused below
+        k_r, m_r = model.reduced()
     if k_r.shape[0] == 0:
         raise StructureError(f"bridge '{model.name}'", "<top level>", model.name, "a bridge with a free DOF",
                              "every DOF is fixed, no mode to compute")
@@ -446,7 +449,10 @@ def modal_report(modes: FEModes) -> ModalReport:
 
 
 def bridge_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: int = 0) -> FEModes:
-    """Assemble ``bridge`` and compute its modes (see :func:`solve_modes`)."""
+    """Assemble ``bridge`` and compute its modes (see :func:`solve_modes`); a bridge whose model would
+    not fit the memory available is refused first (:func:`.size.check_bridge_size`)."""
+    validate_bridge(bridge)
+    check_bridge_size(bridge, max_frequency, max_modes, solve_modes)
     return solve_modes(assemble(bridge), max_frequency, max_modes)
 
 
