@@ -257,18 +257,16 @@ def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int) -> tuple
     its mass (its modulus below :data:`MIN_MODULUS`, else its area, second moment or torsion constant)."""
     if bridge is None:
         return "<top level>", None
-    if part == GIRDER:
-        if isinstance(bridge, Frame) and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
-            return f"bearings.{_BEARING_OF_DOF[j]}", 0.0
-        return _section_key("girder", bridge.girder, j)
-    if isinstance(bridge, Frame):
-        p = bridge.pier
-        if p.footing == "springs":
-            key = "k_translation" if j < 3 else "k_rotation"
+    if not isinstance(bridge, Frame):
+        return _section_key("girder", bridge.girder, j) if part == GIRDER else ("<top level>", None)
+    if part == GIRDER and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
+        return f"bearings.{_BEARING_OF_DOF[j]}", 0.0
+    p = bridge.pier
+    if p.footing == "springs" and len(bridge.spans) > 1:  # a girder on piers free on their footing moves with them
+        for key in ("k_translation", "k_rotation") if j < 3 else ("k_rotation", "k_translation"):
             if getattr(p, key) == 0.0:
-                return f"pier.{key}", getattr(p, key)
-        return _section_key("pier.section", p.section, j)
-    return "<top level>", None
+                return f"pier.{key}", 0.0
+    return _section_key("girder", bridge.girder, j) if part == GIRDER else _section_key("pier.section", p.section, j)
 
 
 def _extreme_value(label: str, s: BeamSection) -> tuple[str, float]:
