@@ -126,7 +126,7 @@ def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> An
         return _convert_kind_union(get_args(tp), value, ctx)
     if origin is Literal:
         allowed = get_args(tp)
-        if not any(type(value) is type(a) and value == a for a in allowed):  # no array == str, no True == 1
+        if not any(isinstance(value, type(a)) and value == a for a in allowed):  # no array == str
             raise ctx.error(value, ", ".join(repr(a) for a in allowed), "unknown value")
         return value
     if origin is tuple:
