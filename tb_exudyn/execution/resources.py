@@ -269,9 +269,16 @@ def check_run_length(scenario: Any) -> None:
             key, value = "speed_kmh", scenario.speed_kmh
         else:
             key, value = "analysis.time_step", an.time_step
+        allowed = (f"at most {MAX_STEPS:.0e} steps: a larger analysis.time_step, or a shorter track.lead_in, "
+                   "track.run_out")
+        if key == "speed_kmh":  # the speed at which the crossing takes MAX_STEPS steps
+            slowest = 3.6 * (tr.lead_in + scenario.bridge.length + scenario.train.length + tr.run_out) \
+                / (MAX_STEPS * an.time_step)
+            unit = 10.0 ** (math.floor(math.log10(slowest)) - 2)  # rounded up to 3 digits: that speed is allowed
+            allowed = (f"at most {MAX_STEPS:.0e} steps: a speed_kmh >= {math.ceil(slowest / unit) * unit:.3g}, or a "
+                       "larger analysis.time_step")
         raise ResourceError(format_message(
-            where, key, value,
-            f"at most {MAX_STEPS:.0e} steps: a larger analysis.time_step, or a shorter track.lead_in, track.run_out",
+            where, key, value, allowed,
             f"the crossing takes {duration:.4g} s, {steps:.4g} steps of analysis.time_step = {an.time_step:g} s"))
     if an.output_step > duration:
         raise ResourceError(format_message(

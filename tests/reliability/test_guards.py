@@ -83,3 +83,21 @@ def test_damping_guard_refuses_a_run_too_long_before_building():
 
     with pytest.raises(ResourceError, match="speed_kmh"):
         damping_guard(load_scenario("quick").replace(speed_kmh=0.001))
+
+
+def test_the_speed_a_refusal_names_is_allowed():
+    """Problem: quick at 0.001 km/h (7e8 steps). The refusal names the least speed_kmh whose crossing
+    takes at most MAX_STEPS steps (rounded up to 3 digits); that speed passes the same check."""
+    import re
+
+    from tb_exudyn.errors import ResourceError
+    from tb_exudyn.execution.resources import check_run_length
+    from tb_exudyn.scenario import load_scenario
+
+    sc = load_scenario("quick").replace(speed_kmh=0.001)
+    with pytest.raises(ResourceError) as err:
+        check_run_length(sc)
+    least = float(re.search(r"speed_kmh >= ([0-9.e+-]+)", str(err.value)).group(1))
+    check_run_length(sc.replace(speed_kmh=least))
+    with pytest.raises(ResourceError):
+        check_run_length(sc.replace(speed_kmh=least * 0.99))
