@@ -82,14 +82,17 @@ def _counts(bridge: SimpleBeam | Frame) -> tuple[int, int]:
 Solver = Callable[[Any, float, int], Any]
 
 
-def _modes_below(solve: Solver, model: Any, max_frequency: float, exact: bool) -> int:
-    """The modes of a small model below the cut-off. A part that is a component of the whole (``exact``:
-    a SimpleBeam's span) raises what the whole would raise (a mechanism); another (a frame's span on the
-    abutments, a pier alone) that cannot be solved alone counts its free DOFs."""
+def _modes_below(solve: Solver, model: Any, max_frequency: float, whole: bool) -> int:
+    """The modes of a small model below the cut-off (none: 0). A part that is a mechanism alone raises
+    that error when the whole is one too (``whole``: a span on its supports, which every span of the
+    bridge rests on alike); a pier alone (its top free, held by the bearings in the bridge) that is
+    one counts its free DOFs."""
     try:
         return solve(model, max_frequency, 0).n_modes
-    except StructureError:
-        if exact:
+    except StructureError as exc:
+        if exc.key == "max_frequency":  # no mode below the cut-off
+            return 0
+        if whole:
             raise
         return model.n_free
 
@@ -103,8 +106,7 @@ def estimate_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: 
     single = {}
     for length in lengths:
         part = dataclasses.replace(bridge, spans=(length,))
-        exact = isinstance(bridge, SimpleBeam)  # a span of a SimpleBeam is a component of the whole
-        single[length] = _modes_below(solve, assemble(part), max_frequency, exact)
+        single[length] = _modes_below(solve, assemble(part), max_frequency, True)
     count = sum(single.get(float(s), single[lengths[-1]]) for s in bridge.spans)
     if isinstance(bridge, Frame) and len(bridge.spans) > 1:
         pier = assemble_pier(bridge.pier, int(bridge.elements_per_pier), bridge.name)

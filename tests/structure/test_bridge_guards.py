@@ -117,3 +117,19 @@ def test_the_machine_limit_refuses_1000_spans_before_assembly(monkeypatch):
     monkeypatch.setattr("tb_exudyn.structure.size.available_memory", lambda: (4 * 10**9, "4 GB (test)"))
     with pytest.raises(BridgeSizeError, match="4 GB"):
         modal_bridge(SimpleBeam(name="long", spans=(32.0,) * 1000, girder=GIRDER), 60.0)
+
+
+@pytest.mark.parametrize("spans", [3, 10])
+def test_the_scenario_check_refuses_a_mechanism_before_building(spans):
+    """check_scenario_size (what run and modes do first): a small bridge is solved whole (3 spans), a
+    larger one (10 spans, beyond the size where the mode count is estimated) by its span on the
+    abutments, which is a mechanism when every span is (the same bearings carry each)."""
+    from tb_exudyn.structure.guards import check_scenario_size
+
+    sc = load_scenario("li_zhu_2011")
+    bridge = sc.bridge.replace(spans=(32.0,) * spans, bearings=sc.bridge.bearings.replace(k_rx=0.0))
+    if spans == 3:
+        assert bridge_size(bridge, 100.0, 0, solve_modes).upper  # small: no count made, solved whole below
+    with pytest.raises(StructureError) as err:
+        check_scenario_size(sc.replace(bridge=bridge))
+    assert err.value.key == "bearings.k_rx" and "mechanism" in str(err.value)
