@@ -34,9 +34,9 @@ from .assembly import StructureError, assemble, assemble_pier
 #: reference frame; full eigenvectors, the shapes on all DOFs, their station and rail reductions)
 BYTES_PER_SHAPE_ENTRY = 12 * 8
 #: bytes per beam element while assembling (its 12 x 12 stiffness and mass triplets, values and
-#: indices, with their sparse conversions)
+#: indices, with their sparse conversions and the reduced matrices): measured 13.9 kB (20 000 elements)
 BYTES_PER_ELEMENT = 20_000
-#: below this estimate no count is made (the upper bound n_free modes fits: no solve is spent on it)
+#: below this estimate with n_dof modes (an upper bound) no count is made: no solve is spent on it
 SMALL_BYTES = 64 * 10**6
 #: coupled frame: the estimate from its parts times this margin
 FRAME_MARGIN = 1.5
