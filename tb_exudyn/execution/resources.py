@@ -265,6 +265,8 @@ def check_run_length(scenario: Any) -> None:
         elif tr.lead_in + tr.run_out > 100.0 * rest:
             key = "track.lead_in" if tr.lead_in >= tr.run_out else "track.run_out"
             value = tr.lead_in if tr.lead_in >= tr.run_out else tr.run_out
+        elif scenario.bridge.length > 100.0 * (tr.lead_in + tr.run_out + scenario.train.length):
+            key, value = "bridge.spans", list(scenario.bridge.spans)
         elif scenario.speed_kmh < 1.0:
             key, value = "speed_kmh", scenario.speed_kmh
         else:

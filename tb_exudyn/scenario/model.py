@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
-from .bounds import check_spans
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, Validated, param, replace, source_file
 
 KMH = 1.0 / 3.6  # m/s per km/h
@@ -385,7 +384,9 @@ class SimpleBeam(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    _validate = check_spans
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -437,7 +438,9 @@ class Frame(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    _validate = check_spans
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
 
 
 Bridge = Union[SimpleBeam, Frame]

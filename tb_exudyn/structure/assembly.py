@@ -38,6 +38,10 @@ from .beam import element_mass, element_stiffness, rotation, section_mass, shear
 
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 GIRDER, PIER = 0, 1
+#: physical bounds of a span [m]: a shorter one is no beam (its modes lie far above any analysed band: a
+#: 1 m span of the reference girder has its first mode near 5 kHz; 1e-6 m gives 1e9 Hz), a longer one is
+#: longer than any bridge span built (the longest, 2023 m, is a suspension bridge's main span)
+SPAN_RANGE = (1.0, 2500.0)
 
 
 class StructureError(ScenarioError):
@@ -191,8 +195,9 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     """Raise :class:`StructureError` for bridge data no structural model can be built from.
 
     Checks what the scenario loader checks (so a dataclass built in Python is safe too) plus the
-    consistency the assembly needs. Mechanisms (e.g. every bearing free in one direction) are found
-    later from the stiffness matrix, see ``tb_exudyn.structure.fe``.
+    consistency the assembly needs and the spans' physical bounds (:data:`SPAN_RANGE`). Mechanisms
+    (e.g. every bearing free in one direction) are found later from the stiffness matrix, see
+    ``tb_exudyn.structure.fe``.
     """
     if not isinstance(bridge, (SimpleBeam, Frame)):
         raise _not_a_bridge(bridge)
@@ -201,6 +206,9 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
         raise _fail(name, "spans", [], "at least one span length > 0", "no spans")
     for i, span in enumerate(bridge.spans):
         _check_positive(name, f"spans[{i}]", span)
+        if not SPAN_RANGE[0] <= span <= SPAN_RANGE[1]:
+            raise _fail(name, f"spans[{i}]", span, f"{SPAN_RANGE[0]:g} m <= span <= {SPAN_RANGE[1]:g} m",
+                        "no bridge span")
     _check_section(name, "girder", bridge.girder)
     for key in ("track_offset", "track_height"):
         if not math.isfinite(getattr(bridge, key)):

@@ -101,3 +101,15 @@ def test_the_speed_a_refusal_names_is_allowed():
     check_run_length(sc.replace(speed_kmh=least))
     with pytest.raises(ResourceError):
         check_run_length(sc.replace(speed_kmh=least * 0.99))
+
+
+def test_a_run_too_long_for_its_bridge_names_the_spans():
+    """Problem: quick on a 2000 km span (valid data for the schema, 2.9e7 steps at 250 km/h). The run's
+    length check names the key that makes it long, bridge.spans, not the time step."""
+    from tb_exudyn.errors import ResourceError
+    from tb_exudyn.execution.resources import check_run_length
+    from tb_exudyn.scenario import load_scenario
+
+    sc = load_scenario("quick")
+    with pytest.raises(ResourceError, match=r"key 'bridge.spans' = \[2000000.0\]"):
+        check_run_length(sc.replace(bridge=sc.bridge.replace(spans=(2e6,))))
