@@ -28,10 +28,10 @@ from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
+from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario, ScenarioError, list_models, load_scenario
 from .scenario.show import scenario_table
 from .structure import StructureError, modal_bridge
-from .structure.guards import check_scenario_size
 from .system.labels import default_patterns, display_unit, format_number
 from .system.damping_guard import merged_messages
 from .system.modes import DIRECTIONS, nth_frequency
