@@ -30,6 +30,7 @@ from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
+from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario, ScenarioError, load_scenario
 from .scenario.io import parse_setting, with_settings
 from .scenario.show import run_label, scenario_table
@@ -58,6 +59,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
     scenario = _load(args)
+    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
         table = methods.system_modes(scenario, position, model=model)
@@ -142,6 +144,7 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 def _cmd_run(args: argparse.Namespace) -> int:
     scenario = _scenario_with_options(_load(args), args)
+    check_scenario_size(scenario)  # before the output folder is made
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)

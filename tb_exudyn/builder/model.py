@@ -26,9 +26,10 @@ from exudyn import itemInterface as ei
 from numpy.typing import NDArray
 
 from ..errors import CapabilityError
+from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
-from ..structure import modal_bridge
+from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
 from ..system import derived as dch
@@ -54,7 +55,10 @@ def bridge_modes(scenario: Scenario) -> ModalBridge:
     ``analysis.max_modes`` (0: no limit)."""
 
     an = scenario.analysis
-    return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    try:
+        return modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes)
+    except StructureError as exc:  # named in the scenario's (or the bridge's) file
+        raise located(exc, scenario) from None
 
 
 def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int = 0) -> ModalBridge:
@@ -432,6 +436,7 @@ def build_model(
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
     bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
+    check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
     model = TrainBridgeModel(scenario, bridge)
     if excitation is not None:
         model.set_excitation(excitation)

@@ -24,6 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import SettingError
+from ..execution.resources import check_run_length
 from ..scenario.model import Scenario
 from ..system.components import find_components
 from ..system.conventions import scenario_steps
@@ -195,7 +196,8 @@ def damping_guard(
     irregularities excite (:func:`excited_coordinates`, and that an input of their kinds reaches:
     :meth:`ModeTable.reached`) and whose decay time exceeds the run. Empty
     for a scenario without irregularities (nothing random excites any mode). Each warning carries
-    the channel patterns it affects ("car2.*", "bridge.*").
+    the channel patterns it affects ("car2.*", "bridge.*"). A run too long to make is refused as
+    the run is (:func:`~tb_exudyn.execution.resources.check_run_length`: ResourceError naming the key).
 
     The modes at t = 0 suffice: the damping ratios of the vehicle modes are the same with the train
     on the approach and on the bridge (docs/findings.md section 4), and the bridge's own modes keep
@@ -203,6 +205,7 @@ def damping_guard(
     (no excitation, no gravity, rest)."""
     if not scenario.track.irregularities:
         return []
+    check_run_length(scenario)  # the guard follows the run's output times: refused as the run is
     if model is None:
         model = build_model(scenario, warn=False)
     if table is None:

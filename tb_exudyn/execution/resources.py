@@ -265,18 +265,71 @@ def check_run_length(scenario: Any) -> None:
         elif tr.lead_in + tr.run_out > 100.0 * rest:
             key = "track.lead_in" if tr.lead_in >= tr.run_out else "track.run_out"
             value = tr.lead_in if tr.lead_in >= tr.run_out else tr.run_out
+        elif scenario.bridge.length > 100.0 * (tr.lead_in + tr.run_out + scenario.train.length):
+            key, value = "bridge.spans", list(scenario.bridge.spans)
         elif scenario.speed_kmh < 1.0:
             key, value = "speed_kmh", scenario.speed_kmh
         else:
             key, value = "analysis.time_step", an.time_step
+        allowed = (f"at most {MAX_STEPS:.0e} steps: a larger analysis.time_step, or a shorter track.lead_in, "
+                   "track.run_out")
+        if key == "speed_kmh":  # the speed at which the crossing takes MAX_STEPS steps
+            slowest = 3.6 * (tr.lead_in + scenario.bridge.length + scenario.train.length + tr.run_out) \
+                / (MAX_STEPS * an.time_step)
+            unit = 10.0 ** (math.floor(math.log10(slowest)) - 2)  # rounded up to 3 digits: that speed is allowed
+            allowed = (f"at most {MAX_STEPS:.0e} steps: a speed_kmh >= {math.ceil(slowest / unit) * unit:.3g}, or a "
+                       "larger analysis.time_step")
         raise ResourceError(format_message(
-            where, key, value,
-            f"at most {MAX_STEPS:.0e} steps: a larger analysis.time_step, or a shorter track.lead_in, track.run_out",
+            where, key, value, allowed,
             f"the crossing takes {duration:.4g} s, {steps:.4g} steps of analysis.time_step = {an.time_step:g} s"))
     if an.output_step > duration:
         raise ResourceError(format_message(
             where, "analysis.output_step", an.output_step, f"at most the crossing's duration, {duration:.4g} s",
             "longer than the crossing: the run would go on to a whole output step"))
+
+
+#: bytes per entry of the n x n linearised system (n ODE2 coordinates): Exudyn's dense M, K, D, their numpy
+#: copies and the mode table's state matrix; measured 7.6 copies of 8 bytes (40 ICE cars, n = 1694: 174 MB)
+SYSTEM_BYTES_PER_ENTRY = 10 * 8
+#: ODE2 coordinates the builder gives a vehicle: 6 per rigid-body node (a car on two bogies: body, two
+#: bogies, four wheelsets); a sprung mass has 1 (2 with a wheel mass), a moving force none
+CAR_COORDINATES = 42
+
+
+def vehicle_coordinates(vehicle: Any) -> int:
+    """The ODE2 coordinates of one vehicle in the built model (:data:`CAR_COORDINATES` for a car)."""
+    if vehicle.kind == "moving_force":
+        return 0
+    if vehicle.kind == "sprung_mass":
+        return 1 + int(vehicle.wheel_mass > 0.0)
+    return CAR_COORDINATES
+
+
+def check_system_size(scenario: Any, n_bridge_modes: int, limit: int | None = None) -> None:
+    """Refuse (ResourceError naming ``train.vehicles``, or the bridge's modes) a train-bridge system whose
+    linearised matrices would not fit ``limit`` bytes (None: the memory this machine has available), once
+    the bridge's modes are known and before the vehicles are built: every run and the mode table make
+    the dense n x n system (:data:`SYSTEM_BYTES_PER_ENTRY`)."""
+    vehicles = scenario.train.vehicles
+    n_veh = sum(vehicle_coordinates(v) for v in vehicles)
+    n = int(n_bridge_modes) + n_veh
+    text = f"the limit of {format_bytes(limit)}" if limit is not None else ""
+    if limit is None:
+        limit, text = available_memory()
+    need = SYSTEM_BYTES_PER_ENTRY * n * n
+    if limit is None or need <= limit:
+        return
+    most = int(math.sqrt(limit / SYSTEM_BYTES_PER_ENTRY))  # coordinates that fit
+    reason = (f"the system has {n} coordinates ({n_bridge_modes} bridge modes, {n_veh} of {len(vehicles)} vehicles): "
+              f"its linearised matrices need about {format_bytes(need)}, more than {text}")
+    if n_veh >= n_bridge_modes:
+        fit = max(0, (most - int(n_bridge_modes)) * len(vehicles) // n_veh)
+        raise ResourceError(format_message(scenario_where(scenario), "train.vehicles", [v.name for v in vehicles],
+                                           f"at most about {fit} such vehicles", reason))
+    raise ResourceError(format_message(
+        scenario_where(scenario), "analysis.mode_max_frequency", scenario.analysis.mode_max_frequency,
+        f"at most about {max(0, most - n_veh)} bridge modes: a lower analysis.mode_max_frequency, an "
+        "analysis.max_modes or fewer bridge.spans", reason))
 
 
 def check_task_count(n_tasks: int, where: str, key: str, value: Any, remedy: str) -> None:
@@ -314,6 +367,7 @@ def column_bytes(engine: Any) -> int:
 
 
 __all__ = ["MAX_STEPS", "MAX_TASKS", "PROCESS_BYTES", "MemoryEstimate", "MemoryLimit", "Part", "available_memory",
-           "cap_workers", "check_memory", "check_run_length", "check_task_count", "column_bytes", "describe_counts",
+           "cap_workers", "check_memory", "check_run_length", "check_system_size", "check_task_count", "column_bytes",
+           "describe_counts",
            "format_bytes",
-           "memory_limit", "model_bytes", "parse_memory", "scenario_where"]
+           "memory_limit", "model_bytes", "parse_memory", "scenario_where", "vehicle_coordinates"]

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import fnmatch
 import importlib
+import math
+import numbers
 from dataclasses import dataclass
 from typing import Any, Sequence
 
@@ -19,6 +21,14 @@ from ..errors import SettingError
 #: kind of figure -> the plotting function drawing it for one channel
 PLOTS = {"bounds": "plot_bounds", "psd_map": "plot_psd_map", "psd_slices": "plot_psd_slices",
          "history": "plot_time_history"}
+
+
+def check_k(k: Any, where: str) -> float:
+    """The factor k of mean +- k sigma as a float: a real number (not a bool), finite and > 0 (k <= 0
+    would swap or merge the bounds, NaN or inf give no bounds); SettingError naming ``k`` otherwise."""
+    if isinstance(k, bool) or not isinstance(k, numbers.Real) or not math.isfinite(float(k)) or not float(k) > 0.0:
+        raise SettingError(where, "k", k, "a finite number > 0 (mean +- k sigma, e.g. 3)")
+    return float(k)
 
 
 @dataclass(frozen=True)
@@ -34,7 +44,8 @@ class ChannelStatistics:
     psd: np.ndarray | None
 
     def bounds(self, k: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
-        """mean - k sigma and mean + k sigma over time."""
+        """mean - k sigma and mean + k sigma over time (k finite and > 0, else SettingError)."""
+        k = check_k(k, "ChannelStatistics.bounds")
         return self.mean - k * self.std, self.mean + k * self.std
 
 

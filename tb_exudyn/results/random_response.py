@@ -28,7 +28,7 @@ from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
 from . import empirical
 from . import statistics as st
-from .base import ChannelResult, ChannelStatistics
+from .base import ChannelResult, ChannelStatistics, check_k
 from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
@@ -172,12 +172,14 @@ class RandomResponse(ChannelResult):
                                  std=self.std[i], freq=self.freq, psd=None if row is None else self.psd[row])
 
     def bounds(self, k: float = 3.0) -> tuple[np.ndarray, np.ndarray]:
-        """mean - k sigma and mean + k sigma, each (nc, nt)."""
+        """mean - k sigma and mean + k sigma, each (nc, nt) (k finite and > 0, else SettingError)."""
+        k = check_k(k, "RandomResponse.bounds")
         return self.mean - k * self.std, self.mean + k * self.std
 
     def summary_rows(self, k: float = 3.0) -> list[tuple[str, str, float, float, float]]:
         """Per channel: name, unit, max |mean|, max sigma, max |mean| + k sigma (over time; NaN samples,
-        e.g. after a windowed index's last whole window, are left out)."""
+        e.g. after a windowed index's last whole window, are left out); k finite and > 0."""
+        k = check_k(k, "RandomResponse.summary_rows")
         with np.errstate(invalid="ignore"):
             peak = np.nanmax(np.abs(self.mean) + k * self.std, axis=1, initial=-np.inf)
             mm = np.nanmax(np.abs(self.mean), axis=1, initial=-np.inf)

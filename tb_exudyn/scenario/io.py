@@ -37,7 +37,7 @@ def _load_union(choices: tuple, path: Path) -> Any:
     data = read_toml(path)
     ctx = Context(str(path), "", _resolver)
     union = m.Vehicle if _family(choices) == "vehicles" else m.Bridge
-    return convert(union, data, ctx)
+    return set_source_file(convert(union, data, ctx), str(path))  # errors found later name this file
 
 
 def resolve_model_path(path_or_name: str | Path, category: str) -> Path:

@@ -23,7 +23,7 @@ KMH = 1.0 / 3.6  # m/s per km/h
 
 class _Replaceable(Validated):
     def replace(self, **changes):
-        """A modified copy, validated again; e.g. ``scenario.replace(speed_kmh=300.0)``."""
+        """A copy checked as the TOML loader checks (:func:`.schema.replace`); e.g. ``sc.replace(speed_kmh=300.0)``."""
         return replace(self, **changes)
 
 

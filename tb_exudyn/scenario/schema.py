@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 import types
 import typing
 from dataclasses import MISSING, dataclass, field, fields, is_dataclass
@@ -149,7 +150,7 @@ def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> An
         return _convert_kind_union(get_args(tp), value, ctx)
     if origin is Literal:
         allowed = get_args(tp)
-        if value not in allowed:
+        if not any(isinstance(value, type(a)) and value == a for a in allowed):  # no array == str
             raise ctx.error(value, ", ".join(repr(a) for a in allowed), "unknown value")
         return value
     if origin is tuple:
@@ -176,7 +177,7 @@ def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> An
                 value = int(value)
             else:
                 raise ctx.error(value, "an integer" + (f" {check.describe()}" if check else ""), "wrong type")
-        if check is not None and not check.ok(float(value)):
+        if check is not None and not (abs(value) < 2.0**1000 and check.ok(float(value))):  # float() overflows beyond
             raise ctx.error(value, check.describe(), "out of range")
         return value
     if tp is str:
@@ -270,12 +271,78 @@ def describe_fields(cls: type) -> list[tuple[str, str, str, str]]:
 
 
 def replace(obj: Any, **changes: Any) -> Any:
-    """A modified copy, validated again on construction (``dataclasses.replace``); the file the
-    object was read from (:func:`set_source_file`) is kept."""
-    new = dataclasses.replace(obj, **changes)
+    """A modified copy, checked as the TOML loader checks (:func:`convert`) and validated again on
+    construction (``dataclasses.replace``); the file the object was read from
+    (:func:`set_source_file`) is kept.
+
+    Each changed value is checked against its field's type and value check, so a bool is not a
+    number, a string is not a number, NaN, complex numbers and arrays are refused, an integer field
+    refuses 8.5 (8.0 is taken as 8, as in TOML), a list becomes a tuple and a numpy scalar a Python
+    number. A field holding a dataclass (``analysis``, ``bridge``, a vehicle) takes only an object
+    of that dataclass, not a dict: a dict would have to be converted into a whole new object, which
+    silently resets every key it does not name to its default; change a nested object with its own
+    ``replace`` (``sc.replace(analysis=sc.analysis.replace(n_freq=400))``). Errors are
+    ScenarioError ``TYPE.replace: key 'KEY' = VALUE: ...`` naming the key.
+    """
+    where = f"{type(obj).__name__}.replace"
+    hints = typing.get_type_hints(type(obj))
+    known = {f.name: f for f in fields(obj) if f.init}
+    checked = {}
+    for name, value in changes.items():
+        if name not in known:
+            raise ScenarioError(where, name, value, "keys of " + type(obj).__name__ + ": " + ", ".join(known),
+                                "unknown key")
+        checked[name] = _replacement(hints[name], value, Context(where, name), known[name].metadata.get("check"))
+    try:
+        new = dataclasses.replace(obj, **checked)
+    except ScenarioError as exc:  # a cross-field rule of the new object: name where it was changed
+        if exc.file != "<scenario>":
+            raise
+        raise ScenarioError(where, exc.key, exc.value, exc.allowed, exc.reason) from None
     if SOURCE_FILE in obj.__dict__:
         object.__setattr__(new, SOURCE_FILE, obj.__dict__[SOURCE_FILE])
     return new
+
+
+def _plain(value: Any) -> Any:
+    """A numpy scalar as the Python number it holds (an int as int, a real as float); anything else
+    as it is (a numpy bool or complex stays refused by :func:`convert`)."""
+    if isinstance(value, (bool, int, float, str)) or not isinstance(value, numbers.Real):
+        return value
+    return int(value) if isinstance(value, numbers.Integral) else float(value)
+
+
+def _replacement(tp: Any, value: Any, ctx: Context, check: Check | None) -> Any:
+    """A value given to ``replace`` checked against the field type ``tp``: as :func:`convert`, except
+    that a dataclass field takes an object of its class only (no dict, no model name)."""
+    origin = get_origin(tp)
+    if origin in (typing.Union, types.UnionType):
+        args = get_args(tp)
+        rest = tuple(a for a in args if a is not type(None))
+        if value is None and len(rest) < len(args):
+            return None
+        if all(is_dataclass(a) for a in rest):
+            if isinstance(value, rest):
+                return value
+            raise ctx.error(value, " or ".join(f"an object of class {a.__name__}" for a in rest)
+                            + (" or None" if len(rest) < len(args) else ""), _dataclass_reason(value))
+        return _replacement(rest[0] if len(rest) == 1 else typing.Union[rest], value, ctx, check)
+    if is_dataclass(tp):
+        if isinstance(value, tp):
+            return value
+        raise ctx.error(value, f"an object of class {tp.__name__}", _dataclass_reason(value))
+    if origin is tuple:
+        if not isinstance(value, (list, tuple)):
+            raise ctx.error(value, type_name(tp), "wrong type")
+        (item_tp, _ellipsis) = get_args(tp)
+        return tuple(_replacement(item_tp, v, ctx.child(i), check) for i, v in enumerate(value))
+    return convert(tp, _plain(value), ctx, check)
+
+
+def _dataclass_reason(value: Any) -> str:
+    if isinstance(value, dict):
+        return "a dict is not taken (it would reset the keys it does not name): use the object's replace()"
+    return "wrong type"
 
 
 #: attribute (not a dataclass field: not compared, not saved) holding the file an object was read from

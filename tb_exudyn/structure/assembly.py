@@ -31,15 +31,49 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
+from ..errors import ScenarioError
 from ..scenario.model import AddedMass, BeamSection, Bearings, Frame, Pier, SimpleBeam
+from ..scenario.schema import source_file
 from .beam import element_mass, element_stiffness, rotation, section_mass, shear_parameter, to_global
 
 DOF_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 GIRDER, PIER = 0, 1
+#: physical bounds of a span [m]: a shorter one is no beam (its modes lie far above any analysed band: a
+#: 1 m span of the reference girder has its first mode near 5 kHz; 1e-6 m gives 1e9 Hz), a longer one is
+#: longer than any bridge span built (the longest, 2023 m, is a suspension bridge's main span)
+SPAN_RANGE = (1.0, 2500.0)
 
 
-class StructureError(ValueError):
-    """Bridge data that cannot give a structural model (zero span, negative stiffness, a mechanism)."""
+class StructureError(ScenarioError):
+    """Bridge data that cannot give a structural model (zero span, negative stiffness, a mechanism,
+    a degenerate section): a user error (one line, exit 2 on the command line) naming the bridge
+    (``file``: ``bridge 'NAME'``), the key of the bridge data to change (``girder.E``, ``spans[0]``,
+    ``bearings.k_z``; ``max_frequency`` and ``max_modes`` for the modes asked for), the value and
+    what is allowed. :func:`located` puts it in the scenario's file, with the key path from there."""
+
+    def __init__(self, file: str | None, key: str, value: object, allowed: str, reason: str = "") -> None:
+        super().__init__(file, key, value, allowed, reason)
+
+
+#: the keys of the modes asked for (modal_bridge's arguments) -> the scenario keys that set them
+ANALYSIS_KEYS = {"max_frequency": "analysis.mode_max_frequency", "max_modes": "analysis.max_modes"}
+
+
+def located(exc: StructureError, scenario: object) -> StructureError:
+    """``exc`` raised for a scenario's bridge, located where the user can change it: the bridge's own
+    file (a bridge read from ``models/bridges``) with the key inside it, or the scenario's file with
+    ``bridge.KEY``; the keys of the modes asked for become ``analysis.mode_max_frequency`` and
+    ``analysis.max_modes`` of the scenario. The bridge's name stays in the message."""
+    where = getattr(scenario, "where", None) or "<scenario>"
+    bridge_file = source_file(getattr(scenario, "bridge", None))
+    if exc.key in ANALYSIS_KEYS:
+        file, key = where, ANALYSIS_KEYS[exc.key]
+    elif bridge_file is not None:
+        file, key = bridge_file, exc.key
+    else:
+        file, key = where, "bridge" if exc.key == "<top level>" else f"bridge.{exc.key}"
+    reason = f"{exc.file}: {exc.reason}" if exc.reason else exc.file
+    return type(exc)(file, key, exc.value, exc.allowed, reason)
 
 
 @dataclass(frozen=True)
@@ -76,6 +110,7 @@ class FEModel:
     pier_top_nodes : node number of each pier's top
     track_offset, track_height : rail line position relative to the shear centre [m]
     damping_ratio : modal damping ratio of the bridge data
+    bridge : the bridge data it was assembled from (None: a pier alone), to name the key of an error
     """
 
     name: str
@@ -92,6 +127,7 @@ class FEModel:
     track_offset: float = 0.0
     track_height: float = 0.0
     damping_ratio: float = 0.0
+    bridge: SimpleBeam | Frame | None = field(default=None, repr=False, compare=False)
 
     @property
     def n_nodes(self) -> int:
@@ -134,74 +170,128 @@ class FEModel:
 # validation
 
 
-def _fail(bridge_name: str, what: str) -> StructureError:
-    return StructureError(f"bridge '{bridge_name}': {what}")
+def _fail(bridge_name: str, key: str, value: object, allowed: str, reason: str = "") -> StructureError:
+    return StructureError(f"bridge '{bridge_name}'", key, value, allowed, reason)
 
 
 def _check_positive(name: str, label: str, value: float) -> None:
     if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0.0):
-        raise _fail(name, f"{label} = {value!r}: must be a finite number > 0")
+        raise _fail(name, label, value, "a finite number > 0")
 
 
 def _check_stiffness(name: str, label: str, value: float) -> None:
     if not isinstance(value, (int, float)) or math.isnan(value) or value < 0.0 or value == -math.inf:
-        raise _fail(name, f"{label} = {value!r}: a stiffness must be >= 0 (inf = rigid, 0 = free)")
+        raise _fail(name, label, value, ">= 0 (inf = rigid, 0 = free)", "a stiffness must be >= 0")
 
 
 def _check_section(name: str, label: str, s: BeamSection) -> None:
     for key in ("E", "G", "area", "I_y", "I_z", "J", "mass_per_length", "rot_mass_per_length"):
         _check_positive(name, f"{label}.{key}", getattr(s, key))
     if not (0.0 <= s.shear_area_factor <= 1.0):
-        raise _fail(name, f"{label}.shear_area_factor = {s.shear_area_factor!r}: must be in [0, 1]")
+        raise _fail(name, f"{label}.shear_area_factor", s.shear_area_factor, "0 <= shear_area_factor <= 1")
 
 
 def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     """Raise :class:`StructureError` for bridge data no structural model can be built from.
 
     Checks what the scenario loader checks (so a dataclass built in Python is safe too) plus the
-    consistency the assembly needs. Mechanisms (e.g. every bearing free in one direction) are found
-    later from the stiffness matrix, see ``tb_exudyn.structure.fe``.
+    consistency the assembly needs and the spans' physical bounds (:data:`SPAN_RANGE`). Mechanisms
+    (e.g. every bearing free in one direction) are found later from the stiffness matrix, see
+    ``tb_exudyn.structure.fe``.
     """
     if not isinstance(bridge, (SimpleBeam, Frame)):
-        raise StructureError(f"not a bridge: {type(bridge).__name__} (expected SimpleBeam or Frame)")
+        raise _not_a_bridge(bridge)
     name = bridge.name
     if len(bridge.spans) == 0:
-        raise _fail(name, "no spans")
+        raise _fail(name, "spans", [], "at least one span length > 0", "no spans")
     for i, span in enumerate(bridge.spans):
         _check_positive(name, f"spans[{i}]", span)
+        if not SPAN_RANGE[0] <= span <= SPAN_RANGE[1]:
+            raise _fail(name, f"spans[{i}]", span, f"{SPAN_RANGE[0]:g} m <= span <= {SPAN_RANGE[1]:g} m",
+                        "no bridge span")
     _check_section(name, "girder", bridge.girder)
     for key in ("track_offset", "track_height"):
         if not math.isfinite(getattr(bridge, key)):
-            raise _fail(name, f"{key} = {getattr(bridge, key)!r}: must be finite")
+            raise _fail(name, key, getattr(bridge, key), "a finite number")
     if not (0.0 <= bridge.damping_ratio < 1.0):
-        raise _fail(name, f"damping_ratio = {bridge.damping_ratio!r}: must be in [0, 1)")
+        raise _fail(name, "damping_ratio", bridge.damping_ratio, "0 <= damping_ratio < 1")
     if int(bridge.elements_per_span) < 1:
-        raise _fail(name, f"elements_per_span = {bridge.elements_per_span!r}: must be >= 1")
+        raise _fail(name, "elements_per_span", bridge.elements_per_span, ">= 1")
     if isinstance(bridge, Frame):
         if int(bridge.elements_per_pier) < 1:
-            raise _fail(name, f"elements_per_pier = {bridge.elements_per_pier!r}: must be >= 1")
+            raise _fail(name, "elements_per_pier", bridge.elements_per_pier, ">= 1")
         p, b, a = bridge.pier, bridge.bearings, bridge.added_mass
         _check_positive(name, "pier.height", p.height)
         _check_section(name, "pier.section", p.section)
         if p.footing not in ("fixed", "springs"):
-            raise _fail(name, f"pier.footing = {p.footing!r}: must be 'fixed' or 'springs'")
+            raise _fail(name, "pier.footing", p.footing, "'fixed' or 'springs'")
         _check_stiffness(name, "pier.k_translation", p.k_translation)
         _check_stiffness(name, "pier.k_rotation", p.k_rotation)
         if not (math.isfinite(p.cap_mass) and p.cap_mass >= 0.0):
-            raise _fail(name, f"pier.cap_mass = {p.cap_mass!r}: must be >= 0")
+            raise _fail(name, "pier.cap_mass", p.cap_mass, "a finite number >= 0")
         for key in ("k_x_fixed", "k_x_sliding", "k_y", "k_z", "k_rx"):
             _check_stiffness(name, f"bearings.{key}", getattr(b, key))
         if b.fixed_end not in ("start", "end"):
-            raise _fail(name, f"bearings.fixed_end = {b.fixed_end!r}: must be 'start' or 'end'")
+            raise _fail(name, "bearings.fixed_end", b.fixed_end, "'start' or 'end'")
         if not (math.isfinite(b.height) and b.height >= 0.0):
-            raise _fail(name, f"bearings.height = {b.height!r}: must be >= 0")
+            raise _fail(name, "bearings.height", b.height, "a finite number >= 0")
         for key in ("mass_per_length", "rot_mass_per_length"):
             v = getattr(a, key)
             if not (math.isfinite(v) and v >= 0.0):
-                raise _fail(name, f"added_mass.{key} = {v!r}: must be >= 0")
+                raise _fail(name, f"added_mass.{key}", v, "a finite number >= 0")
         for key in ("offset", "height"):
             if not math.isfinite(getattr(a, key)):
-                raise _fail(name, f"added_mass.{key} = {getattr(a, key)!r}: must be finite")
+                raise _fail(name, f"added_mass.{key}", getattr(a, key), "a finite number")
+
+
+#: a Young's or shear modulus below this [N/m^2] is no structural material (timber ~1e10, concrete
+#: ~3e10, steel ~2e11): a mechanism of a section with such a modulus names the modulus, else the geometry
+MIN_MODULUS = 1e9
+#: DOF (ux, uy, uz, rx, ry, rz) -> the section value whose product with the modulus resists it, and the bearing key
+_SECTION_OF_DOF = ("area", "I_z", "I_y", "J", "I_y", "I_z")
+_BEARING_OF_DOF = ("k_x_fixed", "k_y", "k_z", "k_rx", "k_z", "k_y")
+
+
+def _section_key(label: str, s: BeamSection, j: int) -> tuple[str, float]:
+    modulus = "G" if j == 3 else "E"
+    if getattr(s, modulus) < MIN_MODULUS:
+        return f"{label}.{modulus}", getattr(s, modulus)
+    return f"{label}.{_SECTION_OF_DOF[j]}", getattr(s, _SECTION_OF_DOF[j])
+
+
+def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int) -> tuple[str, object]:
+    """The key (and its value) of the bridge data that lets a part move freely in DOF ``j``: a free
+    bearing (Frame, stiffness 0 in that direction) or footing spring, else the section too soft for
+    its mass (its modulus below :data:`MIN_MODULUS`, else its area, second moment or torsion constant)."""
+    if bridge is None:
+        return "<top level>", None
+    if not isinstance(bridge, Frame):
+        return _section_key("girder", bridge.girder, j) if part == GIRDER else ("<top level>", None)
+    if part == GIRDER and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
+        return f"bearings.{_BEARING_OF_DOF[j]}", 0.0
+    p = bridge.pier
+    if p.footing == "springs" and len(bridge.spans) > 1:  # a girder on piers free on their footing moves with them
+        for key in ("k_translation", "k_rotation") if j < 3 else ("k_rotation", "k_translation"):
+            if getattr(p, key) == 0.0:
+                return f"pier.{key}", 0.0
+    return _section_key("girder", bridge.girder, j) if part == GIRDER else _section_key("pier.section", p.section, j)
+
+
+def _extreme_value(label: str, s: BeamSection) -> tuple[str, float]:
+    """The section value farthest from 1 in orders of magnitude (what makes the matrices overflow)."""
+    items = [(f"{label}.{k}", getattr(s, k)) for k in ("E", "G", "area", "I_y", "I_z", "J", "mass_per_length",
+                                                        "rot_mass_per_length")]
+    return max(items, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
+
+
+def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]:
+    """The section value of the bridge farthest from 1 in orders of magnitude (girder or pier)."""
+    if bridge is None:
+        return "<top level>", None
+    found = [_extreme_value("girder", bridge.girder)]
+    if isinstance(bridge, Frame):
+        found.append(_extreme_value("pier.section", bridge.pier.section))
+    return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
 
 
 # ============================================================================================
@@ -235,18 +325,26 @@ class _Builder:
         self.k_vals.append(np.zeros(n * n) if k is None else np.asarray(k, dtype=float).ravel())
         self.m_vals.append(np.zeros(n * n) if m is None else np.asarray(m, dtype=float).ravel())
 
-    def element(self, n1: int, n2: int, section: BeamSection, smass: np.ndarray) -> tuple[float, float]:
-        """A beam element between nodes n1 and n2; returns its shear parameters (lateral, vertical)."""
+    def element(self, n1: int, n2: int, section: BeamSection, smass: np.ndarray,
+                label: str = "girder") -> tuple[float, float]:
+        """A beam element between nodes n1 and n2; returns its shear parameters (lateral, vertical).
+        Section values whose element matrices overflow raise a StructureError naming the extreme one."""
         p1, p2 = np.array(self.coords[n1]), np.array(self.coords[n2])
         rot = rotation(p1, p2)
         length = float(np.linalg.norm(p2 - p1))
         a_s = section.shear_area_factor * section.area
         phi_y = shear_parameter(section.E, section.I_z, section.G, a_s, length)
         phi_z = shear_parameter(section.E, section.I_y, section.G, a_s, length)
-        k = element_stiffness(length, section.E, section.G, section.area, section.I_y, section.I_z, section.J, a_s)
-        m = element_mass(length, smass, phi_y, phi_z)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            k = element_stiffness(length, section.E, section.G, section.area, section.I_y, section.I_z, section.J, a_s)
+            m = element_mass(length, smass, phi_y, phi_z)
+            k, m = to_global(k, rot), to_global(m, rot)
+        if not (np.all(np.isfinite(k)) and np.all(np.isfinite(m))):
+            key, value = _extreme_value(label, section)
+            raise _fail(self.name, key, value, "section values whose element stiffness and mass are finite numbers",
+                        "the finite-element matrices overflow")
         dofs = np.concatenate([np.arange(6 * n1, 6 * n1 + 6), np.arange(6 * n2, 6 * n2 + 6)])
-        self._add(dofs, to_global(k, rot), to_global(m, rot))
+        self._add(dofs, k, m)
         return phi_y, phi_z
 
     def lumped_mass(self, node: int, mass: float) -> None:
@@ -266,7 +364,7 @@ class _Builder:
         if math.isinf(stiffness):
             slave = int(dofs[0])
             if slave in self.constraints:
-                raise _fail(self.name, f"DOF {slave} constrained twice (internal error)")
+                raise RuntimeError(f"bridge '{self.name}': DOF {slave} constrained twice (internal error)")
             self.constraints[slave] = {int(d): -float(v) for d, v in zip(dofs[1:], c[1:])}
         else:
             self._add(dofs, stiffness * np.outer(c, c), None)
@@ -302,7 +400,7 @@ def master_slave_transform(n_dof: int, constraints: dict[int, dict[int, float]],
         if s in resolved:
             return resolved[s]
         if s in stack:
-            raise _fail(name, f"circular rigid constraints through DOF {s}")
+            raise RuntimeError(f"bridge '{name}': circular rigid constraints through DOF {s} (internal error)")
         out: dict[int, float] = {}
         for j, a in constraints[s].items():
             terms = resolve(j, stack + (s,)) if j in constraints else {j: 1.0}
@@ -391,7 +489,7 @@ def assemble_simple_beam(bridge: SimpleBeam) -> FEModel:
     return b.finish(
         girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=(),
         track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
-        damping_ratio=float(bridge.damping_ratio),
+        damping_ratio=float(bridge.damping_ratio), bridge=bridge,
     )
 
 
@@ -401,7 +499,7 @@ def _add_pier(b: _Builder, pier: Pier, x: float, top_z: float, n_el: int, index:
     zs = top_z - pier.height + np.linspace(0.0, pier.height, n_el + 1)
     nodes = [b.node((x, 0.0, z), PIER, index) for z in zs]
     for i in range(n_el):
-        b.element(nodes[i], nodes[i + 1], pier.section, smass)
+        b.element(nodes[i], nodes[i + 1], pier.section, smass, "pier.section")
     base = 6 * nodes[0]
     if pier.footing == "fixed":
         springs = (math.inf,) * 6
@@ -434,7 +532,7 @@ def assemble_frame(bridge: Frame) -> FEModel:
     return b.finish(
         girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=tops,
         track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
-        damping_ratio=float(bridge.damping_ratio),
+        damping_ratio=float(bridge.damping_ratio), bridge=bridge,
     )
 
 
@@ -454,4 +552,8 @@ def assemble(bridge: SimpleBeam | Frame) -> FEModel:
         return assemble_frame(bridge)
     if isinstance(bridge, SimpleBeam):
         return assemble_simple_beam(bridge)
-    raise StructureError(f"not a bridge: {type(bridge).__name__} (expected SimpleBeam or Frame)")
+    raise _not_a_bridge(bridge)
+
+
+def _not_a_bridge(bridge: object) -> StructureError:
+    return StructureError("bridge", "<top level>", type(bridge).__name__, "a SimpleBeam or a Frame", "not a bridge")

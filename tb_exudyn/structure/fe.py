@@ -30,8 +30,10 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as sla
 
 from ..scenario.model import Frame, SimpleBeam
-from .assembly import DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assemble
+from .assembly import (DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assemble, extreme_section_key, mechanism_key,
+                       validate_bridge)
 from .beam import SIGN_VERTICAL, cubic_coefficients
+from .size import check_bridge_size
 from .modal import ModalBridge, RailShapes
 
 #: kinetic-energy groups used to name a mode
@@ -122,7 +124,7 @@ def _components(k: sp.spmatrix, m: sp.spmatrix) -> list[np.ndarray]:
     return [np.flatnonzero(labels == c) for c in range(count)]
 
 
-def _describe_motion(model: FEModel, phi_full: np.ndarray) -> str:
+def _dominant_motion(model: FEModel, phi_full: np.ndarray) -> tuple[int, int, int]:
     """Where a mode moves most: the (part, member, DOF) with the largest kinetic energy."""
     energy = phi_full * (model.mass @ phi_full)
     keys: dict[tuple[int, int, int], float] = {}
@@ -130,9 +132,7 @@ def _describe_motion(model: FEModel, phi_full: np.ndarray) -> str:
         node, j = divmod(int(dof), 6)
         key = (int(model.node_part[node]), int(model.node_member[node]), j)
         keys[key] = keys.get(key, 0.0) + float(energy[dof])
-    part, member, j = max(keys, key=keys.get)
-    what = f"the girder of span {member + 1}" if part == GIRDER else f"pier {member + 1}"
-    return f"{what} in {DOF_NAMES[j]}"
+    return max(keys, key=keys.get)
 
 
 def _check_mechanism(model: FEModel, lam: np.ndarray, vec_full: np.ndarray) -> None:
@@ -140,11 +140,15 @@ def _check_mechanism(model: FEModel, lam: np.ndarray, vec_full: np.ndarray) -> N
     if not np.any(zero):
         return
     f0 = math.sqrt(max(float(lam[0]), 0.0)) / (2.0 * np.pi)
+    part, member, j = _dominant_motion(model, vec_full[:, 0])
+    what = f"the girder of span {member + 1}" if part == GIRDER else f"pier {member + 1}"
+    key, value = mechanism_key(model.bridge, part, j)
+    allowed = ("a support in that direction (a bearing or footing stiffness > 0)" if key.split(".")[-1].startswith("k_")
+               else f"a section stiff enough for its mass in {DOF_NAMES[j]} (every mode >= {MECHANISM_FREQUENCY:g} Hz)")
     raise StructureError(
-        f"bridge '{model.name}': the structure is a mechanism or unsupported ({int(zero.sum())} mode(s) "
-        f"below {MECHANISM_FREQUENCY:g} Hz, the lowest at {f0:.2g} Hz): it moves freely mainly as "
-        f"{_describe_motion(model, vec_full[:, 0])}; give it a support there (a bearing or footing "
-        f"stiffness > 0 in that direction)"
+        f"bridge '{model.name}'", key, value, allowed,
+        f"the structure is a mechanism or unsupported ({int(zero.sum())} mode(s) below {MECHANISM_FREQUENCY:g} Hz, "
+        f"the lowest at {f0:.2g} Hz): it moves freely mainly as {what} in {DOF_NAMES[j]}",
     )
 
 
@@ -209,12 +213,18 @@ def solve_modes(model: FEModel, max_frequency: float, max_modes: int = 0) -> FEM
         no mode lies below ``max_frequency``.
     """
     if not (max_frequency > 0.0 and math.isfinite(max_frequency)):
-        raise StructureError(f"bridge '{model.name}': max_frequency = {max_frequency!r} must be > 0")
+        raise StructureError(f"bridge '{model.name}'", "max_frequency", max_frequency, "a finite frequency > 0 [Hz]")
     if max_modes < 0:
-        raise StructureError(f"bridge '{model.name}': max_modes = {max_modes!r} must be >= 0 (0: no limit)")
-    k_r, m_r = model.reduced()
+        raise StructureError(f"bridge '{model.name}'", "max_modes", max_modes, ">= 0 (0: no limit)")
+    with np.errstate(over="ignore", invalid="ignore"):  # huge (finite) element values: refused below
+        k_r, m_r = model.reduced()
     if k_r.shape[0] == 0:
-        raise StructureError(f"bridge '{model.name}': every DOF is fixed, no mode to compute")
+        raise StructureError(f"bridge '{model.name}'", "<top level>", model.name, "a bridge with a free DOF",
+                             "every DOF is fixed, no mode to compute")
+    if not (np.all(np.isfinite(k_r.data)) and np.all(np.isfinite(m_r.data))):
+        key, value = extreme_section_key(model.bridge)
+        raise StructureError(f"bridge '{model.name}'", key, value, "section values whose stiffness and mass matrices "
+                             "are finite numbers", "the finite-element matrices overflow")
     lam_max = (2.0 * np.pi * max_frequency) ** 2
     lams, vecs = [], []
     for idx in _components(k_r, m_r):
@@ -231,9 +241,8 @@ def solve_modes(model: FEModel, max_frequency: float, max_modes: int = 0) -> FEM
     keep = lam <= lam_max
     if not np.any(keep):
         f0 = math.sqrt(lam[0]) / (2.0 * np.pi)
-        raise StructureError(
-            f"bridge '{model.name}': no mode below max_frequency = {max_frequency:g} Hz (the lowest is {f0:.4g} Hz)"
-        )
+        raise StructureError(f"bridge '{model.name}'", "max_frequency", max_frequency,
+                             f"above the bridge's lowest mode, {f0:.4g} Hz", "no mode below max_frequency")
     lam, vec = lam[keep], vec[:, keep]
     if max_modes > 0:
         lam, vec = lam[:max_modes], vec[:, :max_modes]
@@ -440,7 +449,10 @@ def modal_report(modes: FEModes) -> ModalReport:
 
 
 def bridge_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: int = 0) -> FEModes:
-    """Assemble ``bridge`` and compute its modes (see :func:`solve_modes`)."""
+    """Assemble ``bridge`` and compute its modes (see :func:`solve_modes`); a bridge whose model would
+    not fit the memory available is refused first (:func:`.size.check_bridge_size`)."""
+    validate_bridge(bridge)
+    check_bridge_size(bridge, max_frequency, max_modes, solve_modes)
     return solve_modes(assemble(bridge), max_frequency, max_modes)
 
 
