@@ -351,10 +351,21 @@ def _cmd_check(args: argparse.Namespace) -> int:
         raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
                                 "earlier check (allowed: --overwrite to replace it, or another --out)")
     options = {"line_speed_kmh": "--line-speed-kmh", "trains": "--trains", "track": "--track",
-               "construction": "--construction", "bridge": "BRIDGE"}
+               "construction": "--construction", "bridge": "BRIDGE", "stochastic": "--stochastic",
+               "stochastic_speeds": "--stochastic-speeds", "stochastic_scenario": "--stochastic-scenario"}
+    workers = _int_option(args.workers, "--workers", 1)
+    speeds = None
+    if args.stochastic_speeds is not None:
+        try:
+            speeds = [float(x) for x in args.stochastic_speeds.split(",") if x.strip()]
+        except ValueError:
+            raise SettingError("command line", "--stochastic-speeds", args.stochastic_speeds,
+                               "speeds [km/h] separated by commas, e.g. 250,280.5", "not a number") from None
     result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
                    construction=args.construction, additional_damping=args.additional_damping,
-                   where="command line", option_names=options)
+                   where="command line", option_names=options, stochastic=args.stochastic,
+                   stochastic_speeds=speeds, stochastic_scenario=args.stochastic_scenario, workers=workers,
+                   progress=not args.no_progress)
     figure = None if args.no_figures else result.plot()  # drawn before anything is written
     out = check_writable(out)
     with _folder_lock(out):
@@ -486,6 +497,7 @@ def build_parser() -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
   tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
   tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
+  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 250 --trains ice_mttm --stochastic --stochastic-speeds 250,300
 """)
     p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
@@ -503,6 +515,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="replace an earlier check's check.csv and check.png in --out (with --no-figures: remove the png)")
     p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.add_argument("--stochastic", action="store_true",
+                   help="also the PEM of the random track irregularity for the trains given as vehicle models "
+                        "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "
+                        "run per speed, about 12-20 s each for ice_mttm over li_zhu_2011_bridge)")
+    p.add_argument("--stochastic-speeds", dest="stochastic_speeds", default=None, metavar="V,V,...",
+                   help="only these speeds [km/h] for --stochastic (added to the series if not in it; default: every "
+                        "speed of the series)")
+    p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
+                   help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
+                        "li_zhu_2011, German low interference)")
+    p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
