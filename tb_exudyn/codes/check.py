@@ -75,7 +75,8 @@ class CheckResult:
     computed: :data:`tb_exudyn.codes.stochastic.COLUMNS`): p_exceed (probability of exceeding ``limit`` in
     one passage), level_at_target (the level exceeded with ``target_probability`` per passage) [m/s^2],
     stochastic_location (the deck channel deciding them), stochastic_mean_acc (the largest |mean| there:
-    the vehicle model's deterministic run), stochastic_verdict, stochastic_caveats.
+    the vehicle model's deterministic run), stochastic_verdict, stochastic_caveats, stochastic_n_freq (the
+    PEM frequencies used).
 
     ``stochastic_scenarios``: per train with stochastic rows its scenario
     (:func:`tb_exudyn.codes.stochastic.base_scenario`; the row at a speed: :meth:`stochastic_scenario`);
@@ -126,7 +127,10 @@ class CheckResult:
         if train not in self.stochastic_scenarios:
             raise SettingError("CheckResult.stochastic_scenario", "train", train,
                                ", ".join(self.stochastic_scenarios) or "none: the check has no stochastic rows")
-        return stoch.scenario_at(self.stochastic_scenarios[train], speed_kmh)
+        row = next((r for r in self.stochastic_rows() if r["train"] == train and
+                    stoch.speed_key(r["speed_kmh"]) == stoch.speed_key(speed_kmh)), None)
+        return stoch.scenario_at(self.stochastic_scenarios[train], speed_kmh,
+                                 None if row is None else row["stochastic_n_freq"])
 
     def trains(self) -> list[str]:
         return list(dict.fromkeys(r["train"] for r in self.rows))

@@ -56,7 +56,7 @@ CRITERIA: dict[str, str] = {"ballasted": "deck_acc_ballasted", "direct": "deck_a
 MODE_MARGIN = 1.05
 #: the table's stochastic columns (None where not computed)
 COLUMNS: tuple[str, ...] = ("p_exceed", "level_at_target", "stochastic_location", "stochastic_mean_acc",
-                            "stochastic_verdict", "stochastic_caveats")
+                            "stochastic_verdict", "stochastic_caveats", "stochastic_n_freq")
 
 
 def eligible(train: ForceTrain) -> bool:
@@ -114,13 +114,17 @@ def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_rati
                            f"the check's scenario for {train.name}: {exc.key} {exc.reason}".strip()) from None
 
 
-def scenario_at(base: Scenario, speed_kmh: float) -> Scenario:
+def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> Scenario:
     """The scenario of the row at ``speed_kmh``: what :func:`run_sweep` runs there (its grid and approach
-    rules, the channels :data:`CHANNELS`). ``run_pem`` of it (or ``tb-exudyn run`` of its TOML,
-    ``scenario_to_toml``) gives the row's numbers."""
+    rules, the channels :data:`CHANNELS`); ``n_freq``: the count the run used (an adaptive grid is raised
+    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it (or
+    ``tb-exudyn run`` of its TOML, ``scenario_to_toml``) gives the row's numbers."""
     from ..methods.sweep import sweep_scenario  # the methods (Exudyn) on use
 
-    return sweep_scenario(base, float(speed_kmh), CHANNELS)
+    sc = sweep_scenario(base, float(speed_kmh), CHANNELS)
+    if n_freq is not None and int(n_freq) != sc.analysis.n_freq:
+        sc = sc.replace(analysis=sc.analysis.replace(n_freq=int(n_freq)))
+    return sc
 
 
 def check_limits(track: str, limit: float, where: str = "check") -> None:
@@ -186,6 +190,7 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
             "stochastic_mean_acc": mean,
             "stochastic_verdict": str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
             "stochastic_caveats": str(cols.get(f"{crit}_caveats", "")),
+            "stochastic_n_freq": int(s["n_freq"]),
         }
         messages += [str(m) for m in s.get("warnings", ())]
     return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
