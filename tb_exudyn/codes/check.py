@@ -27,7 +27,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..atomic import write_text_atomic
-from ..errors import ResourceError, ScenarioError, SettingError
+from ..errors import ResourceError, ScenarioError, SettingError, UserError
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge
 from ..scenario.code_data import MASS_CASES, with_mass_case
@@ -199,6 +199,15 @@ class CheckResult:
     def plot(self):  # noqa: ANN201
         """The figure of :func:`tb_exudyn.codes.plot.plot_check`."""
         return plot_check(self)
+
+
+def _prefixed(exc: UserError, prefix: str) -> UserError:
+    """The same error (class and attributes) with ``prefix: `` before its one line."""
+    out = type(exc).__new__(type(exc))
+    Exception.__init__(out, f"{prefix}: {exc}")
+    out.__dict__.update(exc.__dict__)
+    out.message = f"{prefix}: {exc}"
+    return out
 
 
 def _vertical(mb) -> np.ndarray:  # noqa: ANN001
@@ -445,8 +454,11 @@ def check(
                 try:
                     stoch.scenario_at(bases[train.name], v)
                 except ScenarioError as exc:
-                    raise err("stochastic_scenario", source_scenario.name, exc.allowed,
-                              f"at {v:g} km/h: {exc.key} {exc.reason}".strip()) from None
+                    given = source_scenario.source_file or source_scenario.name
+                    raise err("stochastic_scenario", given, exc.allowed,
+                              f"its analysis at {v:g} km/h (the band v / track.wavelength_max to min(v / "
+                              f"track.wavelength_min, 0.1 / analysis.time_step)): analysis.{exc.key}: {exc.reason}"
+                              ) from None
     rows, responses, resonant = [], [], {}
     for case, train in ((c, t) for c in cases for t in train_list):
         mb_c, used_c, f1_c, _, cutoff_c, _ = modes_of[case]
@@ -488,8 +500,13 @@ def check(
     # the stochastic rows: one PEM sweep per train over its chosen speeds, into the nominal case's rows
     runs, messages = [], []
     for train in stochastic_trains:
-        run = stoch.run_stochastic(bases[train.name], run_speeds[train.name], track, workers=workers,
-                                   executor=executor, progress=progress, name=train.name)
+        try:
+            run = stoch.run_stochastic(bases[train.name], run_speeds[train.name], track, workers=workers,
+                                       executor=executor, progress=progress, name=train.name)
+        except UserError as exc:  # e.g. a run this machine cannot hold: say which option's runs
+            given = source_scenario.source_file or source_scenario.name
+            raise _prefixed(exc, f"{where}: key '{names.get('stochastic_scenario', 'stochastic_scenario')}' = "
+                                 f"{given!r}, the stochastic rows of {train.name}") from None
         runs.append(run)
         messages += run.warnings
         for row in rows:
