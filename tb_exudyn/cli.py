@@ -16,7 +16,7 @@ from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
-from .codes import CHECK_CSV, CHECK_FIGURE, check
+from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .codes.trains import list_trains
 from .engines import ENGINES
 from .errors import OutputFolderError, SettingError, UserError
@@ -346,7 +346,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
         raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
                            "not a number") from None
     out = Path(args.out)
-    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE) if p.exists() or p.is_symlink()]
+    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE, out / CHECK_PAGE) if p.exists() or p.is_symlink()]
     if existing and not args.overwrite:
         raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
                                 "earlier check (allowed: --overwrite to replace it, or another --out)")
@@ -370,13 +370,16 @@ def _cmd_check(args: argparse.Namespace) -> int:
     out = check_writable(out)
     with _folder_lock(out):
         result.to_csv(out / CHECK_CSV)
+        png = None
         if figure is not None:
             _figures().save_figure(figure, out / CHECK_FIGURE)
+            png = (out / CHECK_FIGURE).read_bytes()
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
+        _figures().write_check_report(result, out, png)
     print(result.summary())
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
-          + ("" if figure is None else f" and {CHECK_FIGURE}"))
+          + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK
 
 
@@ -513,7 +516,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
     p.add_argument("--out", default="check", help="output folder (default: ./check)")
     p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier check's check.csv and check.png in --out (with --no-figures: remove the png)")
+                   help="replace an earlier check's check.csv, check.png and check.html in --out (with --no-figures: "
+                        "remove the png)")
     p.add_argument("--no-figures", action="store_true", help="no figure")
     p.add_argument("--stochastic", action="store_true",
                    help="also the PEM of the random track irregularity for the trains given as vehicle models "

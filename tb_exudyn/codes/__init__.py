@@ -13,11 +13,11 @@ Pure numpy/scipy, no Exudyn. What the check does clause by clause: docs/en1991.m
 """
 
 from . import en1991, stochastic
-from .check import CHECK_CSV, CHECK_FIGURE, CheckResult, check
+from .check import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, CheckResult, check
 from .moving_force import MovingForceResponse, deck_stations, moving_force_response
 from .trains import ForceTrain, hslm_a, list_trains, load_train, resolve_trains, train_names
 
 __all__ = [
-    "CHECK_CSV", "CHECK_FIGURE", "CheckResult", "ForceTrain", "MovingForceResponse", "check", "deck_stations", "en1991",
+    "CHECK_CSV", "CHECK_FIGURE", "CHECK_PAGE", "CheckResult", "ForceTrain", "MovingForceResponse", "check", "deck_stations", "en1991",
     "hslm_a", "list_trains", "load_train", "moving_force_response", "resolve_trains", "stochastic", "train_names",
 ]

@@ -43,6 +43,8 @@ from .trains import ForceTrain, resolve_trains
 #: the table's file in an output folder
 CHECK_CSV = "check.csv"
 CHECK_FIGURE = "check.png"
+#: the check's HTML page (tb_exudyn.report.check)
+CHECK_PAGE = "check.html"
 #: the mass case of a bridge without ballast (EN 1991-2 6.4.6.3.2: its only case)
 NOMINAL_CASE = "nominal"
 #: HSLM-A applies to spans from this length; HSLM-B below (EN 1991-2 Annex E, Table E.4) [m] [check]
@@ -533,4 +535,4 @@ def check(
 
 
 
-__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CheckResult", "NOMINAL_CASE", "check"]
+__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check"]

@@ -28,6 +28,7 @@ the level exceeded with the target probability per passage. The row at a speed i
 
 from __future__ import annotations
 
+import importlib
 import json
 import math
 import time
@@ -57,6 +58,12 @@ MODE_MARGIN = 1.05
 #: the table's stochastic columns (None where not computed)
 COLUMNS: tuple[str, ...] = ("p_exceed", "level_at_target", "stochastic_location", "stochastic_mean_acc",
                             "stochastic_verdict", "stochastic_caveats", "stochastic_n_freq")
+
+
+def _sweep() -> Any:
+    """tb_exudyn.methods.sweep, imported on first use: the methods build Exudyn models, which the check's
+    moving-force rows (and ``tb-exudyn list``) do not need (as SweepResult.plot loads the plotting)."""
+    return importlib.import_module("tb_exudyn.methods.sweep")
 
 
 def eligible(train: ForceTrain) -> bool:
@@ -119,9 +126,7 @@ def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> 
     rules, the channels :data:`CHANNELS`); ``n_freq``: the count the run used (an adaptive grid is raised
     at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it (or
     ``tb-exudyn run`` of its TOML, ``scenario_to_toml``) gives the row's numbers."""
-    from ..methods.sweep import sweep_scenario  # the methods (Exudyn) on use
-
-    sc = sweep_scenario(base, float(speed_kmh), CHANNELS)
+    sc = _sweep().sweep_scenario(base, float(speed_kmh), CHANNELS)
     if n_freq is not None and int(n_freq) != sc.analysis.n_freq:
         sc = sc.replace(analysis=sc.analysis.replace(n_freq=int(n_freq)))
     return sc
@@ -166,12 +171,10 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     :data:`CHANNELS`; nothing written) and per speed the columns: p_exceed and level_at_target of the
     track's deck criterion at its deciding location, that location, the largest |mean| there (the
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
-    from ..methods.sweep import run_sweep  # the methods (Exudyn) on use
-
     t0 = time.perf_counter()
     crit = f"{LIMIT_SET}/{CRITERIA[track]}"
-    sweep = run_sweep(base, list(speeds_kmh), channels=CHANNELS, workers=workers, executor=executor,
-                      progress=progress)
+    sweep = _sweep().run_sweep(base, list(speeds_kmh), channels=CHANNELS, workers=workers, executor=executor,
+                               progress=progress)
     values: dict[float, dict[str, Any]] = {}
     messages: list[str] = []
     for v, s in zip(sweep.speeds, sweep.summaries):

@@ -142,3 +142,45 @@ def test_the_pem_warnings_are_in_the_result(result, pem):
     assert any("lightly damped mode at 5.12 Hz" in w and f"(at {SPEED:g} km/h)" in w for w in result.warnings)
     assert any("lightly damped mode at 5.12 Hz" in w for w in pem.provenance["warnings"])
     assert "stochastic rows" in result.summary()
+
+
+# ------------------------------------------------------------------------------------ the page
+def test_the_page_opens_with_the_verdict_and_holds_the_figure_and_the_folded_table(result, row):
+    """tb_exudyn.report.check: the first section after the title and navigation is the verdict, naming the
+    deciding train, speed, case, location and margin of the row with the largest peak deck acceleration
+    (CheckResult.deciding_row, the reference); the figure is embedded (no external resource); the whole
+    table is inside <details>; the stochastic row's numbers are shown as the table's (3 decimals)."""
+    from tb_exudyn.codes import CHECK_PAGE
+    from tb_exudyn.report import CHECK_REPORT, render_check_report
+
+    assert CHECK_REPORT == CHECK_PAGE == "check.html"
+    page = render_check_report(result, b"\x89PNG fake bytes")
+    sections = page.split("<section ")
+    assert sections[1].startswith('id="verdict"')
+    top = result.deciding_row()
+    margin = result.limit - top["max_deck_acc_z"]
+    for text in (top["train"], f"{top['speed_kmh']:g} km/h", top["case"], top["max_deck_acc_z_location"],
+                 f"{margin:+.3f} m/s^2", "met"):
+        assert text in sections[1], text
+    assert 'src="data:image/png;base64,' in page and "http" not in page.replace("https://", "").split("<body>")[0]
+    assert not any(f'{attr}="http' in page for attr in ("src", "href"))
+    table = page.split('<section id="table">')[1]
+    assert table.index("<details>") < table.index('<table id="check-table">') < table.index("</details>")
+    stochastic = page.split('<section id="stochastic">')[1].split("</section>")[0]
+    for value in (row["level_at_target"], row["max_deck_acc_z_with_phi2"], row["stochastic_mean_acc"]):
+        assert f"{value:.3f}" in stochastic
+    assert "lightly damped mode at 5.12 Hz" in stochastic  # the PEM runs' warnings
+
+
+def test_tb_exudyn_check_writes_the_page_beside_the_table(tmp_path, capsys):
+    """`tb-exudyn check` writes DIR/check.html with check.csv (HSLM-A1, figures off: the page says the
+    figure was not drawn and has no stochastic rows), and refuses to replace it without --overwrite."""
+    out = tmp_path / "chk"
+    argv = ["check", "single_span_32m", "--line-speed-kmh", "250", "--trains", "HSLM-A1", "--out", str(out),
+            "--no-figures"]
+    assert main(argv) == 0
+    assert "check.html" in capsys.readouterr().out
+    page = (out / "check.html").read_text()
+    assert "Not drawn (--no-figures)" in page and "Not computed (tb-exudyn check --stochastic" in page
+    assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html"]
+    assert main(argv) == 2 and "--overwrite" in capsys.readouterr().err

@@ -103,3 +103,12 @@ CASES_STOCHASTIC: list[Case] = [
          _python("check('single_span_32m', 250, trains=['ice_mttm'], stochastic=True, cases=['upper'])",
                  ("check", "cases", "nominal"))),
 ]
+
+
+def _earlier_page_in_out(d: Path) -> Run:
+    (d / "out").mkdir()
+    (d / "out" / "check.html").write_text("<html></html>\n")
+    return Run(argv=_argv(d, trains=("HSLM-A1",)), expect=(str(d / "out"), "check.html", "--overwrite"))
+
+
+CASES_STOCHASTIC.append(Case("check: an earlier check.html in --out", GROUP, _earlier_page_in_out))
