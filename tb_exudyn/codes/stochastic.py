@@ -173,11 +173,23 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
     t0 = time.perf_counter()
     crit = f"{LIMIT_SET}/{CRITERIA[track]}"
-    sweep = _sweep().run_sweep(base, list(speeds_kmh), channels=CHANNELS, workers=workers, executor=executor,
-                               progress=progress)
+    methods = _sweep()
+    # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
+    # separate sweeps (e.g. 250 and 250.0001 km/h)
+    batches: list[list[float]] = []
+    for v in speeds_kmh:
+        batch = next((b for b in batches if methods.speed_label(v) not in {methods.speed_label(x) for x in b}), None)
+        if batch is None:
+            batches.append(batch := [])
+        batch.append(float(v))
+    done: list[tuple[float, dict[str, Any]]] = []
+    for batch in batches:
+        sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
+                                  progress=progress)
+        done += list(zip(sweep.speeds, sweep.summaries))
     values: dict[float, dict[str, Any]] = {}
     messages: list[str] = []
-    for v, s in zip(sweep.speeds, sweep.summaries):
+    for v, s in done:
         cols = json.loads(str(s["checks"]))
         if f"{crit}_probability" not in cols:  # check_limits ran first: the channels are the model's
             raise SettingError("check", "stochastic", name or base.name, f"a model with the channels {CHANNELS[0]}",

@@ -184,3 +184,36 @@ def test_tb_exudyn_check_writes_the_page_beside_the_table(tmp_path, capsys):
     assert "Not drawn (--no-figures)" in page and "Not computed (tb-exudyn check --stochastic" in page
     assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html"]
     assert main(argv) == 2 and "--overwrite" in capsys.readouterr().err
+
+
+def test_speeds_sharing_a_task_label_run_in_separate_sweeps(monkeypatch):
+    """run_sweep names its tasks by speed_label (6 significant digits) and refuses two equal names: 250 and
+    250.0001 km/h (distinct rows of the check) must go to separate sweeps, each speed's values kept.
+    The sweep is replaced by a recorder that refuses repeated labels as run_sweep does (the numbers are
+    not the point here: the batching is)."""
+    import json
+    import types
+
+    import numpy as np
+
+    from tb_exudyn.methods import sweep as real
+
+    calls = []
+
+    def run_sweep(base, speeds, **_):
+        labels = [real.speed_label(v) for v in speeds]
+        assert len(set(labels)) == len(labels), labels
+        calls.append(list(speeds))
+        crit = "en1990_deck/deck_acc_ballasted"
+        summaries = [{"checks": np.array(json.dumps({f"{crit}_probability": v * 1e-9, f"{crit}_estimate": v / 100,
+                                                     f"{crit}_channel": "bridge.span1.mid.acc_z_en1990",
+                                                     f"{crit}_verdict": "OK"})),
+                      "channels": np.array(["bridge.span1.mid.acc_z_en1990"]), "max_abs_mean": np.array([1.0]),
+                      "n_freq": np.array(7), "warnings": np.array([], dtype=str)} for v in speeds]
+        return types.SimpleNamespace(speeds=tuple(speeds), summaries=tuple(summaries))
+
+    monkeypatch.setattr(stoch, "_sweep", lambda: types.SimpleNamespace(speed_label=real.speed_label,
+                                                                      run_sweep=run_sweep))
+    run = stoch.run_stochastic(load_scenario("quick"), [250.0, 250.0001, 260.0], "ballasted")
+    assert calls == [[250.0, 260.0], [250.0001]]
+    assert {k: v["level_at_target"] for k, v in run.values.items()} == {250.0: 2.5, 250.0001: 2.500001, 260.0: 2.6}
