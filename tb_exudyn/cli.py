@@ -522,7 +522,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--stochastic", action="store_true",
                    help="also the PEM of the random track irregularity for the trains given as vehicle models "
                         "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "
-                        "run per speed, about 12-20 s each for ice_mttm over li_zhu_2011_bridge)")
+                        "run per speed, about 12 s each for ice_mttm over li_zhu_2011_bridge)")
     p.add_argument("--stochastic-speeds", dest="stochastic_speeds", default=None, metavar="V,V,...",
                    help="only these speeds [km/h] for --stochastic (added to the series if not in it; default: every "
                         "speed of the series)")
