@@ -16,13 +16,13 @@ from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
-from .codes import CHECK_CSV, CHECK_FIGURE, check
+from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .engines import ENGINES
 from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
-from . import cli_text
+from . import cli_scenario, cli_text
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
@@ -31,8 +31,7 @@ from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
 from .results.storage import check_writable
 from .structure.guards import check_scenario_size
-from .scenario import Analysis, Scenario, ScenarioError, load_scenario
-from .scenario.io import parse_setting, with_settings
+from .scenario import Analysis, Scenario
 from .scenario.show import run_label, scenario_table
 from .system.damping_guard import merged_messages
 
@@ -45,7 +44,7 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    scenario = _load(args)
+    scenario = cli_scenario.load(args)
     print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
     return EXIT_OK
 
@@ -58,7 +57,7 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         if not math.isfinite(x):
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
-    scenario = _load(args)
+    scenario = cli_scenario.load(args)
     check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
     model = methods.build_model(scenario, warn=False)
     for position in args.position or [None]:
@@ -88,37 +87,6 @@ DEFAULT_ENGINE = "batched"
 DEFAULT_OUT = "tb_exudyn_out"
 #: the channel table of a run, written into its output folder (the terminal shows a short summary)
 TABLE_FILE = "channels.txt"
-def _load(args: argparse.Namespace) -> Scenario:
-    """The scenario named on the command line with its ``--set KEY=VALUE`` settings, each checked by
-    the schema as in a file (a bad key or value names --set and what is allowed)."""
-    scenario = load_scenario(args.scenario)
-    for text in getattr(args, "settings", None) or ():
-        try:
-            scenario = with_settings(scenario, [parse_setting(text)])
-        except ScenarioError as exc:  # before ValueError: a ScenarioError is one
-            raise SettingError("command line", "--set", text, f"{exc.key}: {exc.allowed}", exc.reason) from None
-        except ValueError as exc:
-            raise SettingError("command line", "--set", text, str(exc)) from None
-    return scenario
-
-
-def _scenario_with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
-    """The scenario with the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels); a
-    bad value names the option."""
-    sc = scenario
-    for attr, option, section in (("speed_kmh", "--speed-kmh", None), ("n_freq", "--n-freq", "analysis"),
-                                  ("freq_spacing", "--freq-spacing", "analysis"), ("channels", "--channels", "analysis")):
-        value = getattr(args, attr, None)
-        if value is None:
-            continue
-        value = tuple(value) if isinstance(value, list) else value
-        try:
-            sc = sc.replace(**{attr: value}) if section is None else sc.replace(analysis=sc.analysis.replace(**{attr: value}))
-        except ScenarioError as exc:
-            raise SettingError("command line", option, value, exc.allowed, exc.reason) from None
-    return sc
-
-
 def _methods():  # noqa: ANN202
     """The methods (they build Exudyn models): imported when a command runs one."""
     from . import methods
@@ -143,7 +111,7 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    scenario = _scenario_with_options(_load(args), args)
+    scenario = cli_scenario.with_options(cli_scenario.load(args), args)
     check_scenario_size(scenario)  # before the output folder is made
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
@@ -211,7 +179,7 @@ def _cmd_export(args: argparse.Namespace) -> int:
 def _cmd_sweep(args: argparse.Namespace) -> int:
     methods = _methods()
     sweep = methods.sweep
-    scenario = _load(args)
+    scenario = cli_scenario.load(args)
     if (args.speeds_kmh is None) == (args.line_speed_kmh is None):
         raise SettingError("command line", "--speeds-kmh", args.speeds_kmh,
                            "exactly one of --speeds-kmh START:STOP:STEP and --line-speed-kmh V")
@@ -301,26 +269,40 @@ def _cmd_check(args: argparse.Namespace) -> int:
         raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
                            "not a number") from None
     out = Path(args.out)
-    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE) if p.exists() or p.is_symlink()]
+    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE, out / CHECK_PAGE) if p.exists() or p.is_symlink()]
     if existing and not args.overwrite:
         raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
                                 "earlier check (allowed: --overwrite to replace it, or another --out)")
     options = {"line_speed_kmh": "--line-speed-kmh", "trains": "--trains", "track": "--track",
-               "construction": "--construction", "bridge": "BRIDGE"}
+               "construction": "--construction", "bridge": "BRIDGE", "stochastic": "--stochastic",
+               "stochastic_speeds": "--stochastic-speeds", "stochastic_scenario": "--stochastic-scenario"}
+    workers = _int_option(args.workers, "--workers", 1)
+    speeds = None
+    if args.stochastic_speeds is not None:
+        try:
+            speeds = [float(x) for x in args.stochastic_speeds.split(",") if x.strip()]
+        except ValueError:
+            raise SettingError("command line", "--stochastic-speeds", args.stochastic_speeds,
+                               "speeds [km/h] separated by commas, e.g. 250,280.5", "not a number") from None
     result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
                    construction=args.construction, additional_damping=args.additional_damping,
-                   where="command line", option_names=options)
+                   where="command line", option_names=options, stochastic=args.stochastic,
+                   stochastic_speeds=speeds, stochastic_scenario=args.stochastic_scenario, workers=workers,
+                   progress=not args.no_progress)
     figure = None if args.no_figures else result.plot()  # drawn before anything is written
     out = check_writable(out)
     with _folder_lock(out):
         result.to_csv(out / CHECK_CSV)
+        png = None
         if figure is not None:
             _figures().save_figure(figure, out / CHECK_FIGURE)
+            png = (out / CHECK_FIGURE).read_bytes()
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
+        _figures().write_check_report(result, out, png)
     print(result.summary())
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
-          + ("" if figure is None else f" and {CHECK_FIGURE}"))
+          + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK
 
 
@@ -451,6 +433,7 @@ def build_parser() -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
   tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
   tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
+  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 250 --trains ice_mttm --stochastic --stochastic-speeds 250,300
 """)
     p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
@@ -466,8 +449,21 @@ def build_parser() -> argparse.ArgumentParser:
                    help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
     p.add_argument("--out", default="check", help="output folder (default: ./check)")
     p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier check's check.csv and check.png in --out (with --no-figures: remove the png)")
+                   help="replace an earlier check's check.csv, check.png and check.html in --out (with --no-figures: "
+                        "remove the png)")
     p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.add_argument("--stochastic", action="store_true",
+                   help="also the PEM of the random track irregularity for the trains given as vehicle models "
+                        "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "
+                        "run per speed, about 12 s each for ice_mttm over li_zhu_2011_bridge)")
+    p.add_argument("--stochastic-speeds", dest="stochastic_speeds", default=None, metavar="V,V,...",
+                   help="only these speeds [km/h] for --stochastic (added to the series if not in it; default: every "
+                        "speed of the series)")
+    p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
+                   help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
+                        "li_zhu_2011, German low interference)")
+    p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)
 
     p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")

@@ -6,6 +6,12 @@ every speed, and its verdict.
 and the speed series of 6.4.6.2 for each train, runs :func:`moving_force_response` (all speeds of a
 train in one integration) and returns a :class:`CheckResult`: the rows, the limit and what decided
 the values. Figures: :func:`tb_exudyn.plotting.plot_check` (``CheckResult.plot()``). Clause by clause: docs/en1991.md.
+
+With ``stochastic=True`` the trains given as vehicle models (the real trains of models/trains) also get,
+at their speeds of the nominal mass case (all, or ``stochastic_speeds``), the PEM of the random track
+irregularity on top of the mean (:mod:`tb_exudyn.codes.stochastic`): the probability of exceeding the
+deck limit in one passage and the level exceeded with the target probability, beside the deterministic
+value x (1 + k phi'') of every row.
 """
 
 from __future__ import annotations
@@ -22,7 +28,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..atomic import write_text_atomic
-from ..errors import ResourceError, SettingError
+from ..errors import ResourceError, ScenarioError, SettingError, UserError
+from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge
 from ..scenario.code_data import MASS_CASES, with_mass_case
 from ..scenario.model import Frame, SimpleBeam
@@ -30,11 +37,14 @@ from ..scenario.registry import model_files
 from ..structure import StructureError, modal_bridge
 from . import en1991 as code
 from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
+from . import stochastic as stoch
 from .trains import ForceTrain, resolve_trains
 
 #: the table's file in an output folder
 CHECK_CSV = "check.csv"
 CHECK_FIGURE = "check.png"
+#: the check's HTML page (tb_exudyn.report.check)
+CHECK_PAGE = "check.html"
 #: the mass case of a bridge without ballast (EN 1991-2 6.4.6.3.2: its only case)
 NOMINAL_CASE = "nominal"
 #: HSLM-A applies to spans from this length; HSLM-B below (EN 1991-2 Annex E, Table E.4) [m] [check]
@@ -61,7 +71,18 @@ class CheckResult:
     stations), max_deck_acc_z_location (its station, e.g. 'span1.x4/8 (16 m)'), disp_z_mid (largest peak
     |displacement| at a mid-span [m]), phi_dyn (phi'_dyn = max |y_dyn / y_stat| - 1, largest over the
     spans' mid-spans), phi_irregularity (phi'' of Annex C), enhancement (1 + phi_dyn + k phi''), limit
-    (m/s^2), verdict ('ok' or 'exceeds': max_deck_acc_z against limit).
+    (m/s^2), verdict ('ok' or 'exceeds': max_deck_acc_z against limit), max_deck_acc_z_with_phi2
+    (max_deck_acc_z x (1 + k phi''): the code's allowance for the irregularity on the deterministic value,
+    k = 1/2 careful maintenance, 1 standard), and the stochastic columns (None, empty in the CSV, where not
+    computed: :data:`tb_exudyn.codes.stochastic.COLUMNS`): p_exceed (probability of exceeding ``limit`` in
+    one passage), level_at_target (the level exceeded with ``target_probability`` per passage) [m/s^2],
+    stochastic_location (the deck channel deciding them), stochastic_mean_acc (the largest |mean| there:
+    the vehicle model's deterministic run), stochastic_verdict, stochastic_caveats, stochastic_n_freq (the
+    PEM frequencies used).
+
+    ``stochastic_scenarios``: per train with stochastic rows its scenario
+    (:func:`tb_exudyn.codes.stochastic.base_scenario`; the row at a speed: :meth:`stochastic_scenario`);
+    ``warnings``: the PEM runs' warnings (lightly damped modes, grid error), each naming its speed.
     """
 
     bridge: str
@@ -84,6 +105,10 @@ class CheckResult:
     cases: tuple[str, ...] = (NOMINAL_CASE,)
     construction_basis: str = ""
     mesh_basis: str = ""
+    stochastic_scenarios: dict[str, Any] = field(default_factory=dict, repr=False)
+    stochastic_basis: str = ""
+    target_probability: float | None = None
+    warnings: tuple[str, ...] = ()
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -93,6 +118,21 @@ class CheckResult:
         if name not in self.columns:
             raise SettingError("CheckResult.column", "name", name, ", ".join(self.columns))
         return [r[name] for r in self.rows]
+
+    def stochastic_rows(self) -> list[dict[str, Any]]:
+        """The rows with the stochastic columns computed."""
+        return [r for r in self.rows if r.get("p_exceed") is not None]
+
+    def stochastic_scenario(self, train: str, speed_kmh: float):  # noqa: ANN201
+        """The scenario of ``train``'s stochastic row at ``speed_kmh``: ``run_pem`` of it, or ``tb-exudyn
+        run`` of its TOML (``scenario_to_toml``), gives the row's numbers."""
+        if train not in self.stochastic_scenarios:
+            raise SettingError("CheckResult.stochastic_scenario", "train", train,
+                               ", ".join(self.stochastic_scenarios) or "none: the check has no stochastic rows")
+        row = next((r for r in self.stochastic_rows() if r["train"] == train and
+                    stoch.speed_key(r["speed_kmh"]) == stoch.speed_key(speed_kmh)), None)
+        return stoch.scenario_at(self.stochastic_scenarios[train], speed_kmh,
+                                 None if row is None else row["stochastic_n_freq"])
 
     def trains(self) -> list[str]:
         return list(dict.fromkeys(r["train"] for r in self.rows))
@@ -130,6 +170,20 @@ class CheckResult:
             res = ", ".join(f"{v:.0f}" for v in self.resonant_speeds_kmh.get(name, ()))
             lines.append(f"{name:<10} {len(rows):>6} {top['max_deck_acc_z']:>9.3f} {top['speed_kmh']:>8.1f} "
                          f"{max(r['phi_dyn'] for r in rows):>8.3f} {res}")
+        srows = self.stochastic_rows()
+        if srows or self.stochastic_basis:
+            lines.append(f"stochastic rows ({self.stochastic_basis}):")
+            lines.append(f"  {'train':<10} {'speeds':>6} {'max P(exceed)':>14} {'at km/h':>8} {'level at P*':>12} "
+                         f"{'det x(1+k phi2)':>16}")
+            for name in dict.fromkeys(r["train"] for r in srows):
+                rows = [r for r in srows if r["train"] == name]
+                top = max(rows, key=lambda r: (r["p_exceed"] if math.isfinite(r["p_exceed"]) else -1.0,
+                                               r["level_at_target"]))
+                lines.append(f"  {name:<10} {len(rows):>6} {top['p_exceed']:>14.3g} {top['speed_kmh']:>8.1f} "
+                             f"{top['level_at_target']:>12.3f} {top['max_deck_acc_z_with_phi2']:>16.3f}")
+            if self.warnings:
+                lines.append(f"  {len(self.warnings)} warning(s) of the PEM runs (CheckResult.warnings), e.g. "
+                             f"{self.warnings[0][:160]}")
         return "\n".join(lines)
 
     def csv_text(self) -> str:
@@ -147,6 +201,15 @@ class CheckResult:
     def plot(self):  # noqa: ANN201
         """The figure of :func:`tb_exudyn.plotting.plot_check` (matplotlib, loaded on first use)."""
         return importlib.import_module("tb_exudyn.plotting").plot_check(self)
+
+
+def _prefixed(exc: UserError, prefix: str) -> UserError:
+    """The same error (class and attributes) with ``prefix: `` before its one line."""
+    out = type(exc).__new__(type(exc))
+    Exception.__init__(out, f"{prefix}: {exc}")
+    out.__dict__.update(exc.__dict__)
+    out.message = f"{prefix}: {exc}"
+    return out
 
 
 def _vertical(mb) -> np.ndarray:  # noqa: ANN001
@@ -199,6 +262,12 @@ def check(
     cases: Sequence[str] | None = None,
     where: str = "check",
     option_names: dict[str, str] | None = None,
+    stochastic: bool = False,
+    stochastic_speeds: Sequence[float] | None = None,
+    stochastic_scenario: Any = None,
+    workers: int | None = None,
+    executor: Any = None,
+    progress: bool = False,
 ) -> CheckResult:
     """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
 
@@ -220,6 +289,14 @@ def check(
         declares ballast, else nominal
     where : how error messages name the caller (the CLI passes 'command line')
     option_names : argument -> name in error messages (the CLI's options, e.g. {'trains': '--trains'})
+    stochastic : also the stochastic rows (:mod:`tb_exudyn.codes.stochastic`): for every train given as
+        vehicle models, the PEM of the track irregularity at its speeds of the nominal mass case (one PEM
+        run per speed: about 12-20 s each for the reference study's ICE over li_zhu_2011_bridge)
+    stochastic_speeds : those speeds only [km/h] (None: every speed of the series); a speed not in the
+        series is added to it (for the trains with stochastic rows), within the series' range
+    stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
+        or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
+    workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
 
     Raises SettingError naming ``where`` and the argument for any value outside what is allowed.
     """
@@ -286,6 +363,48 @@ def check(
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
                   f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
 
+    stochastic_trains: list[ForceTrain] = []
+    extra_speeds: list[float] = []
+    if not isinstance(stochastic, bool):
+        raise err("stochastic", stochastic, "True or False")
+    if not stochastic and (stochastic_speeds is not None or stochastic_scenario is not None):
+        given_key = "stochastic_speeds" if stochastic_speeds is not None else "stochastic_scenario"
+        raise err(given_key, stochastic_speeds if stochastic_speeds is not None else str(stochastic_scenario),
+                  f"with {names.get('stochastic', 'stochastic=True')} only", "no stochastic rows asked for")
+    if stochastic:
+        stochastic_trains = [t for t in train_list if stoch.eligible(t)]
+        if not stochastic_trains:
+            raise err("stochastic", [t.name for t in train_list], "trains given as vehicle models among the trains "
+                      "(ice_mttm, ave_s103 or a train .toml file of vehicles): HSLM-A trains are moving forces",
+                      "no train for the stochastic rows")
+        if NOMINAL_CASE not in cases:
+            raise err("cases", list(cases), f"mass cases including {NOMINAL_CASE!r} (the stochastic rows' case)")
+        top_speed = code.DESIGN_SPEED_FACTOR * float(line_speed_kmh)
+        low_speed = min(code.SPEED_SERIES_START_KMH, top_speed)
+        if stochastic_speeds is not None:
+            if isinstance(stochastic_speeds, (str, bytes)):
+                raise err("stochastic_speeds", stochastic_speeds, "speeds [km/h] as numbers, or none for every speed")
+            values = [stochastic_speeds] if isinstance(stochastic_speeds, (int, float)) else stochastic_speeds
+            try:
+                values = [v for v in values]
+            except TypeError:
+                raise err("stochastic_speeds", stochastic_speeds, "speeds [km/h], or none for every speed") from None
+            allowed = (f"speeds from {low_speed:g} to {top_speed:g} km/h (the check's series: 40 m/s to 1.2 x the "
+                       "line speed), each once")
+            if not values:
+                raise err("stochastic_speeds", list(values), allowed, "no speed")
+            for v in values:
+                if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not (
+                        math.isfinite(v) and low_speed - 1e-6 <= v <= top_speed + 1e-6):
+                    raise err("stochastic_speeds", v, allowed, "outside the series' range")
+            keys = [round(float(v), 6) for v in values]
+            if len(set(keys)) != len(keys):
+                raise err("stochastic_speeds", list(values), allowed, "a speed given twice")
+            extra_speeds = [min(max(k, low_speed), top_speed) for k in keys]
+        stoch.check_limits(track, code.deck_acceleration_limit(track), where)
+        source_scenario = stoch.scenario_source(stochastic_scenario, where,
+                                                names.get("stochastic_scenario", "stochastic_scenario"))
+
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:
         zeta = float(damping_ratio)
@@ -293,6 +412,7 @@ def check(
     else:
         zeta = code.damping_ratio_table_6_6(construction, span)
         basis = f"damping {100 * zeta:.3g} % (Table 6.6, {construction.replace('_', ' ')}, L = {span:g} m)"
+    zeta_vehicles = zeta  # eq. 6.13 is for moving-force models: the vehicle model's rows leave it out
     if additional_damping:
         dz = code.additional_damping_eq_6_13(span)
         zeta += dz
@@ -310,14 +430,42 @@ def check(
     columns = ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz",
                *(f"acc_z_mid_span{i + 1}" for i in range(len(spans))),
                "max_deck_acc_z", "max_deck_acc_z_location", "disp_z_mid", "phi_dyn", "phi_irregularity",
-               "enhancement", "limit", "verdict")
+               "enhancement", "limit", "verdict", "max_deck_acc_z_with_phi2", *stoch.COLUMNS)
+    stochastic_names = {t.name for t in stochastic_trains}
+    series: dict[str, np.ndarray] = {}
+    for train in train_list:
+        # the resonances of every case: the series is refined near each case's v_i = n0 D / i
+        v_res = sorted({float(v) for c in cases for v in code.resonant_speeds_kmh(modes_of[c][2], train.regular_length)})
+        speeds = code.speed_series(line_speed_kmh, v_res, step_kmh=speed_step_kmh)
+        if train.name in stochastic_names and extra_speeds:
+            speeds = np.unique(np.round(np.concatenate([speeds, extra_speeds]), 6))
+        series[train.name] = speeds
+    # the stochastic rows' scenarios, built (and every speed's scenario checked) before any run
+    bases: dict[str, Any] = {}
+    run_speeds: dict[str, list[float]] = {}
+    if stochastic_trains:
+        _, _, _, _, cutoff_n, _ = modes_of[NOMINAL_CASE]
+        key_sc = names.get("stochastic_scenario", "stochastic_scenario")
+        for train in stochastic_trains:
+            bases[train.name] = stoch.base_scenario(source_scenario, bridge, train, zeta_vehicles, cutoff_n,
+                                                    where, key_sc)
+            chosen = series[train.name] if not extra_speeds else np.array(extra_speeds)
+            run_speeds[train.name] = [float(v) for v in series[train.name] if stoch.speed_key(v) in
+                                      {stoch.speed_key(c) for c in chosen}]
+            for v in run_speeds[train.name]:
+                try:
+                    stoch.scenario_at(bases[train.name], v)
+                except ScenarioError as exc:
+                    given = source_scenario.source_file or source_scenario.name
+                    raise err("stochastic_scenario", given, exc.allowed,
+                              f"its analysis at {v:g} km/h (the band v / track.wavelength_max to min(v / "
+                              f"track.wavelength_min, 0.1 / analysis.time_step)): analysis.{exc.key}: {exc.reason}"
+                              ) from None
     rows, responses, resonant = [], [], {}
     for case, train in ((c, t) for c in cases for t in train_list):
         mb_c, used_c, f1_c, _, cutoff_c, _ = modes_of[case]
-        # the resonances of every case: the series is refined near each case's v_i = n0 D / i
-        v_res = sorted({float(v) for c in cases for v in code.resonant_speeds_kmh(modes_of[c][2], train.regular_length)})
         resonant[train.name] = tuple(float(v) for v in code.resonant_speeds_kmh(f1, train.regular_length))
-        speeds = code.speed_series(line_speed_kmh, v_res, step_kmh=speed_step_kmh)
+        speeds = series[train.name]
         try:
             resp = moving_force_response(mb_c, train, speeds, spans, damping_ratio=zeta, modes=used_c)
         except ResourceError as exc:
@@ -347,8 +495,33 @@ def check(
                 "enhancement": float(1.0 + phi_dyn[j] + k_irr * phi2),
                 "limit": limit,
                 "verdict": VERDICT_EXCEEDS if peak > limit else VERDICT_OK,
+                "max_deck_acc_z_with_phi2": float(peak * (1.0 + k_irr * phi2)),
             })
+            row.update(dict.fromkeys(stoch.COLUMNS))
             rows.append(row)
+    # the stochastic rows: one PEM sweep per train over its chosen speeds, into the nominal case's rows
+    runs, messages = [], []
+    for train in stochastic_trains:
+        try:
+            run = stoch.run_stochastic(bases[train.name], run_speeds[train.name], track, workers=workers,
+                                       executor=executor, progress=progress, name=train.name)
+        except UserError as exc:  # e.g. a run this machine cannot hold: say which option's runs
+            given = source_scenario.source_file or source_scenario.name
+            raise _prefixed(exc, f"{where}: key '{names.get('stochastic_scenario', 'stochastic_scenario')}' = "
+                                 f"{given!r}, the stochastic rows of {train.name}") from None
+        runs.append(run)
+        messages += run.warnings
+        for row in rows:
+            if row["train"] == train.name and row["case"] == NOMINAL_CASE:
+                row.update(run.values.get(stoch.speed_key(row["speed_kmh"]), {}))
+    stochastic_basis = ""
+    if stochastic_trains:
+        n_runs = sum(len(v) for v in run_speeds.values())
+        stochastic_basis = (
+            f"PEM of {', '.join(source_scenario.track.irregularities)} (track and analysis of {source_scenario.name}) "
+            f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
+            f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
+            f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
     return CheckResult(
         bridge=bridge.name, line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
         damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,
@@ -356,8 +529,10 @@ def check(
         vertical_frequencies=tuple(float(f) for f in mb.frequencies[_vertical(mb)] if f <= cutoff * (1.0 + 1e-9)),
         cases=cases, construction_basis=construction_basis, mesh_basis=mesh_basis, dynamic_analysis=dyn_required,
         resonant_speeds_kmh=resonant, columns=columns, rows=tuple(rows), responses=tuple(responses),
-        seconds=time.perf_counter() - t0,
+        seconds=time.perf_counter() - t0, stochastic_scenarios=bases, stochastic_basis=stochastic_basis,
+        target_probability=float(DEFAULT_TARGET_PROBABILITY) if stochastic_trains else None, warnings=tuple(dict.fromkeys(messages)),
     )
 
 
-__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CheckResult", "NOMINAL_CASE", "check"]
+
+__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check"]

@@ -21,7 +21,6 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
-import scipy.linalg as la
 
 from ..errors import ResourceError, SettingError
 from ..structure.modal import ModalBridge

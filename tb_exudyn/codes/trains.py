@@ -55,7 +55,9 @@ class ForceTrain:
     ``positions`` (n_axles,) distance of each axle behind the first [m], ascending, first 0;
     ``loads`` (n_axles,) axle loads [N], positive downwards; ``regular_length`` the length D of the
     regular axle group [m] whose passing frequency v / D excites resonance (coach length of HSLM-A, car
-    length of a real train).
+    length of a real train); ``vehicles`` the vehicle models the loads come from, in running order (a
+    real train of models/trains: its cars, a ``body_mass`` applied; empty for HSLM-A and forces given
+    as such): what the check's stochastic rows run (tb_exudyn.codes.stochastic).
     """
 
     name: str
@@ -64,6 +66,7 @@ class ForceTrain:
     regular_length: float
     description: str = ""
     source: str = ""
+    vehicles: tuple = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.positions, dtype=float)
@@ -80,6 +83,7 @@ class ForceTrain:
             raise SettingError(where, "regular_length", self.regular_length, "a length D > 0 m")
         object.__setattr__(self, "positions", x)
         object.__setattr__(self, "loads", p)
+        object.__setattr__(self, "vehicles", tuple(self.vehicles))
 
     @property
     def n_axles(self) -> int:
@@ -166,7 +170,7 @@ def load_train(path: str | Path) -> ForceTrain:
     cars = data.get("cars")
     if not isinstance(cars, list) or not cars or not all(isinstance(c, dict) for c in cars):
         raise _train_error(file, "cars", cars, "one or more [[cars]] tables with a 'vehicle'")
-    positions, loads, lengths, start = [], [], [], 0.0
+    positions, loads, lengths, models, start = [], [], [], [], 0.0
     for i, car in enumerate(cars):
         where = f"cars[{i}]"
         for key in car:
@@ -189,11 +193,13 @@ def load_train(path: str | Path) -> ForceTrain:
         body = vehicle.body.mass
         if "body_mass" in car:
             body = _positive(file, f"{where}.body_mass", car["body_mass"])
+            vehicle = vehicle.replace(body=vehicle.body.replace(mass=body))
         weight = GRAVITY * (body + 2.0 * vehicle.bogie.mass + 4.0 * vehicle.wheelset.mass)
         for _ in range(count):
             positions.extend(start + a for a in vehicle.axle_offsets)
             loads.extend([weight / 4.0] * 4)
             lengths.append(vehicle.length)
+            models.append(vehicle)
             start += vehicle.length
     if positions[-1] > MAX_TRAIN_LENGTH:
         raise _train_error(file, "cars", f"{len(lengths)} cars", f"a train at most {MAX_TRAIN_LENGTH:g} m long",
@@ -206,6 +212,7 @@ def load_train(path: str | Path) -> ForceTrain:
     return ForceTrain(
         name=str(data.get("name", path.stem)), positions=np.array(positions), loads=np.array(loads),
         regular_length=regular, description=str(data.get("description", "")), source=str(data.get("source", "")),
+        vehicles=tuple(models),
     )
 
 

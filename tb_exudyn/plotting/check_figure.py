@@ -6,12 +6,17 @@ from __future__ import annotations
 
 import numpy as np
 
+#: the line style of each mass case
+CASE_STYLES = {"nominal": "-", "lower": "--", "upper": "-."}
+
 
 def plot_check(result, resonant_orders: int = 4):  # noqa: ANN001, ANN201
     """A matplotlib Figure of ``result`` (a :class:`~tb_exudyn.codes.check.CheckResult`): max_deck_acc_z
-    [m/s^2] against speed [km/h] per train; the limit (3.5 m/s^2 ballasted, 5 direct) as a red line; each
+    [m/s^2] against speed [km/h] per train, one line per mass case (nominal solid, lower dashed, upper
+    dash-dotted); the limit (3.5 m/s^2 ballasted, 5 direct) as a red line; each
     train's resonant speeds (first ``resonant_orders`` orders) inside the range as dotted lines of its
-    colour."""
+    colour; where the stochastic rows were computed, their level_at_target (the level exceeded with the
+    target probability per passage, PEM of the track irregularity) as crosses of the train's colour."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(9.0, 5.0))
@@ -23,20 +28,30 @@ def plot_check(result, resonant_orders: int = 4):  # noqa: ANN001, ANN201
     for i, name in enumerate(names):
         rows = [r for r in result.rows if r["train"] == name]
         color = cmap(i % cmap.N)
-        ax.plot([r["speed_kmh"] for r in rows], [r["max_deck_acc_z"] for r in rows], color=color, lw=1.2,
-                label=name)
+        cases = list(dict.fromkeys(r["case"] for r in rows))
+        for case in cases:
+            line = [r for r in rows if r["case"] == case]
+            ax.plot([r["speed_kmh"] for r in line], [r["max_deck_acc_z"] for r in line], color=color, lw=1.2,
+                    ls=CASE_STYLES.get(case, "-"), label=name if len(cases) == 1 else f"{name} ({case})")
+        stoch = [r for r in rows if r.get("level_at_target") is not None and np.isfinite(r["level_at_target"])]
+        if stoch:
+            ax.plot([r["speed_kmh"] for r in stoch], [r["level_at_target"] for r in stoch], ls="none", marker="x",
+                    color=color, ms=6, label=f"{name}: level at P = {result.target_probability:.3g} per passage (PEM)")
         for v in result.resonant_speeds_kmh.get(name, ())[:resonant_orders]:
             if lo <= v <= hi:
                 ax.axvline(v, color=color, lw=0.6, ls=":", alpha=0.8)
     ax.axhline(result.limit, color="red", lw=1.5, label=f"limit {result.limit:g} m/s$^2$ ({result.track})")
     ax.set_xlim(lo, hi)
-    ax.set_ylim(0.0, max(1.1 * result.limit, 1.05 * max(result.column("max_deck_acc_z"))))
+    levels = [r["level_at_target"] for r in result.rows if r.get("level_at_target") is not None
+              and np.isfinite(r["level_at_target"])]
+    ax.set_ylim(0.0, max(1.1 * result.limit, 1.05 * max(result.column("max_deck_acc_z")), *(1.05 * x for x in levels)))
     ax.set_xlabel("speed [km/h]")
     ax.set_ylabel("peak vertical deck acceleration [m/s$^2$]")
     ax.set_title(f"{result.bridge}: EN 1991-2 check, line speed {result.line_speed_kmh:g} km/h, "
                  f"damping {100 * result.damping_ratio:.3g} % (dotted: v = n0 D / i)", fontsize=9)
     ax.grid(True, lw=0.3)
-    ax.legend(fontsize=7, ncol=2 if len(names) > 6 else 1, loc="best")
+    n_labels = len(ax.get_legend_handles_labels()[1])
+    ax.legend(fontsize=7 if n_labels <= 16 else 6, ncol=1 if n_labels <= 6 else 2 if n_labels <= 16 else 3, loc="best")
     fig.tight_layout()
     return fig
 

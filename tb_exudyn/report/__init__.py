@@ -53,6 +53,7 @@ from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, Summ
                       verdicts_of)
 from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_section, findings_section, link, modes_section,
                    provenance_section, result_name, scenario_section, warnings_section)
+from .check import CHECK_REPORT, render_check_report, write_check_report
 from .sweep import SWEEP_REPORT, render_sweep_report, write_sweep_report
 from .verdicts import verdicts_section
 
@@ -220,4 +221,5 @@ __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "Study
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
            "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
-           "SWEEP_REPORT", "render_sweep_report", "write_sweep_report"]
+           "SWEEP_REPORT", "render_sweep_report", "write_sweep_report",
+           "CHECK_REPORT", "render_check_report", "write_check_report"]

@@ -118,7 +118,7 @@ def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, caps
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "deck acceleration limit 3.5 m/s^2 (ballasted track) met" in text and "ice_mttm" in text
-    assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html", "check.png"]
     with open(out / "check.csv", newline="") as fh:
         assert {r["train"] for r in csv.DictReader(fh)} == {"HSLM-A1", "ice_mttm"}
     before = (out / "check.csv").read_bytes()
@@ -126,7 +126,7 @@ def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, caps
     assert "--overwrite" in capsys.readouterr().err and (out / "check.csv").read_bytes() == before
     assert main(argv + ["--overwrite", "--no-figures", "--track", "direct"]) == 0
     assert "5 m/s^2 (direct track)" in capsys.readouterr().out
-    assert sorted(p.name for p in out.iterdir()) == ["check.csv"]  # no stale figure beside the new table
+    assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html"]  # no stale figure beside the new table
 
 
 def test_list_shows_the_trains(capsys):

@@ -1,0 +1,216 @@
+"""The stochastic column of the EN 1991-2 check: the PEM of the random track irregularity on top of the mean,
+for trains given as vehicle models, at the check's speeds.
+
+EN 1991-2 covers the track's irregularity by a factor on the moving-force result (Annex C: 1 + phi''/2 for
+a carefully maintained track); the pseudo-excitation method computes what that factor approximates. For a
+train whose cars are vehicle models (the real trains of models/trains: ``ForceTrain.vehicles``) the check
+builds one scenario (:func:`base_scenario`):
+
+- the bridge: the check's own (its nominal mass case, the check's mesh of at least 64 elements per span)
+  with the check's damping ratio on every mode (Table 6.6 or the one given; eq. 6.13's additional damping
+  is for moving-force models and is left out of the vehicle model);
+- the train: the train's vehicles in running order (a car's ``body_mass`` applied);
+- the track and the analysis: those of a scenario (default :data:`DEFAULT_SCENARIO`, the reference study:
+  german_low vertical, alignment and cross-level), with ``analysis.mode_max_frequency`` raised, where it is
+  lower, to :data:`MODE_MARGIN` x the check's cut-off so that the channel along the track has every mode
+  up to the cut-off;
+
+and runs it at the chosen speeds with :func:`tb_exudyn.methods.sweep.run_sweep` (one rule for a run at a
+speed: :func:`scenario_at` is ``sweep_scenario``, the grid over the track's wavelength band at that speed
+and an approach at least the scenario's in metres and in seconds), on the channels :data:`CHANNELS`. Each
+speed's row takes from the verdicts' exceedance machinery (``RandomResponse.checks()``, the default limits
+and target probability: :func:`tb_exudyn.methods.sweep.check_columns`) the deck acceleration criterion of
+the check's track (:data:`CRITERIA`) at its deciding location: ``p_exceed``, the probability of exceeding
+the limit at least once in one passage (Rice's rate, Poisson's first passage), and ``level_at_target``,
+the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem``
+(or ``tb-exudyn run``) of :func:`scenario_at` at that speed, to round-off.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+from ..errors import ScenarioError, SettingError
+from ..results.checks import default_limits
+from ..scenario import Scenario, load_scenario
+from ..scenario.model import Train
+from ..scenario.registry import model_files
+from ..scenario.schema import source_file
+from .trains import ForceTrain
+
+#: the scenario whose track and analysis the stochastic rows take by default: the reference study
+DEFAULT_SCENARIO = "li_zhu_2011"
+#: the PEM runs' channels: the deck's vertical accelerations at the stations (a sweep's key quantity must
+#: match a channel of the model: the plain ``acc_z``) and with them the derived ``acc_z_en1990`` along the
+#: track, modes up to the cut-off, which the deck criterion reads
+CHANNELS: tuple[str, ...] = ("bridge.span*.acc_z*",)
+#: the deck acceleration criterion of each track (models/limits/en1990_deck.toml)
+LIMIT_SET = "en1990_deck"
+CRITERIA: dict[str, str] = {"ballasted": "deck_acc_ballasted", "direct": "deck_acc_direct_fastened"}
+#: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
+MODE_MARGIN = 1.05
+#: the table's stochastic columns (None where not computed)
+COLUMNS: tuple[str, ...] = ("p_exceed", "level_at_target", "stochastic_location", "stochastic_mean_acc",
+                            "stochastic_verdict", "stochastic_caveats", "stochastic_n_freq")
+
+
+def _sweep() -> Any:
+    """tb_exudyn.methods.sweep, imported on first use: the methods build Exudyn models, which the check's
+    moving-force rows (and ``tb-exudyn list``) do not need (as SweepResult.plot loads the plotting)."""
+    return importlib.import_module("tb_exudyn.methods.sweep")
+
+
+def eligible(train: ForceTrain) -> bool:
+    """Whether the train is given as vehicle models (its stochastic rows can be computed)."""
+    return bool(train.vehicles)
+
+
+def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str) -> Scenario:
+    """The scenario whose track and analysis the rows take (None: :data:`DEFAULT_SCENARIO`); an unknown
+    name or one without track irregularities raises SettingError naming ``key``."""
+    if scenario is None:
+        scenario = DEFAULT_SCENARIO
+    if isinstance(scenario, Scenario):
+        sc = scenario
+    elif isinstance(scenario, (str, Path)):
+        text = str(scenario)
+        known = model_files("scenarios")
+        if not text.strip() or (text not in known and not text.endswith(".toml") and not Path(text).exists()):
+            raise SettingError(where, key, text, f"one of {', '.join(known)} or a path to a scenario .toml file",
+                               "unknown scenario")
+        sc = load_scenario(text)  # a bad file: its ScenarioError names the file and the key
+    else:
+        raise SettingError(where, key, type(scenario).__name__, "a scenario name, a .toml path or a Scenario")
+    if not sc.track.irregularities:
+        raise SettingError(where, key, sc.name, "a scenario with track irregularities (track.irregularities)",
+                           "no irregularity: nothing random to analyse")
+    return sc
+
+
+def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_ratio: float, cutoff_hz: float,
+                  where: str = "check", key: str = "stochastic_scenario") -> Scenario:
+    """The scenario of ``train``'s stochastic rows (the module docstring): ``bridge`` (the check's, in its
+    nominal case) at ``damping_ratio``, the train's vehicles, the track and analysis of ``source`` with
+    the bridge modes up to at least MODE_MARGIN x ``cutoff_hz``; its speed is the source's (the approach
+    rule of the sweep scales the lead-in from it). A combination the schema refuses (e.g. a vehicle
+    longer than the track) raises SettingError naming ``key``."""
+    if not eligible(train):
+        raise SettingError(where, "trains", train.name, "a train given as vehicle models (models/trains)",
+                           "moving forces only")
+    an = source.analysis
+    modes = max(an.mode_max_frequency, MODE_MARGIN * float(cutoff_hz))
+    try:
+        return Scenario(
+            name=f"check_{train.name}_{bridge.name}", speed_kmh=source.speed_kmh,
+            train=Train(vehicles=tuple(train.vehicles)),
+            bridge=bridge.replace(damping_ratio=float(damping_ratio)),
+            track=source.track, analysis=an.replace(mode_max_frequency=modes),
+            description=f"EN 1991-2 check, stochastic rows: {train.name} over {bridge.name} (nominal mass case), "
+                        f"track and analysis of {source.name}",
+            source=f"tb_exudyn.codes.check (stochastic), from scenario {source.name}",
+            notes=f"bridge damping ratio {damping_ratio:g} on every mode (the check's); bridge modes up to "
+                  f"{modes:.4g} Hz (the check's cut-off {cutoff_hz:.4g} Hz)")
+    except ScenarioError as exc:
+        raise SettingError(where, key, source.name, exc.allowed or "a scenario whose track fits the train",
+                           f"the check's scenario for {train.name}: {exc.key} {exc.reason}".strip()) from None
+
+
+def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> Scenario:
+    """The scenario of the row at ``speed_kmh``: what :func:`run_sweep` runs there (its grid and approach
+    rules, the channels :data:`CHANNELS`); ``n_freq``: the count the run used (an adaptive grid is raised
+    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it (or
+    ``tb-exudyn run`` of its TOML, ``scenario_to_toml``) gives the row's numbers."""
+    sc = _sweep().sweep_scenario(base, float(speed_kmh), CHANNELS)
+    if n_freq is not None and int(n_freq) != sc.analysis.n_freq:
+        sc = sc.replace(analysis=sc.analysis.replace(n_freq=int(n_freq)))
+    return sc
+
+
+def check_limits(track: str, limit: float, where: str = "check") -> None:
+    """The limit file of the rows' criterion is there and its limit is the check's (``limit``): else a
+    ScenarioError naming the file (or SettingError when no file of that name is among the limits)."""
+    criterion = CRITERIA[track]
+    sets = {ls.name: ls for ls in default_limits()}
+    ls = sets.get(LIMIT_SET)
+    found = None if ls is None else next((c for c in ls.criteria if c.id == criterion), None)
+    if found is None:
+        raise SettingError(where, "limits", sorted(sets), f"a limit file {LIMIT_SET!r} with criterion {criterion!r} "
+                           "(models/limits/en1990_deck.toml)", "the stochastic rows' criterion is missing")
+    value = found.limit_value() if found.limit.kind == "fixed" else math.nan
+    if not (math.isfinite(value) and abs(value - limit) <= 1e-12 * limit):
+        raise ScenarioError(source_file(ls) or LIMIT_SET, f"criteria.{criterion}.limit", value,
+                            f"the check's limit {limit:g} m/s^2 (EN 1990 A2.4.4.2.1), a fixed limit",
+                            "the stochastic rows must compare with the check's limit")
+
+
+@dataclass(frozen=True)
+class StochasticRun:
+    """The stochastic rows of one train: per speed (km/h, rounded to 1e-6) the columns of :data:`COLUMNS`,
+    the warnings of the runs and their time."""
+
+    train: str
+    base: Scenario = field(repr=False)
+    values: dict[float, dict[str, Any]] = field(repr=False)
+    warnings: tuple[str, ...] = ()
+    seconds: float = 0.0
+
+
+def speed_key(speed_kmh: float) -> float:
+    return round(float(speed_kmh), 6)
+
+
+def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, workers: int | None = None,
+                   executor: Any = None, progress: bool = False, name: str = "") -> StochasticRun:
+    """The PEM of ``base`` at each speed (:func:`tb_exudyn.methods.sweep.run_sweep` with the channels
+    :data:`CHANNELS`; nothing written) and per speed the columns: p_exceed and level_at_target of the
+    track's deck criterion at its deciding location, that location, the largest |mean| there (the
+    vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
+    t0 = time.perf_counter()
+    crit = f"{LIMIT_SET}/{CRITERIA[track]}"
+    methods = _sweep()
+    # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
+    # separate sweeps (e.g. 250 and 250.0001 km/h)
+    batches: list[list[float]] = []
+    for v in speeds_kmh:
+        batch = next((b for b in batches if methods.speed_label(v) not in {methods.speed_label(x) for x in b}), None)
+        if batch is None:
+            batches.append(batch := [])
+        batch.append(float(v))
+    done: list[tuple[float, dict[str, Any]]] = []
+    for batch in batches:
+        sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
+                                  progress=progress)
+        done += list(zip(sweep.speeds, sweep.summaries))
+    values: dict[float, dict[str, Any]] = {}
+    messages: list[str] = []
+    for v, s in done:
+        cols = json.loads(str(s["checks"]))
+        if f"{crit}_probability" not in cols:  # check_limits ran first: the channels are the model's
+            raise SettingError("check", "stochastic", name or base.name, f"a model with the channels {CHANNELS[0]}",
+                               f"no {crit} row at {v:g} km/h")
+        channel = str(cols[f"{crit}_channel"])
+        names = [str(c) for c in s["channels"]]
+        mean = float(s["max_abs_mean"][names.index(channel)]) if channel in names else math.nan
+        reason = str(cols.get(f"{crit}_reason", ""))
+        values[speed_key(v)] = {
+            "p_exceed": float(cols[f"{crit}_probability"]),
+            "level_at_target": float(cols[f"{crit}_estimate"]),
+            "stochastic_location": channel,
+            "stochastic_mean_acc": mean,
+            "stochastic_verdict": str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
+            "stochastic_caveats": str(cols.get(f"{crit}_caveats", "")),
+            "stochastic_n_freq": int(s["n_freq"]),
+        }
+        messages += [str(m) for m in s.get("warnings", ())]
+    return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
+                         seconds=time.perf_counter() - t0)
+
+
+__all__ = ["CHANNELS", "COLUMNS", "CRITERIA", "DEFAULT_SCENARIO", "LIMIT_SET", "MODE_MARGIN", "StochasticRun",
+           "base_scenario", "check_limits", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key"]
