@@ -140,17 +140,25 @@ def removed_if_left_empty(folder: str | Path) -> Iterator[None]:
     folder was created (e.g. by :func:`tb_exudyn.results.storage.check_writable`) leaves no new empty
     folder. After a refusal (a :class:`~tb_exudyn.errors.UserError`) a new folder that holds only
     checkpoints without a finished task (``manifest.json`` beside an empty ``tasks/``: a run refused
-    when its tasks were set up, e.g. by the memory estimate) is unused too. Nothing else is removed: a
-    folder that holds anything more, or that existed before, is kept."""
+    when its tasks were set up, e.g. by the memory estimate) is unused too, and so is such a checkpoint
+    folder that the block made inside an existing ``folder``. Nothing else is removed: a folder that
+    holds anything more, or that existed before, is kept."""
     new = []  # the folder and its missing parents, innermost first
     path = Path(os.path.abspath(folder))
     while not os.path.lexists(path) and path != path.parent:
         new.append(path)
         path = path.parent
+    target = Path(os.path.abspath(folder))
+    before = set(os.listdir(target)) if not new and target.is_dir() and not target.is_symlink() else None
     try:
         yield
     except BaseException as exc:
         refused = isinstance(exc, UserError)
+        if refused and before is not None:  # an existing folder: the unstarted checkpoints this run made
+            for name in sorted(set(os.listdir(target)) - before):
+                child = target / name
+                if child.is_dir() and not child.is_symlink() and _only_unstarted_checkpoints(child):
+                    shutil.rmtree(child, ignore_errors=True)
         for path in new:
             try:
                 if path.is_symlink() or not path.is_dir():

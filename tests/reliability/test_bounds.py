@@ -183,6 +183,15 @@ def test_removed_if_left_empty_after_a_refusal_with_an_unstarted_checkpoint(tmp_
             opened(other)
             raise KeyboardInterrupt
     assert (other / "checkpoint" / "manifest.json").is_file()
+    # an existing folder: the unstarted checkpoint the refused block made is removed, what was there is kept
+    kept = tmp_path / "kept"
+    kept.mkdir()
+    (kept / "notes.txt").write_text("mine")
+    with pytest.raises(SettingError):
+        with removed_if_left_empty(kept):
+            opened(kept)
+            raise SettingError("command line", "--max-memory", "1KB", "more")
+    assert sorted(p.name for p in kept.iterdir()) == ["notes.txt"]
 
 
 def test_a_speed_whose_sweep_scenario_is_invalid_is_named():
