@@ -424,7 +424,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--channels", nargs="+", default=None,
                    help="channel patterns of the key quantities (default: deck and car body accelerations, wheel forces)")
     p.add_argument("--precision", choices=("float64", "float32"), default="float64",
-                   help="float32: about 15 %% faster, sigma within 1e-5 of each channel's largest (docs/speed.md)")
+                   help="float32: faster (measured in docs/speed.md), sigma within 1e-5 of each channel's largest")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figure (the report is written without it)")
     p.set_defaults(func=_cmd_sweep)

@@ -182,8 +182,8 @@ class Engine(ABC):
         return {"engine": self.name}
 
     def mean(self) -> dict[str, np.ndarray]:
-        """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the
-        engine's model (a linear engine may give its own linear model's instead, with "mean_engine"
+        """The mean: the deterministic run (gravity, static start, no irregularity) on the engine's
+        model: Exudyn's here (a linear engine may give its own linear model's instead, with "mean_engine"
         in its provenance: the batched engine's default, :mod:`.batched.mean`), as plain arrays
         (checkpointable): the selected and derived channels' values ("mean"), their names and units,
         the time, every engine output of the run ("outputs", in ``outputs.names`` order: what the

@@ -120,7 +120,8 @@ def run_pem(
     engine : "exudyn" (two Exudyn runs per type and frequency: the reference), "batched" (all
         pseudo-excitations in one integration of the same linear model with Exudyn's
         generalized-alpha step) or "dense" (the same on full matrices: a small reference); the mean
-        is Exudyn's deterministic run in every case
+        is the engine's deterministic run: Exudyn's on the Exudyn engine, the linear model's under the
+        dead loads on the batched engine by default (``mean_engine`` in the provenance says which)
     linearization : overrides ``analysis.linearization``: "rest" (every engine: pseudo-runs from the
         unloaded rest state without gravity) or, with a linear engine, "static" (about the static
         equilibrium under gravity, with the suspensions' preload stiffness)

@@ -100,8 +100,8 @@ def analysis_setup(scenario: Scenario, *, warn: bool = True, least_count: bool =
 
 @dataclass(frozen=True)
 class MeanTask:
-    """The mean: Exudyn's deterministic run (gravity, static start, no irregularity) on the worker's
-    built model (:meth:`tb_exudyn.engines.base.Engine.mean`)."""
+    """The mean: the engine's deterministic run (gravity, static start, no irregularity) on the worker's
+    built model (:meth:`tb_exudyn.engines.base.Engine.mean`: Exudyn's, or a linear engine's own)."""
 
 
 def package_versions() -> dict[str, str]:

@@ -3,8 +3,9 @@
 Sample k is the profile ``sample_rng(seed, k)`` draws (:mod:`.sampling`), whatever engine and worker
 runs it. On an engine of the full model (``full_model``: the Exudyn engine) every sample is one run
 with gravity from static equilibrium on the sampled track (method ``"monte_carlo"``); on a linear
-engine (batched, dense) every sample is Exudyn's deterministic run (the mean task) plus the linear
-model's response to the sample's profiles from rest (method ``"monte_carlo_linear"``). What the linear
+engine (batched, dense) every sample is the engine's deterministic run (the mean task: the batched
+engine's linear mean by default, ``mean_engine`` in the provenance) plus the linear model's response
+to the sample's profiles from rest (method ``"monte_carlo_linear"``). What the linear
 method leaves out is exactly what the Exudyn model has beyond the linear one (the rigid bodies'
 large-rotation terms, and with ``analysis.linearization = "rest"`` the suspensions' preload
 stiffness), which PEM leaves out too: it checks PEM's statistics (time-domain superposition of sampled

@@ -10,8 +10,10 @@ all columns at once), and with independent spectra adding
     S_y(f_k, t) = sum over spectra |y~_k(t)|^2 / df_k         (one-sided PSD per Hz)
     sigma_y^2(t) = sum_k S_y(f_k, t) df_k                      (over the analysed band)
 
-(:class:`PsdReducer`); the mean is the deterministic run (gravity, no irregularity), Exudyn's, as a
-task of its own. Frequencies whose wavelength v / f lies outside the track's wavelength band carry no
+(:class:`PsdReducer`); the mean is the deterministic run (gravity, no irregularity) as a task of its
+own, by the engine: the batched engine's is the linear model's under the dead loads (Exudyn's
+nonlinear run with ``BatchedOptions(mean="exudyn")``), the Exudyn engine's Exudyn's; the provenance's
+``mean_engine`` says which. Frequencies whose wavelength v / f lies outside the track's wavelength band carry no
 irregularity (PSD zero there).
 
 Tasks: an engine that runs columns separately (``single_columns``) gets one task per column; the

@@ -21,7 +21,7 @@ What makes it fast:
   car on a symmetric track) each integrate only the columns that excite them, and coordinates no
   input reaches are not integrated at all (:mod:`tb_exudyn.system.components`);
 - complex columns computed on their real view, in-place BLAS (:mod:`.kernels`), in float64 or, as an
-  option, float32 (about twice the speed; see :class:`BatchedOptions` for its error);
+  option, float32 (faster: measured in docs/speed.md; see :class:`BatchedOptions` for its error);
 - single-threaded BLAS, one process per core, each owning large slices of the columns (tasks);
 - outputs reduced at every output step by the method's reducer, never stored as histories, and only
   for the selected channels.
@@ -61,7 +61,7 @@ class BatchedOptions:
     Attributes
     ----------
     precision : "float64" (default: the reference) or "float32" (state and products in single
-        precision: 10-20 % faster on the reference study; its sigma within 1e-5 of each channel's
+        precision: faster, as measured in docs/speed.md; its sigma within 1e-5 of each channel's
         largest sigma, the PSD map within 2e-3 of its largest value; accelerations of stiff parts
         driven far below their frequency carry about 6e-8 (f_n / f)^2 relative error:
         docs/speed.md, tests/engines/test_batched_kernels.py)
