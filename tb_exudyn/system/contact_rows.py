@@ -134,7 +134,7 @@ class ContactRows:
             wheel_map=G,
             input_map=np.array(self.inputs, dtype=float).reshape(n, 3),
             linear=self._linear_layout(node_offsets, n_wheel),
-            rail_lateral=np.array(self.rail_lateral, dtype=float).reshape(n) if any(self.rail_lateral) else None,
+            rail_lateral=np.array(self.rail_lateral, dtype=float).reshape(n) if any(self.rail_lateral) else 0.0,
         )
 
 

@@ -17,11 +17,10 @@ Every contact c is one scalar force component travelling with axle a(c) at x_a(t
     delta_c = S_c(t) q_b + r_c(t) - G_c q_w        (rail minus wheel, [m])
 
 where S_c is the rail's mode-shape row at the wheel (vertical contact on the rail at lateral offset
-e_c from the track centre line: z + e_c rx, plus a_c y where its contact height depends on the
-rail's lateral position (``rail_lateral``: a coned wheel); lateral contact: y; all at rail level,
-zero off the bridge), r_c the irregularity input (``input_map`` times the inputs of :mod:`.excitation`) and G_c
-the wheel's matching coordinate combination (e.g. z + e_c rx for a wheel, y + r rx for the lateral
-contact point of a wheelset at rail level, r the wheel radius). The contact force, linear, is
+e_c from the track centre line: z + e_c rx, + a_c y on coned wheels; lateral contact: y; all at rail
+level, zero off the bridge), r_c the irregularity input (``input_map`` times the inputs of :mod:`.excitation`)
+and G_c the wheel's matching coordinate combination (e.g. z + e_c rx for a wheel, y + r rx for the
+lateral contact point of a wheelset at rail level, r the wheel radius). The contact force, linear, is
 
     f_c = k_c delta_c + c_c d(delta_c)/dt,
     d(delta_c)/dt = S_c qd_b + v S'_c q_b + rdot_c - G_c qd_w     (S' = d S / dx: convective term)
@@ -132,10 +131,6 @@ class ContactLayout:
     wheel_map : (n_c, n_w) G, the wheel-side contact coordinate as a combination of q_w
     input_map : (n_c, 3) weights of the inputs (vertical, alignment, cross-level angle) in r_c
     linear : general linear rows (e.g. creep) after the n_c penalty rows, or None
-    rail_lateral : (n_c,) coefficient a_c of the rail's lateral shape y in S_c (and of dy in S'_c),
-        or None (zero): a vertical row z + e_c rx + a_c y sees the rail's lateral motion (a coned
-        wheel's contact height depends on the wheel's position relative to the rail:
-        :func:`.creep.rolling_roll_terms`)
     """
 
     axle: NDArray[np.int64]
@@ -146,7 +141,7 @@ class ContactLayout:
     wheel_map: NDArray[np.float64]
     input_map: NDArray[np.float64]
     linear: LinearRows | None = None
-    rail_lateral: NDArray[np.float64] | None = None
+    rail_lateral: NDArray[np.float64] | float = 0.0  #: (n_c,) a_c: y (dy) in S_c (S'_c) on coned wheels, or 0
 
     def __post_init__(self) -> None:
         n = self.axle.shape[0]
@@ -157,8 +152,6 @@ class ContactLayout:
             raise ValueError(f"ContactLayout.wheel_map must have {n} rows")
         if self.input_map.shape != (n, 3):
             raise ValueError(f"ContactLayout.input_map must have shape ({n}, 3)")
-        if self.rail_lateral is not None and self.rail_lateral.shape != (n,):
-            raise ValueError(f"ContactLayout.rail_lateral must have shape ({n},)")
         if self.linear is not None and self.linear.app_wheel.shape[1] != self.wheel_map.shape[1]:
             raise ValueError("ContactLayout.linear must act on the same wheel coordinates as wheel_map")
 
@@ -317,13 +310,11 @@ class WheelRailCoupling:
         self._damped = bool(np.any(self._c != 0.0))
         self._G = contacts.wheel_map
         self._frozen: float | None = None
-        # S = select @ [Y; Z; RX] (rows: axles): vertical contact z + e rx, lateral contact y
+        # S = select @ [Y; Z; RX] (rows: axles): vertical contact z + e rx (+ a y), lateral contact y
         n_a, rows = self.axle_start.size, np.arange(self.n_contacts)
         vert = self._is_vertical.astype(float)
         self._select = np.zeros((self.n_contacts, 3 * n_a))
-        self._select[rows, contacts.axle] = 1.0 - vert
-        if contacts.rail_lateral is not None:
-            self._select[rows, contacts.axle] += contacts.rail_lateral
+        self._select[rows, contacts.axle] = 1.0 - vert + contacts.rail_lateral
         self._select[rows, n_a + contacts.axle] = vert
         self._select[rows, 2 * n_a + contacts.axle] = vert * contacts.rail_offset
         self._zero_S = np.zeros((self.n_contacts, self.n_bridge))
@@ -360,16 +351,13 @@ class WheelRailCoupling:
         vert = self._is_vertical.astype(float)
         e = vert * c.rail_offset
         s = np.zeros((n_c, len(RAIL_SHAPE_ROWS)))  # z + e rx (vertical) or y (lateral), and slopes
-        s[:, RAIL_SHAPE_ROWS.index("y")] = 1.0 - vert
+        s[:, RAIL_SHAPE_ROWS.index("y")] = 1.0 - vert + c.rail_lateral
         s[:, RAIL_SHAPE_ROWS.index("z")] = vert
         s[:, RAIL_SHAPE_ROWS.index("rx")] = e
         ds = np.zeros_like(s)
-        ds[:, RAIL_SHAPE_ROWS.index("dy")] = 1.0 - vert
+        ds[:, RAIL_SHAPE_ROWS.index("dy")] = s[:, RAIL_SHAPE_ROWS.index("y")]
         ds[:, RAIL_SHAPE_ROWS.index("dz")] = vert
         ds[:, RAIL_SHAPE_ROWS.index("drx")] = e
-        if c.rail_lateral is not None:
-            s[:, RAIL_SHAPE_ROWS.index("y")] += c.rail_lateral
-            ds[:, RAIL_SHAPE_ROWS.index("dy")] += c.rail_lateral
         k, cc = self._k[:, None], self._c[:, None]
         parts = dict(
             axle=c.axle.astype(np.int64), app_shape=s, stiff_shape=k * s + (cc * self.speed) * ds, damp_shape=cc * s,

@@ -105,7 +105,7 @@ the roll is the gravitational stiffness K_gy e of ``force_y`` (with epsilon, the
 parameter, for profiles that are not conical), which therefore stays as it is. A roll moment alone
 (the roll in the rows' argument, not in their application) leaves out the lateral components: the
 linear critical speeds of the ICE creep cars then come out 5.7 % (motor car) and 7.4 % (trailer)
-off (docs/creep_design.md, section 8).
+lower (docs/creep_design.md, section 8).
 
 On straight track the rows split into two subsystems of the wheelset: the lateral plane (y, rx, rz
 with the rail's y_r, theta_r, psi_r) and the longitudinal plane (x, ry): the common longitudinal
