@@ -12,7 +12,7 @@ The creep coefficients do not depend on speed; the creep damping falls as 1 / v.
 
     python examples/creep_car_stability.py [--quick] [--out DIR] [--speed 220]
 
-Full setting: scan every 25 km/h, bisection to 0.5 km/h, conicities 0.05-0.40: about 30 s. ``--quick``:
+Full setting: scan every 25 km/h, bisection to 0.5 km/h, conicities 0.05-0.40: about 10 s. ``--quick``:
 the motor car only, scan every 100 km/h, bisection to 10 km/h, one conicity.
 """
 

@@ -34,7 +34,8 @@ axle box and secondary heights: a bogie's or the body's pitch moves their ends a
 the x coordinates belong to the vertical plane (the weak springs on the body's and bogies' x hold
 only the train's surge, 0.1 Hz, and are not marked decoupled). The wheelsets' lateral motion, roll
 and yaw are coupled by the creep rows (:mod:`tb_exudyn.system.creep`), their vertical motion by the
-penalty rows as on car15, their x and spin ry by the common longitudinal creep (x' - r0 ry') / v of
+penalty rows as on car15 (with the coned wheels' rolling-radius terms: a laterally displaced
+wheelset rolls by lambda e / b0), their x and spin ry by the common longitudinal creep (x' - r0 ry') / v of
 the creep rows. The spin is a free rotation (a constant ry costs nothing): a weak spring (0.1 Hz
 against the spin inertia, not decoupled) keeps the stiffness matrix regular; the creep damping
 c r0^2 (c = 2 f11 / v) on the spin turns its mode into a fast real root (about -c r0^2 / I_wy;
@@ -76,7 +77,15 @@ from ..scenario.model import (
 )
 from ..system.contact_rows import ContactRows
 from ..system.coupling import LATERAL, VERTICAL
-from ..system.creep import WHEEL_COORDINATES, CreepCoefficients, CreepRows, WheelsetContact, creep_rows, hertz_creep_coefficients
+from ..system.creep import (
+    WHEEL_COORDINATES,
+    CreepCoefficients,
+    CreepRows,
+    WheelsetContact,
+    creep_rows,
+    hertz_creep_coefficients,
+    rolling_roll_terms,
+)
 
 # rigid-body node coordinates (NodeRigidBodyRxyz): x, y, z, rx, ry, rz
 RIGID_COMPONENTS: tuple[tuple[str, int], ...] = (("y", 1), ("z", 2), ("rx", 3), ("ry", 4), ("rz", 5))
@@ -333,16 +342,24 @@ def add_car15(
 
 
 def _add_vertical_contacts(
-    parts: TrainParts, name: str, axle: int, node: int, mass: float, roll_inertia: float, b: float
+    parts: TrainParts, name: str, axle: int, node: int, mass: float, roll_inertia: float, b: float,
+    contact: WheelsetContact | None = None,
 ) -> None:
-    """The two vertical penalty rows of a wheelset (left and right wheel at +-b: z + e rx)."""
+    """The two vertical penalty rows of a wheelset (left and right wheel at +-b: z + e rx); with
+    ``contact`` (a creep car's coned wheels) also the rolling-radius terms of
+    :func:`tb_exudyn.system.creep.rolling_roll_terms` (the wheelset rolls by lambda e / b0)."""
     kz, zeta = parts.contact_stiffness_z, parts.contact_damping_ratio
     cz = 2.0 * zeta * math.sqrt(kz * mass / 2.0)
     for side, label in ((1.0, "left"), (-1.0, "right")):
+        wheel, alignment, rail_y = {(node, 2): 1.0, (node, 3): side * b}, 0.0, 0.0
+        if contact is not None:
+            roll = rolling_roll_terms(contact, side, b)
+            wheel[(node, 1)] = roll.wheel_y
+            wheel[(node, 3)] += roll.wheel_rx
+            alignment = rail_y = roll.rail_y
         parts.contacts.add(
             name=f"{name}.{label}.force_z", axle=axle, direction=VERTICAL, rail_offset=side * b,
-            stiffness=kz, damping=cz, wheel_terms={(node, 2): 1.0, (node, 3): side * b},
-            inputs=(1.0, 0.0, side * b),
+            stiffness=kz, damping=cz, wheel_terms=wheel, inputs=(1.0, alignment, side * b), rail_lateral=rail_y,
         )
     parts.contact_frequencies += [
         math.sqrt(2.0 * kz / mass) / (2 * math.pi),
@@ -398,7 +415,9 @@ def add_creep_car(
     (x_w, +-b_p, z_w) in x, y and z (the pair gives the wheelset the yaw stiffness 2 k_x b_p^2
     against the bogie); secondary per side at (x_t, +-b_s, z_s) in x, y and z; yaw dampers as
     car15's. Wheel-rail contact: the two vertical penalty rows of car15 per wheelset (z + e rx, the
-    wheelset follows the rail vertically) and, instead of car15's lateral penalty row, the four
+    wheelset follows the rail vertically) with the coned wheels' rolling-radius terms (the wheelset
+    rolls by lambda e / b0 on the rails, the normal forces act at the inclined contacts:
+    :func:`tb_exudyn.system.creep.rolling_roll_terms`) and, instead of car15's lateral penalty row, the four
     linear creep rows of :func:`tb_exudyn.system.creep.creep_rows` at the train's speed (general
     linear rows of the coupling: lateral creep and gravitational force, longitudinal creep per
     wheel with the common part on x and spin, spin and gravitational yaw moment).
@@ -417,7 +436,8 @@ def add_creep_car(
     ws = car.wheelset
     ws_inertia = (ws.inertia_roll, ws.inertia_spin, ws.inertia_yaw)
     pri_k, pri_c, (pri_kx, pri_cx) = _stage(car.primary)
-    rows = creep_rows(wheelset_contact(car, parts.gravity), parts.speed)
+    contact = wheelset_contact(car, parts.gravity)
+    rows = creep_rows(contact, parts.speed)
 
     def add_wheelset(bog_node: int, bogie: int, xt: float, xw: float, axle: int, name: str) -> None:
         ws_node, wheelset = add_rigid_body(mbs, parts, mass=ws.mass, inertia=ws_inertia,
@@ -431,7 +451,7 @@ def add_creep_car(
         if pri_kx or pri_cx:
             _longitudinal_pair(mbs, ws_node, ends[0], bog_node, ends[1], pri_kx, pri_cx)
         parts.wheel_nodes.append((ws_node, 6))
-        _add_vertical_contacts(parts, name, axle, ws_node, ws.mass, ws.inertia_roll, b)
+        _add_vertical_contacts(parts, name, axle, ws_node, ws.mass, ws.inertia_roll, b, contact)
         _add_creep_rows(parts, name, axle, ws_node, rows)
 
     _add_two_bogie_car(mbs, parts, car, prefix, first_axle, L, add_wheelset, x_decoupled=False)

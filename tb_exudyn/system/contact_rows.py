@@ -53,14 +53,17 @@ class ContactRows:
     damping: list[float] = field(default_factory=list)
     wheel_terms: list[dict[tuple[int, int], float]] = field(default_factory=list)
     inputs: list[tuple[float, float, float]] = field(default_factory=list)
+    rail_lateral: list[float] = field(default_factory=list)
     names: list[str] = field(default_factory=list)
     linear: list[_LinearRowData] = field(default_factory=list)
 
     def add(
         self, *, name: str, axle: int, direction: int, rail_offset: float, stiffness: float, damping: float,
-        wheel_terms: dict[tuple[int, int], float], inputs: tuple[float, float, float],
+        wheel_terms: dict[tuple[int, int], float], inputs: tuple[float, float, float], rail_lateral: float = 0.0,
     ) -> None:
-        """Add one contact; ``wheel_terms`` maps (node number, node coordinate) -> coefficient."""
+        """Add one contact; ``wheel_terms`` maps (node number, node coordinate) -> coefficient;
+        ``rail_lateral``: the coefficient of the rail's lateral shape in its rail part
+        (:class:`~.coupling.ContactLayout`)."""
         self.names.append(name)
         self.axle.append(int(axle))
         self.direction.append(int(direction))
@@ -69,6 +72,7 @@ class ContactRows:
         self.damping.append(float(damping))
         self.wheel_terms.append(dict(wheel_terms))
         self.inputs.append(tuple(float(v) for v in inputs))  # type: ignore[arg-type]
+        self.rail_lateral.append(float(rail_lateral))
 
     def add_linear(
         self, *, name: str, axle: int,
@@ -130,6 +134,7 @@ class ContactRows:
             wheel_map=G,
             input_map=np.array(self.inputs, dtype=float).reshape(n, 3),
             linear=self._linear_layout(node_offsets, n_wheel),
+            rail_lateral=np.array(self.rail_lateral, dtype=float).reshape(n) if any(self.rail_lateral) else 0.0,
         )
 
 

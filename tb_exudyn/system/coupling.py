@@ -17,10 +17,10 @@ Every contact c is one scalar force component travelling with axle a(c) at x_a(t
     delta_c = S_c(t) q_b + r_c(t) - G_c q_w        (rail minus wheel, [m])
 
 where S_c is the rail's mode-shape row at the wheel (vertical contact on the rail at lateral offset
-e_c from the track centre line: z + e_c rx; lateral contact: y; all at rail level, zero off the
-bridge), r_c the irregularity input (``input_map`` times the inputs of :mod:`.excitation`) and G_c
-the wheel's matching coordinate combination (e.g. z + e_c rx for a wheel, y + r rx for the lateral
-contact point of a wheelset at rail level, r the wheel radius). The contact force, linear, is
+e_c from the track centre line: z + e_c rx, + a_c y on coned wheels; lateral contact: y; all at rail
+level, zero off the bridge), r_c the irregularity input (``input_map`` times the inputs of :mod:`.excitation`)
+and G_c the wheel's matching coordinate combination (e.g. z + e_c rx for a wheel, y + r rx for the
+lateral contact point of a wheelset at rail level, r the wheel radius). The contact force, linear, is
 
     f_c = k_c delta_c + c_c d(delta_c)/dt,
     d(delta_c)/dt = S_c qd_b + v S'_c q_b + rdot_c - G_c qd_w     (S' = d S / dx: convective term)
@@ -141,6 +141,7 @@ class ContactLayout:
     wheel_map: NDArray[np.float64]
     input_map: NDArray[np.float64]
     linear: LinearRows | None = None
+    rail_lateral: NDArray[np.float64] | float = 0.0  #: (n_c,) a_c: y (dy) in S_c (S'_c) on coned wheels, or 0
 
     def __post_init__(self) -> None:
         n = self.axle.shape[0]
@@ -309,11 +310,11 @@ class WheelRailCoupling:
         self._damped = bool(np.any(self._c != 0.0))
         self._G = contacts.wheel_map
         self._frozen: float | None = None
-        # S = select @ [Y; Z; RX] (rows: axles): vertical contact z + e rx, lateral contact y
+        # S = select @ [Y; Z; RX] (rows: axles): vertical contact z + e rx (+ a y), lateral contact y
         n_a, rows = self.axle_start.size, np.arange(self.n_contacts)
         vert = self._is_vertical.astype(float)
         self._select = np.zeros((self.n_contacts, 3 * n_a))
-        self._select[rows, contacts.axle] = 1.0 - vert
+        self._select[rows, contacts.axle] = 1.0 - vert + contacts.rail_lateral
         self._select[rows, n_a + contacts.axle] = vert
         self._select[rows, 2 * n_a + contacts.axle] = vert * contacts.rail_offset
         self._zero_S = np.zeros((self.n_contacts, self.n_bridge))
@@ -350,11 +351,11 @@ class WheelRailCoupling:
         vert = self._is_vertical.astype(float)
         e = vert * c.rail_offset
         s = np.zeros((n_c, len(RAIL_SHAPE_ROWS)))  # z + e rx (vertical) or y (lateral), and slopes
-        s[:, RAIL_SHAPE_ROWS.index("y")] = 1.0 - vert
+        s[:, RAIL_SHAPE_ROWS.index("y")] = 1.0 - vert + c.rail_lateral
         s[:, RAIL_SHAPE_ROWS.index("z")] = vert
         s[:, RAIL_SHAPE_ROWS.index("rx")] = e
         ds = np.zeros_like(s)
-        ds[:, RAIL_SHAPE_ROWS.index("dy")] = 1.0 - vert
+        ds[:, RAIL_SHAPE_ROWS.index("dy")] = s[:, RAIL_SHAPE_ROWS.index("y")]
         ds[:, RAIL_SHAPE_ROWS.index("dz")] = vert
         ds[:, RAIL_SHAPE_ROWS.index("drx")] = e
         k, cc = self._k[:, None], self._c[:, None]

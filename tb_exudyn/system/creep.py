@@ -90,6 +90,23 @@ the rail's lateral displacement; a longitudinal force at the contact point (x - 
 acts on x, ry and the yaw, and on the rail's yaw with the lever -/+ b0 (the rail's longitudinal
 motion is neglected, above); ``moment_z`` on rz and psi_r).
 
+The wheelset's roll from the rolling-radius difference (:func:`rolling_roll_terms`). The left wheel
+rolls on r0 + lambda e, the right one on r0 - lambda e, so a wheelset whose wheels stay on the
+rails rolls by lambda e / b0 against the rail plane. That roll is not a row of its own: it is the
+vertical contact's geometry. A vertical contact row of the wheel on side s (+1 left, -1 right) at
+the lever l (the row z + s l rx of the wheel's point over the rail) gets the wheel's height change
+over the rail, -s kappa e with kappa = lambda l / b0, in its argument (stiff contacts then hold
+rx = theta_r + lambda e / b0), and, by virtual work, the same map as its application: the normal
+force N of the wheel acts on y with -s kappa N and on rx with -s kappa r0 N besides z and s l rx,
+the lateral components of the normal forces at the inclined contacts (-lambda (N_L - N_R) with
+l = b0). The rail gets the reactions (its lateral motion y_r enters e). The static parts of these
+lateral components cancel between the two wheels; the lateral force of the static load tilted with
+the roll is the gravitational stiffness K_gy e of ``force_y`` (with epsilon, the contact-angle
+parameter, for profiles that are not conical), which therefore stays as it is. A roll moment alone
+(the roll in the rows' argument, not in their application) leaves out the lateral components: the
+linear critical speeds of the ICE creep cars then come out 5.7 % (motor car) and 7.4 % (trailer)
+lower (docs/creep_design.md, section 8).
+
 On straight track the rows split into two subsystems of the wheelset: the lateral plane (y, rx, rz
 with the rail's y_r, theta_r, psi_r) and the longitudinal plane (x, ry): the common longitudinal
 creep reaches only x and ry and no rail coordinate, the antisymmetric part only rz.
@@ -435,6 +452,39 @@ class CreepRows:
         """(5, 5) damping A_w^T C_w of the wheelset's equations of motion on (y, rx, rz, x, ry)
         (rail at rest)."""
         return self.A_w.T @ self.C_w
+
+
+@dataclass(frozen=True)
+class RollTerms:
+    """The rolling-radius terms of one wheel's vertical contact row (module docstring: the roll).
+
+    The row's wheel part z + s l rx becomes z + s l rx + ``wheel_y`` y + ``wheel_rx`` rx, its rail part
+    (rail height at the wheel) gains ``rail_y`` y_r (the alignment and the bridge's lateral shape at
+    rail level); its force N acts with the same map.
+
+    Attributes
+    ----------
+    wheel_y, wheel_rx : coefficients on the wheelset's y and rx: -s kappa, -s kappa r0
+    rail_y : coefficient on the rail's lateral displacement y_r in the rail part: -s kappa
+    """
+
+    wheel_y: float
+    wheel_rx: float
+    rail_y: float
+
+
+def rolling_roll_terms(contact: WheelsetContact, side: float, lever: float) -> RollTerms:
+    """The rolling-radius terms of the vertical contact row of the wheel on ``side`` (+1 left, -1
+    right) at the lever ``lever`` [m] (the row z + side lever rx): kappa = lambda lever / b0, so that
+    stiff contacts at +-lever hold the wheelset at the roll lambda e / b0 against the rail plane
+    (e = y + r0 rx - y_r). Signs: the gap (rail minus wheel) of the left wheel is
+    z_rail - (z + l rx - kappa e): its wheel part z + l rx - kappa (y + r0 rx), its rail part
+    z_rail - kappa y_r."""
+    if side not in (1.0, -1.0):
+        raise SettingError("rolling_roll_terms", "side", side, "+1 (left) or -1 (right)")
+    kappa = contact.conicity * lever / contact.half_contact_distance
+    s = float(side)
+    return RollTerms(wheel_y=-s * kappa, wheel_rx=-s * kappa * contact.rolling_radius, rail_y=-s * kappa)
 
 
 def creep_rows(contact: WheelsetContact, speed: float) -> CreepRows:

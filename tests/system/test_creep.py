@@ -22,6 +22,7 @@ from tb_exudyn.system.creep import (
     hertz_creep_coefficients,
     hertz_ellipse,
     kalker_coefficients,
+    rolling_roll_terms,
     wheel_rail_curvatures,
 )
 
@@ -214,6 +215,80 @@ def test_klingel_wavelength_of_a_free_wheelset():
     assert np.all(np.diff(errors) < 0)
     rate = -np.polyfit(np.log(scales[1:]), np.log(errors[1:]), 1)[0]
     assert rate == pytest.approx(2.0, abs=0.05)
+
+
+HALF_GAUGE = 0.75  # lever of the vertical contact rows (the rail centres)
+
+
+def _rolling_wheelset(m: float, roll_inertia: float, yaw_inertia: float, k: float, rows) -> tuple[np.ndarray, ...]:  # noqa: ANN001
+    """A free wheelset with coordinates (y, z, rx, rz) on two vertical contact springs k at +-HALF_GAUGE
+    whose argument is the row of :func:`rolling_roll_terms` (z + s b rx + wheel_y y + wheel_rx rx),
+    damped as the builder's (2 * 0.5 sqrt(k m / 2)), plus the creep rows' lateral-plane matrices on
+    (y, rx, rz)."""
+    contact = WheelsetContact(_coefficients(), R0, B0, LAM, W_AXLE)
+    K, C = np.zeros((4, 4)), np.zeros((4, 4))
+    c = 2 * 0.5 * math.sqrt(k * m / 2)
+    for side in (1.0, -1.0):
+        t = rolling_roll_terms(contact, side, HALF_GAUGE)
+        h = np.array([t.wheel_y, 1.0, side * HALF_GAUGE + t.wheel_rx, 0.0])
+        K += k * np.outer(h, h)
+        C += c * np.outer(h, h)
+    lat = [0, 2, 3]  # y, rx, rz of the creep rows' (y, rx, rz, x, ry)
+    K[np.ix_(lat, lat)] += rows.stiffness[:3, :3]
+    C[np.ix_(lat, lat)] += rows.damping[:3, :3]
+    return np.diag([m, m, roll_inertia, yaw_inertia]), K, C
+
+
+def test_rolling_roll_terms_hold_the_roll_of_coned_wheels():
+    """Exact problem: the two vertical contact springs of one wheelset (k = 2e9 N/m at +-0.75 m, the
+    rows of rolling_roll_terms, conicity 0.15, r0 = 0.46 m, b0 = 0.7465 m), the wheelset displaced
+    laterally by y = 1 mm; z and rx where the springs' energy is least. Reference: a wheelset whose
+    wheels stay on knife-edge rails rolls by (r_left - r_right) / (2 b0) = lambda e / b0 with e =
+    y + r0 rx its contact point's lateral displacement (the left wheel rolls on r0 + lambda e, the
+    right on r0 - lambda e), so rx = lambda y / (b0 - lambda r0) and z = 0. Tolerance 1e-12
+    (round-off: the minimum is exact). And the rows' rail part: a rail moved with the wheelset
+    (y_r = y, e = 0) leaves the wheelset level."""
+    contact = WheelsetContact(_coefficients(), R0, B0, LAM, W_AXLE)
+    y = 1e-3
+    A, rhs = np.zeros((2, 2)), np.zeros(2)
+    for side in (1.0, -1.0):
+        t = rolling_roll_terms(contact, side, HALF_GAUGE)
+        h = np.array([1.0, side * HALF_GAUGE + t.wheel_rx])  # on (z, rx)
+        A += np.outer(h, h)
+        rhs -= h * t.wheel_y * y
+        assert t.rail_y == t.wheel_y  # the rail's lateral motion enters e with the opposite sign of y
+    z, rx = np.linalg.solve(A, rhs)
+    assert z == pytest.approx(0.0, abs=1e-15)
+    assert rx == pytest.approx(LAM * y / (B0 - LAM * R0), rel=1e-12)
+    assert rx == pytest.approx(LAM * (y + R0 * rx) / B0, rel=1e-12)
+    for side in (1.0, -1.0):  # rail and wheelset moved together: the gap terms cancel at rx = 0
+        t = rolling_roll_terms(contact, side, HALF_GAUGE)
+        assert t.wheel_y * y - t.rail_y * y == 0.0
+    with pytest.raises(SettingError, match="side"):
+        rolling_roll_terms(contact, 0.5, HALF_GAUGE)
+
+
+def test_klingel_wavelength_of_a_free_rolling_wheelset():
+    """Exact problem: the free wheelset of test_klingel_wavelength_of_a_free_wheelset (1800 kg, yaw
+    inertia 1000 kg m^2, 50 m/s, conicity 0.15) now with its roll and bounce on stiff vertical
+    contacts (2e9 N/m, the rows of rolling_roll_terms: the wheelset rolls by lambda e / b0; roll
+    inertia 1000 kg m^2), creep coefficients scaled by s = 10 ... 1e4. Reference: Klingel's
+    wavelength 2 pi sqrt(r0 b0 / lambda) = 9.5067 m: rolling without slip, e' = v psi (the contact
+    point's lateral creepage zero, e = y + r0 rx) and psi' = -v lambda e / (r0 b0), so the roll
+    does not change the kinematic wavelength ("Klingel unchanged", issue 29). Tolerance: 0.5 % from
+    s = 10 on (the acceptance of the level wheelset's test), falling with s (measured 3.2e-4,
+    3.2e-6, 3.2e-8, 3.3e-10 against the level wheelset's 3.8e-4, ..., 3.8e-10: the inertia terms
+    differ, the limit does not), and within 1e-8 at s = 1e4."""
+    m, inertia, v = 1800.0, 1000.0, 50.0
+    L_k = 2 * math.pi * math.sqrt(R0 * B0 / LAM)
+    errors = []
+    for s in (10.0, 100.0, 1e3, 1e4):
+        rows = creep_rows(WheelsetContact(_coefficients().scaled(s), R0, B0, LAM, W_AXLE), v)
+        lam = _least_oscillatory_pair(*_rolling_wheelset(m, 1000.0, inertia, 2e9, rows))
+        errors.append(abs(2 * math.pi * v / lam.imag / L_k - 1.0))
+    errors = np.array(errors)
+    assert np.all(errors < 5e-3) and np.all(np.diff(errors) < 0)
+    assert errors[-1] < 1e-8
 
 
 # ===================================================================== bogie critical speed

@@ -8,7 +8,7 @@ import pytest
 from tb_exudyn.structure.modal import simply_supported_modes
 from tb_exudyn.system.contact_rows import ContactRows
 from tb_exudyn.system.coupling import VERTICAL, WheelRailCoupling
-from tb_exudyn.system.creep import CreepCoefficients, WheelsetContact, creep_rows
+from tb_exudyn.system.creep import CreepCoefficients, WheelsetContact, creep_rows, rolling_roll_terms
 from tb_exudyn.system.excitation import ProfileExcitation, rail_inputs
 
 B = 0.75  # half gauge (rail centres) for the vertical rows
@@ -150,3 +150,79 @@ def test_contact_force_history_has_the_creep_rows():
     f_in = _rows().forces(np.zeros(5), np.zeros(5), (val[1, 0], val[2, 0], slo[1, 0]), np.zeros(3))
     st = cp.contact_state(t)
     assert st.f_lin == pytest.approx(f_in, rel=1e-12, abs=1e-12 * np.abs(f_in).max())
+
+
+def _rolling_coupling(excitation=None) -> WheelRailCoupling:  # noqa: ANN001
+    """The vertical penalty rows of one coned wheelset with the rolling-radius terms of
+    rolling_roll_terms, as the builder adds them for a creep car (no creep rows)."""
+    contact = WheelsetContact(CreepCoefficients(1.1e7, 1.0e7), R0, B0, LAM, W)
+    rows = ContactRows()
+    for side in (1.0, -1.0):
+        t = rolling_roll_terms(contact, side, B)
+        rows.add(name=f"axle1.{side}.force_z", axle=0, direction=VERTICAL, rail_offset=side * B,
+                 stiffness=2e9, damping=3e5 * (1.5 + side / 4),
+                 wheel_terms={(NODE, 2): 1.0, (NODE, 3): side * B + t.wheel_rx, (NODE, 1): t.wheel_y},
+                 inputs=(1.0, t.rail_y, side * B), rail_lateral=t.rail_y)
+    return WheelRailCoupling(_bridge(), axle_start=[-3.0], speed=SPEED, contacts=rows.layout({NODE: 0}, 6),
+                             half_gauge=B, excitation=excitation)
+
+
+@pytest.mark.parametrize("t", [0.05, 0.5])
+def test_vertical_rows_with_the_roll_against_the_gap_written_out(t):
+    """Exact problem: the two vertical rows of a coned wheelset (conicity 0.15, rolling-radius
+    terms with kappa = lambda b / b0) on the two-span modal bridge with alignment and cross-level
+    profiles, at a random state, on the approach (t = 0.05 s) and on the first span (0.5 s).
+    Reference: the gap written out here, wheel on side s over its rail,
+
+        delta = z_rail - s kappa y_rail - (z + s b rx - s kappa (y + r0 rx)),
+        z_rail = (S_z + s b S_rx) q_b + s b theta_c,   y_rail = S_y q_b + y_a,
+
+    its rate the total derivative at the moving wheel (shapes' material rate plus v times their
+    slope, the profiles' slope times v), f = k delta + c delta', generalised forces f times the
+    wheel's map on (y, z, rx) and -f times the rail's on q_b. Tolerance 1e-12 of the largest
+    term (round-off). And the kinematics: a wheelset moved laterally with the rail (y = y_rail,
+    rx = 0, z = z_rail's mean) feels no force from the lateral motion."""
+    exc = _excitation()
+    cp = _rolling_coupling(exc)
+    u, ud = _state(cp.n, 7)
+    nb = cp.n_bridge
+    x = cp.positions(t)
+    rs = cp.bridge.rail_shapes(x)
+    val, slo = rail_inputs(exc, x, float(cp.axle_start[0]), B)
+    qb, qdb, w, wd = u[:nb], ud[:nb], u[nb:], ud[nb:]
+
+    def written_out(kappa, w, wd, alignment=1.0):  # noqa: ANN001
+        f_ref, Q_ref = [], np.zeros(cp.n)
+        for side, c in ((1.0, 3e5 * 1.75), (-1.0, 3e5 * 1.25)):
+            S = rs.z[0] + side * B * rs.rx[0] - side * kappa * rs.y[0]
+            dS = rs.dz[0] + side * B * rs.drx[0] - side * kappa * rs.dy[0]
+            r = val[0, 0] + side * B * val[2, 0] - side * kappa * alignment * val[1, 0]
+            r_dot = SPEED * (slo[0, 0] + side * B * slo[2, 0] - side * kappa * alignment * slo[1, 0])
+            G = np.zeros(6)
+            G[1], G[2], G[3] = -side * kappa, 1.0, side * B - side * kappa * R0
+            delta = S @ qb + r - G @ w
+            delta_dot = S @ qdb + SPEED * dS @ qb + r_dot - G @ wd
+            f = 2e9 * delta + c * delta_dot
+            f_ref.append(f)
+            Q_ref[nb:] += G * f
+            Q_ref[:nb] -= S * f
+        return np.array(f_ref), Q_ref
+
+    f_ref, Q_ref = written_out(LAM * B / B0, w, wd)
+    got = cp.contact_forces(t, qb, qdb, w, wd)
+    assert got == pytest.approx(f_ref, rel=1e-12, abs=1e-12 * np.abs(f_ref).max())
+    Q = cp.forces(t, u, ud)
+    assert np.abs(Q - Q_ref).max() <= 1e-12 * np.abs(Q_ref).max()
+    # the wheelset following the rail laterally (its lateral velocity the rail's at the moving
+    # wheel: material rate plus v times the slopes): the forces of the rows without the roll
+    # (kappa = 0) on a level wheelset, no roll from a relative displacement that is not there
+    bridge_y = rs.y[0] @ qb
+    w_follow, wd_follow = np.zeros(6), np.zeros(6)
+    w_follow[1] = bridge_y + val[1, 0]
+    wd_follow[1] = rs.y[0] @ qdb + SPEED * (rs.dy[0] @ qb + slo[1, 0])
+    f_follow = cp.contact_forces(t, qb, qdb, w_follow, wd_follow)
+    f_level = written_out(0.0, np.zeros(6), np.zeros(6), alignment=0.0)[0]
+    assert (bridge_y != 0.0) == (t > 0.1) and val[1, 0] != 0.0
+    assert f_follow == pytest.approx(f_level, rel=1e-12, abs=1e-12 * np.abs(f_level).max())
+    f_moved = cp.contact_forces(t, qb, qdb, np.zeros(6), np.zeros(6))  # not following: it rolls
+    assert np.abs(f_moved - f_level).max() > 1e-3 * np.abs(f_level).max()
