@@ -537,7 +537,7 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
             est = format_value(r.estimate, r.unit, with_unit=False)
             where = r.channel.removeprefix("bridge.")
             value = "" if r.verdict == "NOT EVALUATED" else f": {est} vs {format_value(r.limit, r.unit)}{p}"
-            lines.append(f"  {r.verdict_text:<19} {r.criterion.split('/', 1)[1]} at {where}{value}")
+            lines.append(f"  {r.verdict_text:<21} {r.criterion.split('/', 1)[1]} at {where}{value}")
             short = r.criterion.split("/", 1)[1]
             for c in r.caveats:
                 if c.kind == "model":
