@@ -102,7 +102,7 @@ def test_time_step_that_cannot_resolve_the_contact_is_warned_about():
     2e9 N/m (218 Hz, 4.6 steps) passes without a warning."""
     motor = load_vehicle("ice_motor")
     sc = _scenario(motor, lead_in=100.0, contact_stiffness_z=2e10, contact_stiffness_y=2e10)
-    with pytest.warns(UserWarning, match=r"wheel-rail contact mode.*Hz.*use time_step <="):
+    with pytest.warns(UserWarning, match=r"wheel-rail contact mode.*Hz.*use analysis.time_step <="):
         build_model(sc)
     with warnings.catch_warnings():
         warnings.simplefilter("error")

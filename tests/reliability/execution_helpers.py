@@ -88,8 +88,17 @@ def run_args(scenario: Path, out: Path, *extra: object, engine: str = "batched",
 
 
 def error_lines(stderr: str) -> list[str]:
-    """The lines of stderr that are not warnings (the scenario's own advice about its short approach)."""
-    return [line for line in stderr.splitlines() if line.strip() and not line.startswith("tb-exudyn: warning:")]
+    """The lines of stderr that are not warnings (the scenario's own advice about its short approach):
+    a warning is a line "tb-exudyn: warning: ..." and its continuation, indented by two spaces."""
+    out, in_warning = [], False
+    for line in stderr.splitlines():
+        if line.startswith("tb-exudyn: warning:"):
+            in_warning = True
+        elif not (in_warning and line.startswith("  ")):
+            in_warning = False
+            if line.strip():
+                out.append(line)
+    return out
 
 
 def assert_one_line_error(proc: subprocess.CompletedProcess, *named: str, code: int = 2) -> str:
