@@ -530,8 +530,9 @@ class Continuous(_Replaceable):
             raise ctx.child("girders").error(f"{len(self.girders)} sections", f"{n} sections, one per span",
                                              "not one section per span")
         if len(self.supports) != n - 1:
+            entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
             raise ctx.child("supports").error(
-                list(self.supports), f"{n - 1} entries 'pier' or 'rigid', one per intermediate support",
+                list(self.supports), f"{entries} 'pier' or 'rigid', one per intermediate support",
                 "a continuous girder without supports" if not self.supports else "not one support per span joint")
         if "pier" in self.supports and self.pier is None:
             raise ctx.child("pier").error("<missing>", "a [pier] table (supports include 'pier')", "no pier data")

@@ -285,8 +285,9 @@ def _validate_continuous(bridge: Continuous) -> None:
             raise _fail(name, bridge.section_key(s), section, "a girder section (BeamSection)", "no girder section")
         _check_section(name, bridge.section_key(s), section)
     if len(bridge.supports) != n - 1 or any(k not in ("pier", "rigid") for k in bridge.supports):
-        raise _fail(name, "supports", list(bridge.supports), f"{n - 1} entries 'pier' or 'rigid', one per "
-                    "intermediate support", "a continuous girder without supports" if not bridge.supports else "")
+        entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
+        raise _fail(name, "supports", list(bridge.supports), f"{entries} 'pier' or 'rigid', one per intermediate "
+                    "support", "a continuous girder without supports" if not bridge.supports else "")
     if "pier" in bridge.supports:
         if bridge.pier is None:
             raise _fail(name, "pier", None, "a pier table (supports include 'pier')", "no pier data")
