@@ -19,10 +19,8 @@ z up; the girder shear centre lies on the x axis (y = z = 0). Every node has six
   penalty, so a rigid bearing adds no spurious stiff mode and no round-off; stiffness 0 adds nothing.
 - ``SimpleBeam``: the same girders on ideal supports at the shear centre (uy, uz, rx at both ends,
   ux at the start of each span).
-- ``Continuous``: one girder through all spans (a node shared at every intermediate support), each
-  span with its own section if given; one bearing line at each support (the abutments on rigid
-  ground, an intermediate support on its pier's top or on rigid ground), k_x_fixed at the fixed
-  support and k_x_sliding at the others, rotations about y and z free.
+- Other kinds (``Continuous``, :mod:`.continuous`) register their validation, assembly and the keys
+  of their errors in :data:`KINDS`.
 
 Sparse matrices (scipy.sparse) throughout. No Exudyn.
 """
@@ -31,12 +29,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, Callable
 
 import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ScenarioError
-from ..scenario.model import AddedMass, BeamSection, Bearings, Continuous, Frame, Pier, SimpleBeam
+from ..scenario.model import AddedMass, BeamSection, Bearings, Frame, Pier, SimpleBeam
 from ..scenario.schema import source_file
 from .beam import element_mass, element_stiffness, rotation, section_mass, shear_parameter, to_global
 
@@ -170,6 +169,24 @@ class FEModel:
         return f"{where}, {DOF_NAMES[j]}"
 
 
+@dataclass(frozen=True)
+class BridgeKind:
+    """How a bridge kind defined in another module is modelled (its module registers it in :data:`KINDS`):
+    ``validate(bridge)`` raises StructureError for its own keys (after the checks every kind shares:
+    spans, track, damping, elements_per_span); ``assemble(bridge)`` -> FEModel;
+    ``mechanism_key(bridge, part, dof, member)`` and ``sections(bridge)`` -> [(key, BeamSection)] name
+    the data of a mechanism and of overflowing element matrices."""
+
+    validate: Callable[[Any], None]
+    assemble: Callable[[Any], FEModel]
+    mechanism_key: Callable[[Any, int, int, int], tuple[str, object]]
+    sections: Callable[[Any], list[tuple[str, BeamSection]]]
+
+
+#: bridge classes modelled by other modules of this package (tb_exudyn.structure.continuous)
+KINDS: dict[type, BridgeKind] = {}
+
+
 # ============================================================================================
 # validation
 
@@ -203,7 +220,8 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     (e.g. every bearing free in one direction) are found later from the stiffness matrix, see
     ``tb_exudyn.structure.fe``.
     """
-    if not isinstance(bridge, (SimpleBeam, Frame, Continuous)):
+    kind = KINDS.get(type(bridge))
+    if not isinstance(bridge, (SimpleBeam, Frame)) and kind is None:
         raise _not_a_bridge(bridge)
     name = bridge.name
     if len(bridge.spans) == 0:
@@ -213,8 +231,8 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
         if not SPAN_RANGE[0] <= span <= SPAN_RANGE[1]:
             raise _fail(name, f"spans[{i}]", span, f"{SPAN_RANGE[0]:g} m <= span <= {SPAN_RANGE[1]:g} m",
                         "no bridge span")
-    if isinstance(bridge, Continuous):
-        _validate_continuous(bridge)
+    if kind is not None:
+        kind.validate(bridge)
     else:
         _check_section(name, "girder", bridge.girder)
     for key in ("track_offset", "track_height"):
@@ -251,60 +269,6 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
                 raise _fail(name, f"added_mass.{key}", getattr(a, key), "a finite number")
 
 
-def _check_pier(name: str, p: Pier) -> None:
-    _check_positive(name, "pier.height", p.height)
-    _check_section(name, "pier.section", p.section)
-    if p.footing not in ("fixed", "springs"):
-        raise _fail(name, "pier.footing", p.footing, "'fixed' or 'springs'")
-    _check_stiffness(name, "pier.k_translation", p.k_translation)
-    _check_stiffness(name, "pier.k_rotation", p.k_rotation)
-    if not (math.isfinite(p.cap_mass) and p.cap_mass >= 0.0):
-        raise _fail(name, "pier.cap_mass", p.cap_mass, "a finite number >= 0")
-
-
-def _check_added_mass(name: str, a: AddedMass) -> None:
-    for key in ("mass_per_length", "rot_mass_per_length"):
-        v = getattr(a, key)
-        if not (math.isfinite(v) and v >= 0.0):
-            raise _fail(name, f"added_mass.{key}", v, "a finite number >= 0")
-    for key in ("offset", "height"):
-        if not math.isfinite(getattr(a, key)):
-            raise _fail(name, f"added_mass.{key}", getattr(a, key), "a finite number")
-
-
-def _validate_continuous(bridge: Continuous) -> None:
-    """What the assembly of a continuous girder needs (the loader's rules, for one built in Python too)."""
-    name, n = bridge.name, len(bridge.spans)
-    if n < 2:
-        raise _fail(name, "spans", list(bridge.spans), "at least two span lengths > 0 (one span: kind 'frame' or "
-                    "'simple_beam')", "a continuous girder of fewer than two spans")
-    if bridge.girders and len(bridge.girders) != n:
-        raise _fail(name, "girders", f"{len(bridge.girders)} sections", f"{n} sections, one per span")
-    for s, section in enumerate(bridge.sections):
-        if not isinstance(section, BeamSection):
-            raise _fail(name, bridge.section_key(s), section, "a girder section (BeamSection)", "no girder section")
-        _check_section(name, bridge.section_key(s), section)
-    if len(bridge.supports) != n - 1 or any(k not in ("pier", "rigid") for k in bridge.supports):
-        entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
-        raise _fail(name, "supports", list(bridge.supports), f"{entries} 'pier' or 'rigid', one per intermediate "
-                    "support", "a continuous girder without supports" if not bridge.supports else "")
-    if "pier" in bridge.supports:
-        if bridge.pier is None:
-            raise _fail(name, "pier", None, "a pier table (supports include 'pier')", "no pier data")
-        if int(bridge.elements_per_pier) < 1:
-            raise _fail(name, "elements_per_pier", bridge.elements_per_pier, ">= 1")
-        _check_pier(name, bridge.pier)
-    b = bridge.bearings
-    for key in ("k_x_fixed", "k_x_sliding", "k_y", "k_z", "k_rx"):
-        _check_stiffness(name, f"bearings.{key}", getattr(b, key))
-    if not (isinstance(b.fixed_support, int) and 0 <= b.fixed_support <= n):
-        raise _fail(name, "bearings.fixed_support", b.fixed_support, f"0 ... {n} (0: the start abutment, {n}: the end "
-                    "abutment)", "no such support")
-    if not (math.isfinite(b.height) and b.height >= 0.0):
-        raise _fail(name, "bearings.height", b.height, "a finite number >= 0")
-    _check_added_mass(name, bridge.added_mass)
-
-
 #: a Young's or shear modulus below this [N/m^2] is no structural material (timber ~1e10, concrete
 #: ~3e10, steel ~2e11): a mechanism of a section with such a modulus names the modulus, else the geometry
 MIN_MODULUS = 1e9
@@ -320,16 +284,15 @@ def _section_key(label: str, s: BeamSection, j: int) -> tuple[str, float]:
     return f"{label}.{_SECTION_OF_DOF[j]}", getattr(s, _SECTION_OF_DOF[j])
 
 
-def mechanism_key(bridge: SimpleBeam | Frame | Continuous | None, part: int, j: int,
-                  member: int = 0) -> tuple[str, object]:
+def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int, member: int = 0) -> tuple[str, object]:
     """The key (and its value) of the bridge data that lets a part move freely in DOF ``j``: a free
     bearing (Frame, stiffness 0 in that direction) or footing spring, else the section too soft for
     its mass (its modulus below :data:`MIN_MODULUS`, else its area, second moment or torsion constant).
     ``member``: the span (girder) or pier that moves (a continuous girder's section of that span)."""
     if bridge is None:
         return "<top level>", None
-    if isinstance(bridge, Continuous):
-        return _continuous_mechanism_key(bridge, part, j, member)
+    if type(bridge) in KINDS:
+        return KINDS[type(bridge)].mechanism_key(bridge, part, j, member)
     if not isinstance(bridge, Frame):
         return _section_key("girder", bridge.girder, j) if part == GIRDER else ("<top level>", None)
     if part == GIRDER and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
@@ -340,22 +303,6 @@ def mechanism_key(bridge: SimpleBeam | Frame | Continuous | None, part: int, j: 
             if getattr(p, key) == 0.0:
                 return f"pier.{key}", 0.0
     return _section_key("girder", bridge.girder, j) if part == GIRDER else _section_key("pier.section", p.section, j)
-
-
-def _continuous_mechanism_key(bridge: Continuous, part: int, j: int, member: int) -> tuple[str, object]:
-    b, p = bridge.bearings, bridge.pier if "pier" in bridge.supports else None
-    if part == GIRDER:
-        free = (b.k_x_fixed == 0.0 and b.k_x_sliding == 0.0) if j == 0 else getattr(b, _BEARING_OF_DOF[j]) == 0.0
-        if free:
-            return f"bearings.{_BEARING_OF_DOF[j]}", 0.0
-    if p is not None and p.footing == "springs":
-        for key in ("k_translation", "k_rotation") if j < 3 else ("k_rotation", "k_translation"):
-            if getattr(p, key) == 0.0:
-                return f"pier.{key}", 0.0
-    if part == GIRDER:
-        s = min(max(int(member), 0), len(bridge.spans) - 1)
-        return _section_key(bridge.section_key(s), bridge.sections[s], j)
-    return _section_key("pier.section", p.section, j) if p is not None else ("<top level>", None)
 
 
 def _extreme_value(label: str, s: BeamSection) -> tuple[str, float]:
@@ -369,10 +316,8 @@ def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]
     """The section value of the bridge farthest from 1 in orders of magnitude (girder or pier)."""
     if bridge is None:
         return "<top level>", None
-    if isinstance(bridge, Continuous):
-        found = [_extreme_value(bridge.section_key(s), g) for s, g in enumerate(bridge.sections)]
-        if "pier" in bridge.supports:
-            found.append(_extreme_value("pier.section", bridge.pier.section))
+    if type(bridge) in KINDS:
+        found = [_extreme_value(label, section) for label, section in KINDS[type(bridge)].sections(bridge)]
         return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
     found = [_extreme_value("girder", bridge.girder)]
     if isinstance(bridge, Frame):
@@ -622,60 +567,6 @@ def assemble_frame(bridge: Frame) -> FEModel:
     )
 
 
-def _add_continuous_girder(b: _Builder, bridge: Continuous) -> tuple[GirderMesh, list[int], np.ndarray]:
-    """The girder through all spans, a node shared at each intermediate support; returns its mesh, the
-    girder node at each support line (n_spans + 1) and the span starts."""
-    spans = tuple(float(x) for x in bridge.spans)
-    n_el = int(bridge.elements_per_span)
-    starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
-    el_nodes, el_x, el_len, el_span, phis = [], [], [], [], []
-    supports = [b.node((0.0, 0.0, 0.0), GIRDER, 0)]
-    for s, (x0, length) in enumerate(zip(starts, spans)):
-        section = bridge.sections[s]
-        smass = _girder_section_mass(section, bridge.added_mass)
-        xs = x0 + np.linspace(0.0, length, n_el + 1)
-        xs[-1] = x0 + length
-        nodes = [supports[-1]] + [b.node((x, 0.0, 0.0), GIRDER, s) for x in xs[1:]]
-        for i in range(n_el):
-            phis.append(b.element(nodes[i], nodes[i + 1], section, smass, bridge.section_key(s)))
-            el_nodes.append((nodes[i], nodes[i + 1]))
-            el_x.append(xs[i])
-            el_len.append(xs[i + 1] - xs[i])
-            el_span.append(s)
-        supports.append(nodes[-1])
-    phis_a = np.array(phis)
-    mesh = GirderMesh(
-        nodes=np.array(el_nodes, dtype=int), x_start=np.array(el_x), length=np.array(el_len),
-        span=np.array(el_span, dtype=int), phi_lateral=phis_a[:, 0], phi_vertical=phis_a[:, 1],
-    )
-    return mesh, supports, starts
-
-
-def assemble_continuous(bridge: Continuous) -> FEModel:
-    """One girder continuous over its spans, on a bearing line at every support: the abutments on rigid
-    ground, each intermediate support on its pier ('pier') or on rigid ground ('rigid')."""
-    validate_bridge(bridge)
-    b = _Builder(bridge.name)
-    mesh, support_nodes, starts = _add_continuous_girder(b, bridge)
-    br = bridge.bearings
-    top_z = -float(br.height)
-    grounds: list[int | None] = [None] * len(support_nodes)
-    tops = []
-    for i, kind in enumerate(bridge.supports):
-        if kind == "pier":
-            grounds[i + 1] = _add_pier(b, bridge.pier, float(starts[i + 1]), top_z, int(bridge.elements_per_pier),
-                                       len(tops))
-            tops.append(grounds[i + 1])
-    for i, (node, ground) in enumerate(zip(support_nodes, grounds)):
-        k_x = br.k_x_fixed if i == br.fixed_support else br.k_x_sliding
-        _bearing(b, node, ground, br.height, k_x, br.k_y, br.k_z, br.k_rx)
-    return b.finish(
-        girder=mesh, span_starts=starts, span_lengths=np.array([float(x) for x in bridge.spans]),
-        pier_top_nodes=tuple(tops), track_offset=float(bridge.track_offset),
-        track_height=float(bridge.track_height), damping_ratio=float(bridge.damping_ratio), bridge=bridge,
-    )
-
-
 def assemble_pier(pier: Pier, n_elements: int = 8, name: str = "pier") -> FEModel:
     """A pier alone on its footing, free at the top (for checks and calibration)."""
     _check_positive(name, "pier.height", pier.height)
@@ -686,10 +577,10 @@ def assemble_pier(pier: Pier, n_elements: int = 8, name: str = "pier") -> FEMode
     return b.finish(girder=empty, span_starts=np.zeros(0), span_lengths=np.zeros(0), pier_top_nodes=(top,))
 
 
-def assemble(bridge: SimpleBeam | Frame | Continuous) -> FEModel:
-    """The finite-element model of a ``SimpleBeam``, ``Frame`` or ``Continuous`` bridge."""
-    if isinstance(bridge, Continuous):
-        return assemble_continuous(bridge)
+def assemble(bridge: SimpleBeam | Frame) -> FEModel:
+    """The finite-element model of a ``SimpleBeam`` or ``Frame`` bridge, or of a kind of :data:`KINDS`."""
+    if type(bridge) in KINDS:
+        return KINDS[type(bridge)].assemble(bridge)
     if isinstance(bridge, Frame):
         return assemble_frame(bridge)
     if isinstance(bridge, SimpleBeam):
