@@ -318,3 +318,19 @@ def test_show_describes_a_continuous_bridge(capsys):
     assert "bridge.bearings.fixed_support" in out
     row = next(line for line in out.splitlines() if line.startswith("(derived) bridge f1, f3 vertical"))
     assert "5.126" in row
+
+
+@pytest.mark.parametrize("per_span", [False, True])
+def test_a_scenario_with_a_continuous_bridge_round_trips(per_span, tmp_path):
+    """save_scenario writes the continuous bridge inline (result files keep it so); loading it gives
+    an equal scenario, with one girder section or one per span ([[girders]])."""
+    from tb_exudyn.scenario import load_scenario, save_scenario
+    from tb_exudyn.scenario.io import with_settings
+
+    sc = with_settings(load_scenario("quick"), [("bridge", "continuous_3x32m")])
+    if per_span:
+        g = sc.bridge.girder
+        sc = sc.replace(bridge=sc.bridge.replace(girder=None, girders=(g, g.replace(I_y=12.0), g)))
+    again = load_scenario(save_scenario(sc, tmp_path / "sc.toml"))
+    assert again == sc and isinstance(again.bridge, Continuous)
+    assert len(again.bridge.sections) == 3 and (again.bridge.sections[1].I_y == 12.0) == per_span
