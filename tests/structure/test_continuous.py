@@ -334,3 +334,17 @@ def test_a_scenario_with_a_continuous_bridge_round_trips(per_span, tmp_path):
     again = load_scenario(save_scenario(sc, tmp_path / "sc.toml"))
     assert again == sc and isinstance(again.bridge, Continuous)
     assert len(again.bridge.sections) == 3 and (again.bridge.sections[1].I_y == 12.0) == per_span
+
+
+def test_the_en1991_check_takes_a_continuous_girder():
+    """codes/check.py with a Continuous object (not only a file name): continuous_3x32m under HSLM-A1
+    at a 250 km/h line speed, nominal mass case. Its mode list is the FE model's at the check's mesh
+    (64 elements per span; the first vertical mode 5.126 Hz as above, to 1e-3), one mid-span column per
+    span, and every row's deck acceleration a finite number > 0 (the moving-force response ran)."""
+    from tb_exudyn.codes.check import check
+
+    result = check(load_bridge("continuous_3x32m"), 250.0, trains=["HSLM-A1"], cases=["nominal"])
+    assert result.vertical_frequencies[0] == pytest.approx(5.126, rel=1e-3)
+    assert {f"acc_z_mid_span{i}" for i in (1, 2, 3)} <= set(result.columns)
+    accs = [row["max_deck_acc_z"] for row in result.rows]
+    assert accs and all(math.isfinite(a) and a > 0 for a in accs)
