@@ -56,8 +56,10 @@ def validate_continuous(bridge: Continuous) -> None:
         _check_section(name, bridge.section_key(s), section)
     if len(bridge.supports) != n - 1 or any(k not in ("pier", "rigid") for k in bridge.supports):
         entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
+        reason = ("a continuous girder without supports" if not bridge.supports else
+                  "not one support per span joint" if len(bridge.supports) != n - 1 else "unknown support kind")
         raise _fail(name, "supports", list(bridge.supports), f"{entries} 'pier' or 'rigid', one per intermediate "
-                    "support", "a continuous girder without supports" if not bridge.supports else "")
+                    "support", reason)
     if "pier" in bridge.supports:
         if bridge.pier is None:
             raise _fail(name, "pier", None, "a pier table (supports include 'pier')", "no pier data")
@@ -76,6 +78,8 @@ def validate_continuous(bridge: Continuous) -> None:
 
 
 def mechanism_key(bridge: Continuous, part: int, j: int, member: int) -> tuple[str, object]:
+    """The key of the data that lets the girder (span ``member``) or a pier move freely in DOF ``j``: a
+    bearing free in that direction at every support, a pier's footing spring, else the section."""
     b, p = bridge.bearings, bridge.pier if "pier" in bridge.supports else None
     if part == GIRDER:
         free = (b.k_x_fixed == 0.0 and b.k_x_sliding == 0.0) if j == 0 else getattr(b, _BEARING_OF_DOF[j]) == 0.0
