@@ -32,7 +32,7 @@ from ..errors import ResourceError, ScenarioError, SettingError, UserError
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge
 from ..scenario.code_data import MASS_CASES, with_mass_case
-from ..scenario.model import Frame, SimpleBeam
+from ..scenario.model import Continuous, Frame, SimpleBeam
 from ..scenario.registry import model_files
 from ..structure import StructureError, modal_bridge
 from . import en1991 as code
@@ -324,8 +324,8 @@ def check(
         if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
             raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
         bridge = load_bridge(bridge)
-    elif not isinstance(bridge, (SimpleBeam, Frame)):
-        raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam or Frame")
+    elif not isinstance(bridge, (SimpleBeam, Frame, Continuous)):
+        raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam, Frame or Continuous")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
     if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:
         mesh_basis = (f"{CHECK_ELEMENTS_PER_SPAN} beam elements per span (the bridge's {bridge.elements_per_span} "

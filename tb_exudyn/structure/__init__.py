@@ -5,6 +5,7 @@ Entry point: :func:`modal_bridge` (bridge data -> mass-normalised :class:`ModalB
 """
 
 from .assembly import FEModel, StructureError, assemble, assemble_pier, located
+from .continuous import assemble_continuous  # registers the kind 'continuous' with assemble
 from .fe import (
     FEModes,
     ModalReport,
@@ -21,7 +22,7 @@ from .modal import ModalBridge, RailShapes, simply_supported_modes
 
 __all__ = [
     "FEModel", "FEModes", "ModalBridge", "ModalReport", "RailShapeEvaluator", "RailShapes",
-    "StructureError", "assemble", "assemble_pier", "bridge_modes", "located", "modal_bridge",
+    "StructureError", "assemble", "assemble_continuous", "assemble_pier", "bridge_modes", "located", "modal_bridge",
     "modal_bridge_from_modes", "modal_report", "rayleigh_coefficients", "rayleigh_damping_ratios",
     "simply_supported_modes", "solve_modes",
 ]

@@ -19,6 +19,8 @@ z up; the girder shear centre lies on the x axis (y = z = 0). Every node has six
   penalty, so a rigid bearing adds no spurious stiff mode and no round-off; stiffness 0 adds nothing.
 - ``SimpleBeam``: the same girders on ideal supports at the shear centre (uy, uz, rx at both ends,
   ux at the start of each span).
+- Other kinds (``Continuous``, :mod:`.continuous`) register their validation, assembly and the keys
+  of their errors in :data:`KINDS`.
 
 Sparse matrices (scipy.sparse) throughout. No Exudyn.
 """
@@ -27,6 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any, Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -166,6 +169,24 @@ class FEModel:
         return f"{where}, {DOF_NAMES[j]}"
 
 
+@dataclass(frozen=True)
+class BridgeKind:
+    """How a bridge kind defined in another module is modelled (its module registers it in :data:`KINDS`):
+    ``validate(bridge)`` raises StructureError for its own keys (after the checks every kind shares:
+    spans, track, damping, elements_per_span); ``assemble(bridge)`` -> FEModel;
+    ``mechanism_key(bridge, part, dof, member)`` and ``sections(bridge)`` -> [(key, BeamSection)] name
+    the data of a mechanism and of overflowing element matrices."""
+
+    validate: Callable[[Any], None]
+    assemble: Callable[[Any], FEModel]
+    mechanism_key: Callable[[Any, int, int, int], tuple[str, object]]
+    sections: Callable[[Any], list[tuple[str, BeamSection]]]
+
+
+#: bridge classes modelled by other modules of this package (tb_exudyn.structure.continuous)
+KINDS: dict[type, BridgeKind] = {}
+
+
 # ============================================================================================
 # validation
 
@@ -199,7 +220,8 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     (e.g. every bearing free in one direction) are found later from the stiffness matrix, see
     ``tb_exudyn.structure.fe``.
     """
-    if not isinstance(bridge, (SimpleBeam, Frame)):
+    kind = KINDS.get(type(bridge))
+    if not isinstance(bridge, (SimpleBeam, Frame)) and kind is None:
         raise _not_a_bridge(bridge)
     name = bridge.name
     if len(bridge.spans) == 0:
@@ -209,7 +231,10 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
         if not SPAN_RANGE[0] <= span <= SPAN_RANGE[1]:
             raise _fail(name, f"spans[{i}]", span, f"{SPAN_RANGE[0]:g} m <= span <= {SPAN_RANGE[1]:g} m",
                         "no bridge span")
-    _check_section(name, "girder", bridge.girder)
+    if kind is not None:
+        kind.validate(bridge)
+    else:
+        _check_section(name, "girder", bridge.girder)
     for key in ("track_offset", "track_height"):
         if not math.isfinite(getattr(bridge, key)):
             raise _fail(name, key, getattr(bridge, key), "a finite number")
@@ -259,12 +284,15 @@ def _section_key(label: str, s: BeamSection, j: int) -> tuple[str, float]:
     return f"{label}.{_SECTION_OF_DOF[j]}", getattr(s, _SECTION_OF_DOF[j])
 
 
-def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int) -> tuple[str, object]:
+def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int, member: int = 0) -> tuple[str, object]:
     """The key (and its value) of the bridge data that lets a part move freely in DOF ``j``: a free
     bearing (Frame, stiffness 0 in that direction) or footing spring, else the section too soft for
-    its mass (its modulus below :data:`MIN_MODULUS`, else its area, second moment or torsion constant)."""
+    its mass (its modulus below :data:`MIN_MODULUS`, else its area, second moment or torsion constant).
+    ``member``: the span (girder) or pier that moves (a continuous girder's section of that span)."""
     if bridge is None:
         return "<top level>", None
+    if type(bridge) in KINDS:
+        return KINDS[type(bridge)].mechanism_key(bridge, part, j, member)
     if not isinstance(bridge, Frame):
         return _section_key("girder", bridge.girder, j) if part == GIRDER else ("<top level>", None)
     if part == GIRDER and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
@@ -288,6 +316,9 @@ def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]
     """The section value of the bridge farthest from 1 in orders of magnitude (girder or pier)."""
     if bridge is None:
         return "<top level>", None
+    if type(bridge) in KINDS:
+        found = [_extreme_value(label, section) for label, section in KINDS[type(bridge)].sections(bridge)]
+        return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
     found = [_extreme_value("girder", bridge.girder)]
     if isinstance(bridge, Frame):
         found.append(_extreme_value("pier.section", bridge.pier.section))
@@ -547,7 +578,9 @@ def assemble_pier(pier: Pier, n_elements: int = 8, name: str = "pier") -> FEMode
 
 
 def assemble(bridge: SimpleBeam | Frame) -> FEModel:
-    """The finite-element model of a ``SimpleBeam`` or ``Frame`` bridge."""
+    """The finite-element model of a ``SimpleBeam`` or ``Frame`` bridge, or of a kind of :data:`KINDS`."""
+    if type(bridge) in KINDS:
+        return KINDS[type(bridge)].assemble(bridge)
     if isinstance(bridge, Frame):
         return assemble_frame(bridge)
     if isinstance(bridge, SimpleBeam):
@@ -556,4 +589,5 @@ def assemble(bridge: SimpleBeam | Frame) -> FEModel:
 
 
 def _not_a_bridge(bridge: object) -> StructureError:
-    return StructureError("bridge", "<top level>", type(bridge).__name__, "a SimpleBeam or a Frame", "not a bridge")
+    return StructureError("bridge", "<top level>", type(bridge).__name__, "a SimpleBeam, a Frame or a Continuous",
+                          "not a bridge")

@@ -142,7 +142,7 @@ def _check_mechanism(model: FEModel, lam: np.ndarray, vec_full: np.ndarray) -> N
     f0 = math.sqrt(max(float(lam[0]), 0.0)) / (2.0 * np.pi)
     part, member, j = _dominant_motion(model, vec_full[:, 0])
     what = f"the girder of span {member + 1}" if part == GIRDER else f"pier {member + 1}"
-    key, value = mechanism_key(model.bridge, part, j)
+    key, value = mechanism_key(model.bridge, part, j, member)
     allowed = ("a support in that direction (a bearing or footing stiffness > 0)" if key.split(".")[-1].startswith("k_")
                else f"a section stiff enough for its mass in {DOF_NAMES[j]} (every mode >= {MECHANISM_FREQUENCY:g} Hz)")
     raise StructureError(

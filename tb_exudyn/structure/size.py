@@ -26,7 +26,7 @@ from typing import Any, Callable
 
 from ..errors import ResourceError
 from ..execution.resources import available_memory, format_bytes
-from ..scenario.model import Frame, SimpleBeam
+from ..scenario.model import Continuous, Frame, SimpleBeam
 from .assembly import StructureError, assemble, assemble_pier
 
 #: bytes per entry of the n_dof x n_modes mode shapes at the peak of the modal solve: 8-byte floats in
@@ -75,6 +75,10 @@ def _counts(bridge: SimpleBeam | Frame) -> tuple[int, int]:
         epp = int(bridge.elements_per_pier)
         nodes += (n_spans - 1) * (epp + 1)
         elements += (n_spans - 1) * epp
+    if isinstance(bridge, Continuous):  # one node at each span joint; a pier at each support 'pier'
+        piers, epp = list(bridge.supports).count("pier"), int(bridge.elements_per_pier)
+        nodes += piers * (epp + 1) - (n_spans - 1)
+        elements += piers * epp
     return 6 * nodes, elements
 
 
@@ -100,6 +104,8 @@ def _modes_below(solve: Solver, model: Any, max_frequency: float, whole: bool) -
 def estimate_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: int, solve: Solver) -> int:
     """The number of modes of ``bridge`` below ``max_frequency`` (at most ``max_modes`` if > 0), from
     its parts solved alone by ``solve`` (module docstring)."""
+    if isinstance(bridge, Continuous):
+        return _estimate_continuous(bridge, max_frequency, max_modes, solve)
     lengths = sorted({float(s) for s in bridge.spans})
     if len(lengths) > MAX_SPAN_SOLVES:
         lengths = lengths[-1:]
@@ -112,6 +118,26 @@ def estimate_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: 
         pier = assemble_pier(bridge.pier, int(bridge.elements_per_pier), bridge.name)
         per_pier = _modes_below(solve, pier, max_frequency, False)
         count = math.ceil(FRAME_MARGIN * (count + (len(bridge.spans) - 1) * per_pier))
+    return min(count, max_modes) if max_modes > 0 else count
+
+
+def _estimate_continuous(bridge: Continuous, max_frequency: float, max_modes: int, solve: Solver) -> int:
+    """A continuous girder: each span as a simple span of its section on ideal supports (each distinct
+    span solved alone, at most :data:`MAX_SPAN_SOLVES`), plus each pier alone, times :data:`FRAME_MARGIN`."""
+    parts = sorted({(float(x), g) for x, g in zip(bridge.spans, bridge.sections)}, key=lambda p: p[0])
+    if len(parts) > MAX_SPAN_SOLVES:
+        parts = parts[-1:]
+    single = {}
+    for length, section in parts:
+        span = SimpleBeam(name=bridge.name, spans=(length,), girder=section,
+                          elements_per_span=bridge.elements_per_span)
+        single[(length, section)] = _modes_below(solve, assemble(span), max_frequency, False)
+    count = sum(single.get((float(x), g), single[parts[-1]]) for x, g in zip(bridge.spans, bridge.sections))
+    piers = list(bridge.supports).count("pier")
+    if piers:
+        pier = assemble_pier(bridge.pier, int(bridge.elements_per_pier), bridge.name)
+        count += piers * _modes_below(solve, pier, max_frequency, False)
+    count = math.ceil(FRAME_MARGIN * count)
     return min(count, max_modes) if max_modes > 0 else count
 
 

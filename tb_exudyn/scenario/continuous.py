@@ -1,0 +1,104 @@
+"""The continuous girder (bridge kind ``continuous``, issue 29): its data and their rules. Pure data, no
+Exudyn; re-exported by :mod:`.model` (its ``Bridge`` union); the structural model is
+:mod:`tb_exudyn.structure.continuous`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+from .code_data import CodeData, check_ballast
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
+from .sections import AddedMass, BeamSection, Pier, _Replaceable
+
+
+@dataclass(frozen=True, kw_only=True)
+class ContinuousBearings(_Replaceable):
+    """Bearings of a continuous girder: one bearing line at every support (the two abutments and each
+    intermediate support), stiffness per direction (inf = rigid, 0 = free)."""
+
+    k_x_fixed: float = param(math.inf, unit="N/m", doc="longitudinal, at the fixed support", check=STIFFNESS)
+    k_x_sliding: float = param(0.0, unit="N/m", doc="longitudinal, at every other support", check=STIFFNESS)
+    k_y: float = param(math.inf, unit="N/m", doc="lateral", check=STIFFNESS)
+    k_z: float = param(math.inf, unit="N/m", doc="vertical", check=STIFFNESS)
+    k_rx: float = param(math.inf, unit="N m/rad", doc="torsional restraint of the girder", check=STIFFNESS)
+    fixed_support: int = param(0, doc="the support held longitudinally, counted along the track: 0 the start abutment, "
+                                      "1 the first intermediate support, ..., len(spans) the end abutment",
+                               check=Check(low=0.0, low_inclusive=True, high=1e4))
+    height: float = param(0.0, unit="m", doc="girder shear centre above the bearing's support (pier top or ground)",
+                          check=NONNEGATIVE)
+
+
+#: kinds of an intermediate support of a continuous girder
+CONTINUOUS_SUPPORTS = ("pier", "rigid")
+
+
+@dataclass(frozen=True, kw_only=True)
+class Continuous(_Replaceable):
+    """One girder continuous over all its spans, on bearings at both abutments (rigid ground) and at
+    every intermediate support, each a pier (``supports`` entry 'pier', the bearings on its top) or
+    rigid ground ('rigid'). The girder section is one for all spans (``girder``) or one per span
+    (``girders``)."""
+
+    kind: ClassVar[str] = "continuous"
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order (at least two)", check=POSITIVE)
+    girder: BeamSection | None = param(None, doc="girder section of every span (or girders: one per span)")
+    girders: tuple[BeamSection, ...] = param((), doc="girder section of each span in running order (instead of girder)")
+    supports: tuple[Literal["pier", "rigid"], ...] = param(
+        doc="each intermediate support in running order (len(spans) - 1 of them): 'pier' (bearings on the pier top) "
+            "or 'rigid' (bearings on rigid ground)")
+    pier: Pier | None = param(None, doc="every pier of the supports 'pier' (needed if there is one)")
+    bearings: ContinuousBearings = param(ContinuousBearings(), doc="bearings at every support line")
+    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
+    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
+                                            "the bridge)")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    @property
+    def sections(self) -> tuple[BeamSection, ...]:
+        """The girder section of each span."""
+        return self.girders if self.girders else (self.girder,) * len(self.spans)
+
+    def section_key(self, span: int) -> str:
+        """The key of span ``span``'s section in the bridge data: 'girder' or 'girders[i]'."""
+        return f"girders[{span}]" if self.girders else "girder"
+
+    def _validate(self, ctx: Context) -> None:
+        n = len(self.spans)
+        if n < 2:
+            raise ctx.child("spans").error(list(self.spans), "at least two span lengths > 0 (one span: kind 'frame' "
+                                           "or 'simple_beam')", "a continuous girder of fewer than two spans")
+        if self.girder is None and not self.girders:
+            raise ctx.child("girder").error("<missing>", "a [girder] table (every span) or [[girders]] tables, one "
+                                            "per span", "no girder section")
+        if self.girder is not None and self.girders:
+            raise ctx.child("girders").error(f"{len(self.girders)} sections", "either girder (every span) or girders "
+                                             "(one per span), not both", "two girder sections")
+        if self.girders and len(self.girders) != n:
+            raise ctx.child("girders").error(f"{len(self.girders)} sections", f"{n} sections, one per span",
+                                             "not one section per span")
+        if len(self.supports) != n - 1:
+            entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
+            raise ctx.child("supports").error(
+                list(self.supports), f"{entries} 'pier' or 'rigid', one per intermediate support",
+                "a continuous girder without supports" if not self.supports else "not one support per span joint")
+        if "pier" in self.supports and self.pier is None:
+            raise ctx.child("pier").error("<missing>", "a [pier] table (supports include 'pier')", "no pier data")
+        if self.bearings.fixed_support > n:
+            raise ctx.child("bearings").child("fixed_support").error(
+                self.bearings.fixed_support, f"0 ... {n} (0: the start abutment, {n}: the end abutment)",
+                "no such support")
+        check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
