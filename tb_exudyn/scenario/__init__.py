@@ -15,6 +15,7 @@ from .model import (
     GivenCreep,
     HertzCreep,
     Frame,
+    ModalTable,
     MovingForce,
     Pier,
     RigidBodyInertia,
@@ -36,7 +37,7 @@ from .schema import describe_fields, to_dict
 
 __all__ = [
     "CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "with_mass_case",
-    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep",
+    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep", "ModalTable",
     "MovingForce", "Pier", "RigidBodyInertia", "RigidWheelset", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
     "Suspension", "Suspension3", "Track", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
     "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",
