@@ -324,7 +324,7 @@ def check(
         if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
             raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
         bridge = load_bridge(bridge)
-    elif not isinstance(bridge, (SimpleBeam, Frame)):
+    if not isinstance(bridge, (SimpleBeam, Frame)):  # e.g. a modal_table: no section data for the code's cases
         raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam or Frame")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
     if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:

@@ -29,7 +29,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import write_text_atomic
 from ..errors import ScenarioError
 from ..files import MIB, FileRefused, read_text
 from ..scenario.model import ModalTable
@@ -345,14 +344,20 @@ def modal_tables(mb: ModalBridge, girder_x: np.ndarray, girder_length: np.ndarra
     }
 
 
-def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int = 0) -> dict[str, Path]:  # noqa: ANN001
+def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int = 0, *,  # noqa: ANN001
+                 overwrite: bool = False, where: str = "export_modes", key: str = "out") -> dict[str, Path]:
     """Write the FE modes of ``bridge`` (a ``simple_beam`` or ``frame``) as a ``modal_table`` bridge into the
-    folder ``out``: modes.csv, shapes.csv, stations.csv and bridge.toml (kind = "modal_table", name
-    ``<name>_modes``, the same spans), each file atomically. Returns the written paths by file name."""
+    folder ``out``: bridge.toml (kind = "modal_table", name ``<name>_modes``, the same spans), modes.csv,
+    shapes.csv and stations.csv, all four atomically as one (existing ones only with ``overwrite``;
+    ``where``/``key`` name the argument in errors). Returns the written paths by file name."""
+    from ..files import output_targets, write_output
     from ..scenario.toml_io import dumps_toml
     from ..system.derived import station_positions
     from .fe import line_shape_evaluator
 
+    if isinstance(bridge, ModalTable):
+        raise ScenarioError(where, "bridge", bridge.name, "a simple_beam or frame bridge (its finite-element modes "
+                            "are exported)", "a modal_table has no finite-element model")
     modes = bridge_modes(bridge, max_frequency, max_modes)
     mb = modal_bridge_from_modes(modes)
     model = modes.model
@@ -360,19 +365,21 @@ def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int =
     texts = modal_tables(mb, np.asarray(model.girder.x_start), np.asarray(model.girder.length), evaluator,
                          station_positions(mb.station_names, bridge.spans))
     name = f"{bridge.name}_modes"
-    texts["bridge.toml"] = dumps_toml(
+    toml = dumps_toml(
         {"kind": "modal_table", "name": name, "spans": [float(s) for s in bridge.spans], "modes": "modes.csv",
          "shapes": "shapes.csv", "stations": "stations.csv",
          "description": f"the finite-element modes of bridge '{bridge.name}' up to {max_frequency:g} Hz, imported",
          "source": f"tb-exudyn export-modes {bridge.name} (tb_exudyn.structure.imported.export_modes)"},
         f"tb_exudyn bridge '{name}': modes of '{bridge.name}' as tables (docs/modal_bridge.md)")
     folder = Path(out)
+    files = ["bridge.toml", "modes.csv", "shapes.csv", "stations.csv"]
+    targets = output_targets(folder / files[0], sidecars=[folder / f for f in files[1:]], overwrite=overwrite,
+                             where=where, key=key)
+    content = {"bridge.toml": toml, **texts}
     folder.mkdir(parents=True, exist_ok=True)
-    paths = {}
-    for file, text in texts.items():
-        paths[file] = folder / file
-        write_text_atomic(paths[file], text)
-    return paths
+    written = write_output([(t, content[f].encode("utf-8")) for t, f in zip(targets, files)], named=folder / files[0],
+                           overwrite=overwrite, where=where, key=key)
+    return dict(zip(files, written))
 
 
 __all__ = ["MODAL_MASS_TOLERANCE", "MODE_TYPES", "export_modes", "imported_modal_bridge", "modal_tables",
