@@ -325,7 +325,9 @@ def check(
             raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
         bridge = load_bridge(bridge)
     if not isinstance(bridge, (SimpleBeam, Frame)):  # e.g. a modal_table: no section data for the code's cases
-        raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam or Frame")
+        raise err("bridge", getattr(bridge, "name", type(bridge).__name__),
+                  "a bridge name, a .toml path, SimpleBeam or Frame", f"a {getattr(bridge, 'kind', 'bridge')} bridge "
+                  "has no section data for the code's mass cases" if hasattr(bridge, "kind") else "")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
     if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:
         mesh_basis = (f"{CHECK_ELEMENTS_PER_SPAN} beam elements per span (the bridge's {bridge.elements_per_span} "

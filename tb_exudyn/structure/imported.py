@@ -51,35 +51,40 @@ COMPONENTS = ("y", "z", "rx")
 # ============================================================================================ reading
 
 
+def _error(path: str, key: str, value: object, allowed: str, reason: str = "") -> ScenarioError:
+    """The ScenarioError of a table (numpy scalars shown as plain numbers)."""
+    return ScenarioError(path, key, value.item() if isinstance(value, np.generic) else value, allowed, reason)
+
+
 def _rows(path: str) -> tuple[list[str], list[list[str]]]:
     """Header and data rows of a CSV file (lines starting with '#' and blank lines skipped)."""
     allowed = f"a regular UTF-8 CSV file of at most {MAX_TABLE_BYTES // MIB} MiB"
     try:
         text = read_text(path, max_bytes=MAX_TABLE_BYTES, follow_symlinks=True)
     except FileNotFoundError:
-        raise ScenarioError(path, "<file>", path, "an existing CSV file", "file not found") from None
+        raise _error(path, "<file>", path, "an existing CSV file", "file not found") from None
     except (FileRefused, OSError) as exc:
-        raise ScenarioError(path, "<file>", path, allowed, str(exc)) from None
+        raise _error(path, "<file>", path, allowed, str(exc)) from None
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     rows = [[c.strip() for c in r] for r in csv.reader(lines)]
     if not rows:
-        raise ScenarioError(path, "<file>", path, "a header line and at least one data row", "empty table")
+        raise _error(path, "<file>", path, "a header line and at least one data row", "empty table")
     header, data = rows[0], rows[1:]
     if len(set(header)) != len(header):
         dup = next(h for h in header if header.count(h) > 1)
-        raise ScenarioError(path, dup, dup, "each column once", "repeated column")
+        raise _error(path, dup, dup, "each column once", "repeated column")
     for i, r in enumerate(data):
         if len(r) != len(header):
-            raise ScenarioError(path, f"row {i + 1}", len(r), f"{len(header)} values, one per column of the header",
+            raise _error(path, f"row {i + 1}", len(r), f"{len(header)} values, one per column of the header",
                                 "wrong number of values")
     if not data:
-        raise ScenarioError(path, "<file>", path, "at least one data row below the header", "no data")
+        raise _error(path, "<file>", path, "at least one data row below the header", "no data")
     return header, data
 
 
 def _column(path: str, header: list[str], data: list[list[str]], name: str, allowed: str) -> list[str]:
     if name not in header:
-        raise ScenarioError(path, name, "<missing>", allowed, "missing column")
+        raise _error(path, name, "<missing>", allowed, "missing column")
     j = header.index(name)
     return [r[j] for r in data]
 
@@ -90,9 +95,9 @@ def _numbers(path: str, name: str, texts: list[str], allowed: str = "a finite nu
         try:
             out[i] = float(t)
         except ValueError:
-            raise ScenarioError(path, f"{name}[row {i + 1}]", t, allowed, "not a number") from None
+            raise _error(path, f"{name}[row {i + 1}]", t, allowed, "not a number") from None
         if not math.isfinite(out[i]):
-            raise ScenarioError(path, f"{name}[row {i + 1}]", t, allowed, "not finite")
+            raise _error(path, f"{name}[row {i + 1}]", t, allowed, "not finite")
     return out
 
 
@@ -104,28 +109,28 @@ def read_modes(path: str) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     number = _numbers(path, "mode", _column(path, header, data, "mode", cols), "the mode number 1, 2, ...")
     for i, k in enumerate(number):
         if k != i + 1:
-            raise ScenarioError(path, f"mode[row {i + 1}]", k, f"{i + 1}: modes numbered 1, 2, ... in order",
+            raise _error(path, f"mode[row {i + 1}]", k, f"{i + 1}: modes numbered 1, 2, ... in order",
                                 "wrong mode number")
     freq = _numbers(path, "frequency_hz", _column(path, header, data, "frequency_hz", cols))
     for i, f in enumerate(freq):
         if f < MECHANISM_FREQUENCY:
-            raise ScenarioError(path, f"frequency_hz[row {i + 1}]", f, f">= {MECHANISM_FREQUENCY:g} Hz",
+            raise _error(path, f"frequency_hz[row {i + 1}]", f, f">= {MECHANISM_FREQUENCY:g} Hz",
                                 "no bridge mode (a mechanism or a rigid-body mode)")
         if i and f < freq[i - 1]:
-            raise ScenarioError(path, f"frequency_hz[row {i + 1}]", f, f">= {freq[i - 1]:g} Hz (the mode above): "
+            raise _error(path, f"frequency_hz[row {i + 1}]", f, f">= {freq[i - 1]:g} Hz (the mode above): "
                                 "modes in ascending order of frequency", "not ascending")
     zeta = _numbers(path, "damping_ratio", _column(path, header, data, "damping_ratio", cols))
     for i, z in enumerate(zeta):
         if not 0.0 <= z < 1.0:
-            raise ScenarioError(path, f"damping_ratio[row {i + 1}]", z, "0 <= damping_ratio < 1", "out of range")
+            raise _error(path, f"damping_ratio[row {i + 1}]", z, "0 <= damping_ratio < 1", "out of range")
     types = tuple(_column(path, header, data, "type", cols))
     for i, t in enumerate(types):
         if t not in MODE_TYPES:
-            raise ScenarioError(path, f"type[row {i + 1}]", t, ", ".join(MODE_TYPES), "unknown mode type")
+            raise _error(path, f"type[row {i + 1}]", t, ", ".join(MODE_TYPES), "unknown mode type")
     mass = _numbers(path, "modal_mass", _column(path, header, data, "modal_mass", cols))
     for i, mm in enumerate(mass):
         if abs(mm - 1.0) > MODAL_MASS_TOLERANCE:
-            raise ScenarioError(
+            raise _error(
                 path, f"modal_mass[row {i + 1}]", mm,
                 f"1 within {MODAL_MASS_TOLERANCE:g}: mass-normalised shapes (phi^T M phi = 1; divide a shape by "
                 "the square root of its modal mass)", "the mode is not mass-normalised")
@@ -149,7 +154,7 @@ def _shape_block(path: str, header: list[str], data: list[list[str]], n_modes: i
     extra = [h for h in header if h not in names and h.rstrip("0123456789") in
              {f"{prefix}{c}" for c in COMPONENTS} and h[len(h.rstrip("0123456789")):]]
     if extra:
-        raise ScenarioError(path, extra[0], extra[0], allowed, "a mode the modes file does not have")
+        raise _error(path, extra[0], extra[0], allowed, "a mode the modes file does not have")
     return out
 
 
@@ -161,17 +166,17 @@ def read_shapes(path: str, n_modes: int, length: float) -> RailShapeEvaluator:
     slopes = _shape_block(path, header, data, n_modes, "d", required=False)
     for i, xi in enumerate(x):
         if not -X_TOLERANCE <= xi <= length + X_TOLERANCE:
-            raise ScenarioError(path, f"x[row {i + 1}]", xi, f"0 <= x <= {length:g} m (the sum of the bridge's spans)",
+            raise _error(path, f"x[row {i + 1}]", xi, f"0 <= x <= {length:g} m (the sum of the bridge's spans)",
                                 "a station outside the bridge")
         if i and xi < x[i - 1]:
-            raise ScenarioError(path, f"x[row {i + 1}]", xi, f">= {x[i - 1]:g} m: stations in order along the track",
+            raise _error(path, f"x[row {i + 1}]", xi, f">= {x[i - 1]:g} m: stations in order along the track",
                                 "not ascending")
         if i > 1 and xi == x[i - 2]:
-            raise ScenarioError(path, f"x[row {i + 1}]", xi, "each x at most twice (twice: the two sides of a support)",
+            raise _error(path, f"x[row {i + 1}]", xi, "each x at most twice (twice: the two sides of a support)",
                                 "a station three times")
     if abs(x[0]) > X_TOLERANCE or abs(x[-1] - length) > X_TOLERANCE:
         bad = 1 if abs(x[0]) > X_TOLERANCE else len(x)
-        raise ScenarioError(path, f"x[row {bad}]", float(x[bad - 1]),
+        raise _error(path, f"x[row {bad}]", float(x[bad - 1]),
                             f"stations from x = 0 to x = {length:g} m: the track line over the whole deck",
                             "the track line does not cover the deck")
     flat = values.reshape(len(x), -1)
@@ -180,7 +185,7 @@ def read_shapes(path: str, n_modes: int, length: float) -> RailShapeEvaluator:
     d = slopes.reshape(len(x), -1)
     seg = [i for i in range(len(x) - 1) if x[i + 1] > x[i]]
     if not seg:
-        raise ScenarioError(path, "x", list(x[:3]), "at least two different stations", "no length")
+        raise _error(path, "x", list(x[:3]), "at least two different stations", "no length")
     n_seg = len(seg)
     coef = np.zeros((n_seg + 2, 4, 3 * n_modes))
     x_start = np.empty(n_seg)
@@ -218,13 +223,13 @@ def read_stations(path: str, n_modes: int, length: float) -> tuple[tuple[str, ..
     names = tuple(_column(path, header, data, "station", "a column station (names, e.g. span1.mid, pier1.top)"))
     for i, n in enumerate(names):
         if not n or any(c.isspace() for c in n) or names.index(n) != i:
-            raise ScenarioError(path, f"station[row {i + 1}]", n, "a unique name without spaces, e.g. span1.mid",
+            raise _error(path, f"station[row {i + 1}]", n, "a unique name without spaces, e.g. span1.mid",
                                 "bad station name")
     xs = _column(path, header, data, "x", "a column x [m] along the track (empty: not on the deck, e.g. a pier top)")
     x = np.array([math.nan if not t else _numbers(path, f"x[row {i + 1}]", [t])[0] for i, t in enumerate(xs)])
     for i, xi in enumerate(x):
         if math.isfinite(xi) and not -X_TOLERANCE <= xi <= length + X_TOLERANCE:
-            raise ScenarioError(path, f"x[row {i + 1}]", xi, f"0 <= x <= {length:g} m (the sum of the bridge's spans) "
+            raise _error(path, f"x[row {i + 1}]", xi, f"0 <= x <= {length:g} m (the sum of the bridge's spans) "
                                 "or empty (a station not on the deck)", "a station outside the bridge")
     return names, x, _shape_block(path, header, data, n_modes)
 
