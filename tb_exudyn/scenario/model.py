@@ -14,6 +14,7 @@ from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
 from .code_data import CodeData, check_ballast
+from .modal_table import ModalTable
 from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
                      Check, Context, Validated, param, replace, source_file)
@@ -450,41 +451,6 @@ class Frame(_Replaceable):
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
-
-
-@dataclass(frozen=True, kw_only=True)
-class ModalTable(_Replaceable):
-    """A bridge given by its modes: frequencies, damping ratios and mass-normalised shapes in CSV
-    tables written by any FE program (format: docs/modal_bridge.md; read by
-    :mod:`tb_exudyn.structure.imported`). File names relative to the file this table is read from."""
-
-    kind: ClassVar[str] = "modal_table"
-    #: keys holding file names: made absolute against the file read (schema.from_dict)
-    file_keys: ClassVar[tuple[str, ...]] = ("modes", "shapes", "stations")
-    name: str = param(doc="identifier")
-    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order (the deck stations' positions)",
-                                     check=POSITIVE)
-    modes: str = param(doc="CSV file: mode, frequency_hz, damping_ratio, type, modal_mass per mode")
-    shapes: str = param(doc="CSV file: x and y<k>, z<k>, rx<k> per mode k at the track line (rail level)")
-    stations: str = param("", doc="CSV file: station, x and y<k>, z<k>, rx<k> per output station ('': span "
-                                  "quarter points and midspans on the track line)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
-
-    #: no EN 1991-2 data (the code check refuses the bridge)
-    code: ClassVar[None] = None
-
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
-    def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        for key in ("modes", "shapes"):
-            if not getattr(self, key):
-                raise ctx.child(key).error("", "the name of a CSV file", "no file")
 
 
 Bridge = Union[SimpleBeam, Frame, ModalTable]

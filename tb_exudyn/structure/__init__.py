@@ -5,6 +5,7 @@ bridge's modes read from its CSV tables, :mod:`.imported`);
 :func:`modal_report` lists frequencies, mode types and effective masses of :func:`bridge_modes`.
 """
 
+from ..scenario.model import ModalTable
 from .assembly import FEModel, StructureError, assemble, assemble_pier, located
 from .fe import (
     FEModes,
@@ -26,8 +27,6 @@ def modal_bridge(bridge, max_frequency: float, max_modes: int = 0,  # noqa: ANN0
                  rayleigh: tuple[float, float] | None = None) -> ModalBridge:
     """The mass-normalised modal model of any bridge kind: the FE modes of a ``simple_beam`` or ``frame``
     (:func:`.fe.modal_bridge`), the tables of a ``modal_table`` (:func:`.imported.imported_modal_bridge`)."""
-    from ..scenario.model import ModalTable
-
     if isinstance(bridge, ModalTable):
         return imported_modal_bridge(bridge, max_frequency, max_modes, rayleigh)
     return fe_modal_bridge(bridge, max_frequency, max_modes, rayleigh)

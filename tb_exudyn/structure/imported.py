@@ -28,12 +28,16 @@ import math
 from pathlib import Path
 
 import numpy as np
+from scipy.linalg import solve_banded
 
 from ..errors import ScenarioError
-from ..files import MIB, FileRefused, read_text
+from ..files import MIB, FileRefused, output_targets, read_text, write_output
 from ..scenario.model import ModalTable
+from ..scenario.toml_io import dumps_toml
+from ..system.derived import station_positions
 from .assembly import SPAN_RANGE, StructureError
-from .fe import MECHANISM_FREQUENCY, RailShapeEvaluator, bridge_modes, modal_bridge_from_modes, rayleigh_damping_ratios
+from .fe import (MECHANISM_FREQUENCY, RailShapeEvaluator, bridge_modes, line_shape_evaluator, modal_bridge_from_modes,
+                 rayleigh_damping_ratios)
 from .modal import ModalBridge
 
 #: the mode types a modes.csv may name (those our FE gives)
@@ -206,15 +210,40 @@ def read_shapes(path: str, n_modes: int, length: float) -> RailShapeEvaluator:
 
 def _spline_slopes(x: np.ndarray, values: np.ndarray) -> np.ndarray:
     """Slopes at the stations of a not-a-knot cubic spline through each piece (pieces end at a station
-    given twice); a piece of two stations is a straight line."""
-    from scipy.interpolate import CubicSpline
-
+    given twice); a piece of two stations is a straight line, of three the parabola through them."""
     out = np.zeros_like(values)
     cuts = [0] + [i + 1 for i in range(len(x) - 1) if x[i + 1] == x[i]] + [len(x)]
     for a, b in zip(cuts[:-1], cuts[1:]):
         if b - a >= 2:
-            out[a:b] = CubicSpline(x[a:b], values[a:b], axis=0, bc_type="not-a-knot")(x[a:b], 1)
+            out[a:b] = _not_a_knot_slopes(x[a:b], values[a:b])
     return out
+
+
+def _not_a_knot_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Slopes m_i of the not-a-knot cubic spline through (x_i, y_i), y of shape (n, ...): the banded
+    system of C2 continuity, its end rows third-derivative continuity at x_1 and x_(n-2) (de Boor,
+    A Practical Guide to Splines, ch. IV; the system scipy's CubicSpline solves)."""
+    n = len(x)
+    dx = np.diff(x)
+    slope = np.diff(y, axis=0) / dx[:, None]
+    if n == 2:
+        return np.vstack([slope, slope])
+    if n == 3:  # the parabola through the three points
+        c = (slope[1] - slope[0]) / (x[2] - x[0])
+        return np.vstack([slope[0] - c * dx[0], slope[0] + c * dx[0], slope[1] + c * dx[1]])
+    ab = np.zeros((3, n))
+    rhs = np.empty_like(y)
+    ab[1, 1:-1] = 2.0 * (dx[:-1] + dx[1:])
+    ab[0, 2:] = dx[:-1]
+    ab[2, :-2] = dx[1:]
+    rhs[1:-1] = 3.0 * (dx[1:, None] * slope[:-1] + dx[:-1, None] * slope[1:])
+    d = x[2] - x[0]
+    ab[1, 0], ab[0, 1] = dx[1], d
+    rhs[0] = ((dx[0] + 2.0 * d) * dx[1] * slope[0] + dx[0] ** 2 * slope[1]) / d
+    d = x[-1] - x[-3]
+    ab[1, -1], ab[2, -2] = dx[-2], d
+    rhs[-1] = (dx[-1] ** 2 * slope[-2] + (2.0 * d + dx[-1]) * dx[-2] * slope[-1]) / d
+    return solve_banded((1, 1), ab, rhs)
 
 
 def read_stations(path: str, n_modes: int, length: float) -> tuple[tuple[str, ...], np.ndarray, np.ndarray]:
@@ -355,10 +384,6 @@ def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int =
     folder ``out``: bridge.toml (kind = "modal_table", name ``<name>_modes``, the same spans), modes.csv,
     shapes.csv and stations.csv, all four atomically as one (existing ones only with ``overwrite``;
     ``where``/``key`` name the argument in errors). Returns the written paths by file name."""
-    from ..files import output_targets, write_output
-    from ..scenario.toml_io import dumps_toml
-    from ..system.derived import station_positions
-    from .fe import line_shape_evaluator
 
     if isinstance(bridge, ModalTable):
         raise ScenarioError(where, "bridge", bridge.name, "a simple_beam or frame bridge (its finite-element modes "

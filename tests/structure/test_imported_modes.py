@@ -224,3 +224,20 @@ def test_modes_not_mass_normalised_are_refused(tmp_path):
                     shapes=shapes)
     assert modal_bridge(ok, 100.0).n_modes == 1
 
+
+
+@pytest.mark.parametrize("n", [2, 3, 4, 7, 30])
+def test_spline_slopes_are_the_not_a_knot_spline(n):
+    """Without slope columns the slopes are those of the not-a-knot cubic spline through each piece.
+    Reference: scipy.interpolate.CubicSpline(bc_type='not-a-knot') (2 points: the line, 3: the parabola,
+    as scipy makes them) on uneven stations and two columns; tolerance 1e-12 of the largest slope (the
+    same banded system, solved by the same LAPACK routine or its equivalent)."""
+    from scipy.interpolate import CubicSpline
+
+    from tb_exudyn.structure.imported import _spline_slopes
+
+    rng = np.random.default_rng(n)
+    x = np.sort(rng.uniform(0.0, 20.0, n))
+    y = np.column_stack([np.sin(x / 3.0), rng.standard_normal(n)])
+    ref = CubicSpline(x, y, axis=0, bc_type="not-a-knot")(x, 1)
+    assert np.max(np.abs(_spline_slopes(x, y) - ref)) <= 1e-12 * np.abs(ref).max()
