@@ -241,3 +241,36 @@ def test_spline_slopes_are_the_not_a_knot_spline(n):
     y = np.column_stack([np.sin(x / 3.0), rng.standard_normal(n)])
     ref = CubicSpline(x, y, axis=0, bc_type="not-a-knot")(x, 1)
     assert np.max(np.abs(_spline_slopes(x, y) - ref)) <= 1e-12 * np.abs(ref).max()
+
+
+@pytest.mark.exudyn
+@pytest.mark.slow
+def test_every_engine_and_method_runs_the_imported_bridge(tmp_path):
+    """Exact problem: the quick scenario (one ICE motor car over single_span_32m at 250 km/h) with 2
+    linear frequencies and two irregularity types (vertical, cross-level), once with the FE bridge and
+    once with its exported tables: PEM on the Exudyn, dense and batched engines and Monte Carlo (2
+    samples, batched). Reference: the FE bridge's run on the same engine. Tolerance 1e-9 of each
+    channel's max sigma: the bridges agree to round-off, the Exudyn engine's Newton iteration adds its
+    tolerance (1.2e-11 measured; dense and batched 1e-12, Monte Carlo 2e-12)."""
+    pytest.importorskip("exudyn")
+    import warnings
+
+    from tb_exudyn.methods import run_monte_carlo, run_pem
+
+    sc = load_scenario("quick")
+    export_modes(sc.bridge, tmp_path, sc.analysis.mode_max_frequency, sc.analysis.max_modes)
+    sc = sc.replace(analysis=sc.analysis.replace(n_freq=2, freq_spacing="linear"),
+                    track=sc.track.replace(irregularities=("german_low.vertical", "german_low.cross_level")))
+    im = sc.replace(bridge=load_bridge(tmp_path / "bridge.toml"))
+    runs = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the bogie's lightly damped yaw mode, the coarse grid: both runs alike
+        for engine in ("exudyn", "dense", "batched"):
+            runs[engine] = [run_pem(s, workers=1, progress=False, keep_psd=False, engine=engine, grid_error=False)
+                            for s in (sc, im)]
+        runs["mc"] = [run_monte_carlo(s, n_samples=2, workers=1, progress=False) for s in (sc, im)]
+    for name, (fe, tab) in runs.items():
+        assert fe.channels == tab.channels
+        scale = fe.std.max(axis=1)
+        assert np.all(np.abs(fe.std - tab.std).max(axis=1) <= 1e-9 * scale), name
+        assert np.any(scale > 0), name
