@@ -46,7 +46,7 @@ MODE_TYPES = ("vertical", "lateral", "torsion", "longitudinal", "pier", "mixed")
 MODAL_MASS_TOLERANCE = 1e-3
 #: how far [m] the first and last station may lie from the bridge's ends (x = 0 and sum(spans))
 X_TOLERANCE = 1e-6
-#: largest table read [bytes] (64 MiB: e.g. 300 modes at 2000 stations with slopes; parsed, a few hundred MB)
+#: largest table read [bytes] (64 MiB: e.g. 200 modes at 2000 stations with slopes, 53 MB; parsed, a few hundred MB)
 MAX_TABLE_BYTES = 64 * MIB
 #: the components of a shape column, in the order of RailShapes' (y, z, rx)
 COMPONENTS = ("y", "z", "rx")

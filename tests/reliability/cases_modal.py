@@ -164,6 +164,13 @@ def _missing_file(d: Path) -> Run:
     return Run(argv=_modes(d), expect=(str(d / "nothing.csv"), "file not found"))
 
 
+def _table_too_large(d: Path) -> Run:
+    _bridge(d)
+    with open(d / "shapes.csv", "r+b") as fh:  # a sparse 65 MiB file: refused by its size before it is read
+        fh.truncate(65 * 2**20)
+    return Run(argv=_modes(d), expect=(str(d / "shapes.csv"), "at most 64 MiB"), isolate=True)
+
+
 # ------------------------------------------------------------------------------------ stations.csv
 def _output_station_outside(d: Path) -> Run:
     _bridge(d, stations="station,x,y1,z1,rx1,y2,z2,rx2\nspan1.mid,10.0,0,1e-3,0,1e-3,0,0\nfar,35.0,0,0,0,0,0,0\n")
@@ -231,6 +238,7 @@ _BUILDS: list[tuple[str, Callable[[Path], Run]]] = [
     ("modal_shape_not_finite", _not_finite),
     ("modal_shape_short_row", _short_row),
     ("modal_shapes_file_missing", _missing_file),
+    ("modal_table_too_large", _table_too_large),
     ("modal_output_station_outside", _output_station_outside),
     ("modal_station_name_twice", _station_name_twice),
     ("modal_no_mode_below_max_frequency", _no_mode_below_max_frequency),
