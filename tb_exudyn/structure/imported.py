@@ -246,21 +246,44 @@ def _not_a_knot_slopes(x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return solve_banded((1, 1), ab, rhs)
 
 
-def read_stations(path: str, n_modes: int, length: float) -> tuple[tuple[str, ...], np.ndarray, np.ndarray]:
-    """(names, x [m] or NaN, (n, 3, n_modes) shape rows) of a stations.csv."""
+def read_stations(path: str, n_modes: int, spans: tuple[float, ...]) -> tuple[tuple[str, ...], np.ndarray, np.ndarray]:
+    """(names, x [m] or NaN, (n, 3, n_modes) shape rows) of a stations.csv; a span station
+    (``span<i>.q1``, ``.mid``, ``.q3``, whose derived channels take their position from the spans) must
+    lie where the spans put it."""
+    length = float(sum(spans))
     header, data = _rows(path)
     names = tuple(_column(path, header, data, "station", "a column station (names, e.g. span1.mid, pier1.top)"))
     for i, n in enumerate(names):
         if not n or any(c.isspace() for c in n) or names.index(n) != i:
             raise _error(path, f"station[row {i + 1}]", n, "a unique name without spaces, e.g. span1.mid",
-                                "bad station name")
-    xs = _column(path, header, data, "x", "a column x [m] along the track (empty: not on the deck, e.g. a pier top)")
-    x = np.array([math.nan if not t else _numbers(path, f"x[row {i + 1}]", [t])[0] for i, t in enumerate(xs)])
+                         "bad station name")
+    texts = _column(path, header, data, "x", "a column x [m] along the track (empty: not on the deck, e.g. a pier top)")
+    allowed = "a finite number or empty (a station not on the deck)"
+    x = np.full(len(texts), math.nan)
+    for i, t in enumerate(texts):
+        if t:
+            v = float(t) if _is_number(t) else math.nan
+            if not math.isfinite(v):
+                raise _error(path, f"x[row {i + 1}]", t, allowed, "not a finite number")
+            x[i] = v
+    at = station_positions(names, spans)
     for i, xi in enumerate(x):
         if math.isfinite(xi) and not -X_TOLERANCE <= xi <= length + X_TOLERANCE:
             raise _error(path, f"x[row {i + 1}]", xi, f"0 <= x <= {length:g} m (the sum of the bridge's spans) "
-                                "or empty (a station not on the deck)", "a station outside the bridge")
+                         "or empty (a station not on the deck)", "a station outside the bridge")
+        want = at.get(names[i])
+        if want is not None and not abs(xi - want) <= X_TOLERANCE + 1e-9 * length:
+            raise _error(path, f"x[row {i + 1}]", xi, f"{want:g} m, where the spans put {names[i]} (its derived "
+                         "channels are taken there)", "a span station off its place")
     return names, x, _shape_block(path, header, data, n_modes)
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 def _deck_stations(spans: tuple[float, ...]) -> tuple[list[str], np.ndarray]:
@@ -303,7 +326,7 @@ def imported_modal_bridge(bridge: ModalTable, max_frequency: float, max_modes: i
     length = bridge.length
     evaluator = read_shapes(bridge.shapes, n_all, length)
     if bridge.stations:
-        names, xs, rows = read_stations(bridge.stations, n_all, length)
+        names, xs, rows = read_stations(bridge.stations, n_all, bridge.spans)
     else:
         names, xs = _deck_stations(bridge.spans)
         r = evaluator(xs)

@@ -182,6 +182,16 @@ def _station_name_twice(d: Path) -> Run:
     return Run(argv=_modes(d), expect=(str(d / "stations.csv"), "'station[row 2]'", "unique name"))
 
 
+def _span_station_off_its_place(d: Path) -> Run:
+    _bridge(d, stations="station,x,y1,z1,rx1,y2,z2,rx2\nspan1.mid,12.0,0,1e-3,0,1e-3,0,0\n")
+    return Run(argv=_modes(d), expect=(str(d / "stations.csv"), "'x[row 1]'", "10 m, where the spans put span1.mid"))
+
+
+def _station_x_not_a_number(d: Path) -> Run:
+    _bridge(d, stations="station,x,y1,z1,rx1,y2,z2,rx2\npier1.top,top,0,1e-3,0,1e-3,0,0\n")
+    return Run(argv=_modes(d), expect=(str(d / "stations.csv"), "'x[row 1]'", "not a finite number"))
+
+
 # ------------------------------------------------------------------------------------ the scenario's keys
 def _no_mode_below_max_frequency(d: Path) -> Run:
     _bridge(d)
@@ -241,6 +251,8 @@ _BUILDS: list[tuple[str, Callable[[Path], Run]]] = [
     ("modal_table_too_large", _table_too_large),
     ("modal_output_station_outside", _output_station_outside),
     ("modal_station_name_twice", _station_name_twice),
+    ("modal_span_station_off_its_place", _span_station_off_its_place),
+    ("modal_station_x_not_a_number", _station_x_not_a_number),
     ("modal_no_mode_below_max_frequency", _no_mode_below_max_frequency),
     ("modal_code_check_refuses", _code_check_refuses),
     ("modal_export_over_existing", _export_over_existing),
