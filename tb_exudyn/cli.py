@@ -22,7 +22,7 @@ from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
-from . import cli_scenario, cli_text
+from . import cli_modes, cli_scenario, cli_text
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
@@ -496,6 +496,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--overwrite", action="store_true",
                    help="replace the --html file if it exists; without it an existing file is refused")
     p.set_defaults(func=_cmd_report)
+    cli_modes.add_parser(sub)
     return parser
 
 

@@ -26,11 +26,12 @@ def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]
     except StructureError as exc:
         return [("(derived) bridge modes", "not available", "", str(exc))]
     rows = []
+    source = "its modes tables" if getattr(scenario.bridge, "kind", "") == "modal_table" else "FE"
     for d in DIRECTIONS:
         f = [nth_frequency(mb.frequencies, mb.mode_types, d, n) for n in (1, 3)]
         text = ", ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
         rows.append((f"(derived) bridge f1, f3 {d}", text, "Hz",
-                     f"1st and 3rd {d} mode of the whole bridge alone (FE; '-': none up to mode_max_frequency)"))
+                     f"1st and 3rd {d} mode of the whole bridge alone ({source}; '-': none up to mode_max_frequency)"))
     return rows
 
 

@@ -46,6 +46,8 @@ EXPECTED: dict[str, tuple[str, ...]] = {
                        "350/pem/meta.json"),
     "li_zhu_2011_verification.py": ("comparison.txt", "pem/meta.json", "mc/meta.json", "figures/*.pem_vs_mc.png"),
     "creep_car_stability.py": ("stability.txt",),
+    "imported_modal_bridge.py": ("bridge/bridge.toml", "bridge/modes.csv", "bridge/shapes.csv", "scenario.toml",
+                                 "comparison.txt", "alpha_1/det/meta.json"),
 }
 
 #: a --quick run must stay well under a minute on 2 free cores; this bound only catches a setting
@@ -146,11 +148,29 @@ def _monte_carlo_within_its_band(out: Path) -> None:
         assert row.inside >= 0.9, (row.channel, row.inside, row.ratio_median)
 
 
+def _imported_bridge_is_fryba(out: Path) -> None:
+    """imported_modal_bridge: the saved run over the bridge read from the tables the script wrote (a
+    20 m span's four vertical modes, kind modal_table) against Fryba's closed form as the FE bridge's test
+    writes it (tests/builder/test_builder_fryba.py: the same span, force and modes), within 1e-3 of the
+    peak (measured 4e-5 at the quick run's dt = 2e-4 s)."""
+    import numpy as np
+
+    import tb_exudyn as tbx
+    from tests.builder.test_builder_fryba import fryba_midspan
+
+    det = tbx.load_results(out / "alpha_1" / "det")
+    sc = det.scenario
+    assert sc.bridge.kind == "modal_table" and Path(sc.bridge.shapes).name == "shapes.csv"
+    ref = -fryba_midspan(det.time - sc.track.lead_in / sc.speed, sc.speed, 4)
+    assert np.abs(det["bridge.span1.mid.disp_z"] - ref).max() <= 1e-3 * np.abs(ref).max()
+
+
 #: per script: checks of the numbers its --quick run writes (closed forms and identities)
 NUMBERS = {
     "build_scenario_in_python.py": (_static_axle_load,),
     "li_zhu_2011_psd_maps.py": (_psd_integrates_to_sigma,),
     "li_zhu_2011_verification.py": (_monte_carlo_within_its_band,),
+    "imported_modal_bridge.py": (_imported_bridge_is_fryba,),
 }
 
 

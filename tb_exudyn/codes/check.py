@@ -324,8 +324,11 @@ def check(
         if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
             raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
         bridge = load_bridge(bridge)
-    elif not isinstance(bridge, (SimpleBeam, Frame, Continuous)):
-        raise err("bridge", type(bridge).__name__, "a bridge name, a .toml path, SimpleBeam, Frame or Continuous")
+    if not isinstance(bridge, (SimpleBeam, Frame, Continuous)):  # e.g. a modal_table: no section data
+        raise err("bridge", getattr(bridge, "name", type(bridge).__name__),
+                  "a bridge name, a .toml path, SimpleBeam, Frame or Continuous",
+                  f"a {getattr(bridge, 'kind', 'bridge')} bridge has no section data for the code's mass cases"
+                  if hasattr(bridge, "kind") else "")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
     if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:
         mesh_basis = (f"{CHECK_ELEMENTS_PER_SPAN} beam elements per span (the bridge's {bridge.elements_per_span} "

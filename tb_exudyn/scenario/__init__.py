@@ -1,5 +1,6 @@
 """Scenario data: dataclasses, TOML loading and validation, the library of named models."""
 
+from .continuous import Continuous, ContinuousBearings
 from .code_data import CONSTRUCTION_TYPES, MASS_CASES, CodeData, with_mass_case
 from .errors import ScenarioError
 from .io import load_bridge, load_scenario, load_vehicle, save_scenario, scenario_from_dict, scenario_to_toml
@@ -15,6 +16,7 @@ from .model import (
     GivenCreep,
     HertzCreep,
     Frame,
+    ModalTable,
     MovingForce,
     Pier,
     RigidBodyInertia,
@@ -35,8 +37,9 @@ from .registry import list_models, model_files, models_dir
 from .schema import describe_fields, to_dict
 
 __all__ = [
+    "Continuous", "ContinuousBearings",
     "CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "with_mass_case",
-    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep",
+    "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep", "ModalTable",
     "MovingForce", "Pier", "RigidBodyInertia", "RigidWheelset", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
     "Suspension", "Suspension3", "Track", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
     "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",

@@ -16,6 +16,7 @@ from ..track import spectrum_names
 from .code_data import CodeData, check_ballast
 from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings
 from .sections import AddedMass, BeamSection, Pier, _Replaceable
+from .modal_table import ModalTable
 from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
                      Check, Context, Validated, param, replace, source_file)
@@ -410,8 +411,8 @@ class Frame(_Replaceable):
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
 
 
-Bridge = Union[SimpleBeam, Frame, Continuous]
-BRIDGE_KINDS: dict[str, type] = {c.kind: c for c in (SimpleBeam, Frame, Continuous)}
+Bridge = Union[SimpleBeam, Frame, Continuous, ModalTable]
+BRIDGE_KINDS: dict[str, type] = {c.kind: c for c in (SimpleBeam, Frame, Continuous, ModalTable)}
 
 
 # ============================================================================================

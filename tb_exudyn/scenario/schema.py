@@ -14,6 +14,7 @@ import numbers
 import types
 import typing
 from dataclasses import MISSING, dataclass, field, fields, is_dataclass
+from pathlib import Path
 from typing import Any, Callable, Literal, get_args, get_origin
 
 from .errors import ScenarioError
@@ -231,6 +232,9 @@ def from_dict(cls: type, data: dict, ctx: Context) -> Any:
                 raise ScenarioError(ctx.file, sub.path, "<missing>", type_name(hints[name]), "missing key")
             continue
         kwargs[name] = convert(hints[name], data[name], sub, f.metadata.get("check"))
+    for name in getattr(cls, "file_keys", ()):  # file names relative to the file read: made absolute
+        if kwargs.get(name) and ctx.file and not ctx.file.startswith("<"):
+            kwargs[name] = str((Path(ctx.file).parent / kwargs[name]).resolve())
     try:
         return cls(**kwargs)  # Validated.__post_init__ checks values and cross-field rules
     except ScenarioError as exc:  # add the file and the key path of this table

@@ -13,6 +13,8 @@ from typing import Any
 from ..execution.resources import check_run_length, check_system_size
 from .assembly import StructureError, located, validate_bridge
 from .fe import bridge_modes, solve_modes
+from .imported import imported_modal_bridge
+from ..scenario.model import ModalTable
 from .size import check_bridge_size
 
 
@@ -25,6 +27,14 @@ def check_scenario_size(scenario: Any) -> None:
     (:func:`~tb_exudyn.execution.resources.check_system_size`). A small bridge (no count needed) is
     solved at once, so that a degenerate one (:class:`~.assembly.StructureError`) is refused here."""
     an = scenario.analysis
+    if isinstance(scenario.bridge, ModalTable):  # its tables read and checked now (their size is the model's)
+        try:
+            n_modes = imported_modal_bridge(scenario.bridge, an.mode_max_frequency, an.max_modes).n_modes
+        except StructureError as exc:
+            raise located(exc, scenario) from None
+        check_run_length(scenario)
+        check_system_size(scenario, n_modes)
+        return
     try:
         validate_bridge(scenario.bridge)  # its data first (a span of 1e9 m is no bridge, not a long run)
     except StructureError as exc:

@@ -6,12 +6,14 @@ from __future__ import annotations
 
 from .cases import CASES
 from .cases_bounds import CASES_BOUNDS
+from .cases_cont import CASES_CONT
 from .cases_en1991 import CASES_EN1991
 from .cases_guards import CASES_GUARDS
 from .cases_limits import CASES_LIMITS
+from .cases_modal import CASES_MODAL
 from .cases_results2 import CASES_RESULTS2
 from .cases_stochastic import CASES_STOCHASTIC
 from .cases_writes import CASES_WRITES
 
 ALL_CASES = [*CASES, *CASES_LIMITS, *CASES_WRITES, *CASES_RESULTS2, *CASES_BOUNDS, *CASES_GUARDS, *CASES_EN1991,
-             *CASES_STOCHASTIC]
+             *CASES_STOCHASTIC, *CASES_CONT, *CASES_MODAL]

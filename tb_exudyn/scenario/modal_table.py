@@ -1,0 +1,51 @@
+"""The ``modal_table`` bridge kind: a bridge given by the CSV tables of its modes (docs/modal_bridge.md).
+
+The dataclass only (its tables are read by :mod:`tb_exudyn.structure.imported`); ``model.py`` puts it
+in the ``Bridge`` union.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+from .schema import POSITIVE, Context, Validated, param, replace
+
+
+@dataclass(frozen=True, kw_only=True)
+class ModalTable(Validated):
+    """A bridge given by its modes: frequencies, damping ratios and mass-normalised shapes in CSV
+    tables written by any FE program (format: docs/modal_bridge.md; read by
+    :mod:`tb_exudyn.structure.imported`). File names relative to the file this table is read from."""
+
+    kind: ClassVar[str] = "modal_table"
+    #: keys holding file names: made absolute against the file read (schema.from_dict)
+    file_keys: ClassVar[tuple[str, ...]] = ("modes", "shapes", "stations")
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order (the deck stations' positions)",
+                                     check=POSITIVE)
+    modes: str = param(doc="CSV file: mode, frequency_hz, damping_ratio, type, modal_mass per mode")
+    shapes: str = param(doc="CSV file: x and y<k>, z<k>, rx<k> per mode k at the track line (rail level)")
+    stations: str = param("", doc="CSV file: station, x and y<k>, z<k>, rx<k> per output station ('': span "
+                                  "quarter points and midspans on the track line)")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    #: no EN 1991-2 data (the code check refuses the bridge)
+    code: ClassVar[None] = None
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        for key in ("modes", "shapes"):
+            if not getattr(self, key):
+                raise ctx.child(key).error("", "the name of a CSV file", "no file")
+
+    def replace(self, **changes):
+        """A copy checked as the TOML loader checks (:func:`.schema.replace`)."""
+        return replace(self, **changes)
