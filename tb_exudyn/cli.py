@@ -561,6 +561,7 @@ _SHOWN: set[str] = set()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    _SHOWN.clear()  # each command shows each warning once (main may be called again in one process)
     parser = build_parser()
     args = parser.parse_args(argv)
     shown = warnings.showwarning

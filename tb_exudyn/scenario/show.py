@@ -115,7 +115,7 @@ def run_label(scenario: Scenario) -> str:
     irr = "; ".join(f"{k} {', '.join(v)}" for k, v in groups.items()) or "no irregularity"
     an = scenario.analysis
     return (f"{train} at {scenario.speed_kmh:g} km/h over {scenario.bridge.name} ({layout}); {irr}; "
-            f"{an.freq_min:g}-{an.freq_max:g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
+            f"{an.freq_min:.3g}-{an.freq_max:.3g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
 
 
 __all__ = ["run_label", "scenario_table"]
