@@ -43,17 +43,25 @@ def test_speed_series_and_en1991_convention():
 
 
 def test_sweep_scenario_follows_the_speed():
-    """Exact problem: the scenario of a sweep at 200 and 450 km/h from the base at 300 km/h.
-    Reference: the convention of the module: band v / lambda_max .. v / lambda_min (capped at
-    0.1 / time_step), the base's n_freq, an approach at least the base's in metres and in seconds.
-    Exact (the same arithmetic)."""
+    """Exact problem: the scenario of a sweep at 200, 450 and 1000 km/h from the base at 300 km/h (band
+    2-20 Hz, 20 m approach, time step 1 ms). Reference: the speed rule (tb_exudyn.scenario.speed_rule):
+    the band times r = v / 300 (at most 0.1 / time_step = 100 Hz: at 1000 km/h 6.67-66.7 Hz, not capped;
+    the cap is checked on a 10 ms step below), the base's n_freq and spacing, lead_in = 20 m x max(1, r);
+    at the base's own speed the base itself. Exact (the same arithmetic: equal floats)."""
+    from tb_exudyn.scenario.speed_rule import at_speed, capped
+
     base = _base()
-    for v in (200.0, 450.0):
+    assert at_speed(base, 300.0) is base
+    for v in (200.0, 450.0, 1000.0):
         sc = sweep_scenario(base, v, CHANNELS)
-        ms = v / 3.6
+        r = v / 300.0
         assert sc.speed_kmh == v and sc.analysis.channels == CHANNELS and sc.analysis.n_freq == 6
-        assert sc.analysis.freq_min == ms / 120.0 and sc.analysis.freq_max == min(ms / 1.0, 100.0)
-        assert sc.track.lead_in == max(20.0, 20.0 * v / 300.0)
+        assert sc.analysis.freq_min == 2.0 * r and sc.analysis.freq_max == 20.0 * r and not capped(base, sc)
+        assert sc.track.lead_in == 20.0 * max(1.0, r)
+        assert "Speed rule" in sc.notes and f"at {v:g} km/h from pem_test at 300 km/h" in sc.notes
+    coarse = base.replace(analysis=base.analysis.replace(time_step=0.01, output_step=0.01, freq_max=10.0))
+    sc = sweep_scenario(coarse, 450.0, CHANNELS)  # 2-10 Hz x 1.5 = 3-15 Hz, capped at 0.1 / 0.01 s = 10 Hz
+    assert (sc.analysis.freq_min, sc.analysis.freq_max) == (3.0, 10.0) and capped(coarse, sc)
     assert sweep_scenario(base, 200.0, CHANNELS, n_freq=9).analysis.n_freq == 9
     assert sweep_scenario(base, 200.0, CHANNELS, freq_spacing="adaptive").analysis.freq_spacing == "adaptive"
     assert sweep_scenario(base, 200.0, CHANNELS).analysis.freq_spacing == base.analysis.freq_spacing
