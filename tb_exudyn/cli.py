@@ -230,8 +230,7 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
         reporting.save_figure(result.plot(), out / SWEEP_FIGURE)
         figure, png = f", {SWEEP_FIGURE}", (out / SWEEP_FIGURE).read_bytes()
     page = reporting.write_sweep_report(result, out, png)
-    print(f"speed_sweep.csv{figure} and {page.name} in {out.resolve()}; each speed's result in "
-          f"{out.resolve()}/<speed>/pem")
+    print(f"speed_sweep.csv{figure} and {page.name} (each speed's result in <speed>/pem) in {out.resolve()}")
     return EXIT_OK
 
 

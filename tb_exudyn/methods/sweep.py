@@ -351,7 +351,8 @@ class SweepResult:
 
 
 def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
-    """The table: one row per speed; per key quantity the largest |mean|, sigma and |mean| + 3
+    """The table: one row per speed (its band, number of frequencies and approach, from the speed
+    rule); per key quantity the largest |mean|, sigma and |mean| + 3
     sigma over its channels and time, the channel of the largest |mean| + 3 sigma and the largest
     estimated grid error of its channels (:func:`grid_errors`; NaN: not estimated); the number of
     channels whose grid error exceeds GRID_ERROR_TOLERANCE; then the check hook's columns."""
@@ -359,7 +360,7 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
     for v, s in zip(result.speeds, result.summaries):
         names = list(s["channels"])
         row: dict[str, Any] = {"speed_kmh": v, "f_min_hz": float(s["band"][0]), "f_max_hz": float(s["band"][1]),
-                               "n_freq": int(s["n_freq"])}
+                               "n_freq": int(s["n_freq"]), "lead_in_m": float(np.asarray(s.get("lead_in", math.nan)))}
         for key, pattern, _ in result.quantities:
             idx = [i for i, n in enumerate(names) if fnmatch.fnmatchcase(n, pattern)]
             j = idx[int(np.argmax(s["max_design"][idx]))]

@@ -216,3 +216,93 @@ def test_sweep_command(tmp_path, capsys):
     assert "<h2>Frequency grid by speed</h2>" in page and "data:image/png;base64," in page
     assert main(["sweep", str(path), "--speeds-kmh", "300:250:10", "--out", str(out)]) == 2
     assert "speeds-kmh" in capsys.readouterr().err
+
+
+@pytest.mark.exudyn
+def test_a_sweeps_row_is_the_run_at_that_speed(tmp_path, capsys, monkeypatch):
+    """Problem: quick (its own speed 250 km/h) swept at 200 and 300 km/h with 8 linear frequencies and
+    the default key quantities (`tb-exudyn sweep`), and `tb-exudyn run quick --speed-kmh V --n-freq 8
+    --freq-spacing linear --channels <the sweep's patterns>` at each speed. Reference: the run. Both
+    scenarios come from the one speed rule (speed_rule.at_speed), so the band, the approach and the
+    grid are equal exactly, and each channel's PEM is the same computation up to the order in which
+    the column slices are summed (other task sizes): every number of the sweep's row (each key
+    quantity's max |mean|, max sigma and max |mean| + 3 sigma; each criterion's estimate) within 1e-9
+    of the run's, relative (round-off of a few sums is about 1e-15), each criterion's verdict equal.
+    The deck criterion is among them by default (its channels bridge.*.acc_z_en1990 are a key
+    quantity), and the terminal's table gives forces in kN with the units in its header, its warnings
+    once per kind with the speeds, every line at most 100 characters."""
+    import fnmatch
+
+    from tb_exudyn import cli
+    from tb_exudyn.methods.sweep import KEY_QUANTITIES
+
+    monkeypatch.setattr(cli, "_SHOWN", set())
+    grid = ["--n-freq", "8", "--freq-spacing", "linear", "--workers", "1", "--no-progress", "--no-figures"]
+    assert cli.main(["sweep", "quick", "--speeds-kmh", "200,300", "--out", str(tmp_path / "sw"), *grid]) == 0
+    terminal = capsys.readouterr()
+    lines = (terminal.out + terminal.err).splitlines()
+    assert max(len(line) for line in lines if str(tmp_path) not in line) <= 100  # (a path is as long as it is)
+    kinds = [line for line in terminal.err.splitlines() if line.startswith("tb-exudyn: warning:")]
+    assert kinds and all("at every speed (200-300 km/h)" in k for k in kinds) and len(kinds) == len(set(kinds))
+    assert any("[kN]" in line for line in lines) and any(line.strip().startswith("speed") for line in lines)
+    assert any(line.strip().startswith("en1990_deck/deck_acc_ballasted: OK") for line in lines)
+    rows = {r["speed_kmh"]: r for r in _csv_rows(tmp_path / "sw" / "speed_sweep.csv")}
+    page = (tmp_path / "sw" / "speed_sweep.html").read_text()
+    assert "follows the speed rule" in page and "approach [m]" in page and '<td class="num">102</td>' in page
+    assert float(rows[300.0]["lead_in_m"]) == 102.0 and float(rows[200.0]["lead_in_m"]) == 85.0
+    patterns = [q[1] for q in KEY_QUANTITIES]
+    for v in (200.0, 300.0):
+        out = tmp_path / f"run{v:g}"
+        assert cli.main(["run", "quick", "--speed-kmh", f"{v:g}", "--out", str(out), "--channels", *patterns,
+                         *grid]) == 0
+        capsys.readouterr()
+        run = load_results(out / "pem")
+        swept = load_results(tmp_path / "sw" / speed_label(v) / "pem")
+        a, b = run.scenario.analysis, swept.scenario.analysis
+        assert (a.freq_min, a.freq_max, a.n_freq, a.freq_spacing) == (b.freq_min, b.freq_max, b.n_freq, b.freq_spacing)
+        assert run.scenario.track.lead_in == swept.scenario.track.lead_in == 85.0 * max(1.0, v / 250.0)
+        row = rows[v]
+        for key, pattern, _ in KEY_QUANTITIES:
+            idx = [i for i, c in enumerate(run.channels) if fnmatch.fnmatchcase(c, pattern)]
+            assert idx, pattern
+            expect = {"max_abs_mean": np.abs(run.mean[idx]).max(), "max_sigma": run.std[idx].max(),
+                      "max_abs_mean_plus_3sigma": (np.abs(run.mean[idx]) + 3 * run.std[idx]).max()}
+            for name, value in expect.items():
+                assert abs(float(row[f"{key}_{name}"]) - value) <= 1e-9 * abs(value), (v, key, name)
+        worst = {r.criterion: r for r in run.checks().worst()}
+        assert "en1990_deck/deck_acc_ballasted" in worst
+        for c, r in worst.items():
+            assert row[f"{c}_verdict"] == r.verdict, (v, c)
+            if math.isfinite(r.estimate):
+                assert abs(float(row[f"{c}_estimate"]) - r.estimate) <= 1e-9 * abs(r.estimate), (v, c)
+        assert fnmatch.fnmatchcase(row["en1990_deck/deck_acc_ballasted_channel"], "bridge.*.acc_z_en1990")
+
+
+def _csv_rows(path):
+    import csv
+
+    with open(path, newline="") as f:
+        return [{k: (float(x) if k == "speed_kmh" else x) for k, x in r.items()} for r in csv.DictReader(f)]
+
+
+@pytest.mark.exudyn
+def test_a_requested_channel_is_never_dropped():
+    """Problem: quick's sweep with the key quantities given as patterns. Reference: quick's model, whose
+    derived channels include bridge.span1.{q1,mid,q3}.acc_z_en1990 and which has no 'acc_z_en1991'. A
+    derived pattern is kept as its own quantity (it was dropped: only the plain channels were looked
+    at), a pattern that matches nothing is refused naming it, never left out; default quantities the
+    model lacks are left out and listed (the sprung mass has no car body lateral channel)."""
+    from tb_exudyn.methods.sweep import check_sweep, key_patterns, model_channel_names
+    from tb_exudyn.scenario import load_scenario
+
+    quick = load_scenario("quick")
+    assert "bridge.span1.mid.acc_z_en1990" in model_channel_names(quick)
+    kept = key_patterns(quick, ["bridge.*.acc_z_en1990", "car*.body.acc_z"])
+    assert [q[0] for q in kept] == ["deck_acc_z_en1990", "body_acc_z"]
+    with pytest.raises(SettingError, match=r"channels.*'bridge\.\*\.acc_z_en1991' matches no channel"):
+        key_patterns(quick, ["bridge.*.acc_z_en1990", "bridge.*.acc_z_en1991"])
+    with pytest.raises(SettingError, match="matches no channel"):
+        check_sweep(quick, [250.0], channels=["bridge.*.acc_z_en1991"])
+    names = model_channel_names(_base())
+    default = [q[1] for q in key_patterns(_base(), names=names)]
+    assert "bridge.*.acc_z_en1990" in default and "car*.body.acc_y" not in default
