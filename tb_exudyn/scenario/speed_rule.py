@@ -47,13 +47,11 @@ def cap_hz(scenario: Scenario) -> float:
 
 def at_speed(base: Scenario, speed_kmh: float) -> Scenario:
     """The scenario of a run of ``base`` at ``speed_kmh`` (the module docstring: band and approach
-    scaled by v / v0, grid kept). ``base`` itself at its own speed. ScenarioError (naming ``base``'s
-    file) for a speed the schema refuses (key ``speed_kmh``), a band the time step leaves empty or one
-    that keeps no wavelength of the track's band (key ``freq_min``)."""
+    scaled by v / v0, grid kept); ``base`` itself at its own speed (its band checked as at any other).
+    ScenarioError (naming ``base``'s file) for a speed the schema refuses (key ``speed_kmh``), a band
+    the time step leaves empty or one that keeps no wavelength of the track's band (key ``freq_min``)."""
     v = float(speed_kmh)
-    if v == base.speed_kmh:
-        return base
-    sc = base.replace(speed_kmh=v)  # the speed checked first (its error names speed_kmh)
+    sc = base if v == base.speed_kmh else base.replace(speed_kmh=v)  # the speed checked first (its key)
     an, tr = base.analysis, base.track
     r = v / base.speed_kmh
     f_min, f_max = an.freq_min * r, min(an.freq_max * r, cap_hz(base))
@@ -65,6 +63,8 @@ def at_speed(base: Scenario, speed_kmh: float) -> Scenario:
                             f"{cap_hz(base):g} Hz = 0.1 / analysis.time_step) that overlaps the track's wavelengths "
                             f"{tr.wavelength_min:g}-{tr.wavelength_max:g} m, i.e. {lo:.4g}-{hi:.4g} Hz",
                             f"empty frequency band ({f_min:.4g}-{f_max:.4g} Hz)")
+    if sc is base:
+        return base
     sc = sc.replace(track=tr.replace(lead_in=max(tr.lead_in, tr.lead_in * r)),
                     analysis=an.replace(freq_min=f_min, freq_max=f_max))
     note = NOTE_HEAD + statement(base, sc, grid=False)
