@@ -514,7 +514,8 @@ def _kind_words(category: type[Warning]) -> str:
 
 
 def grouped_warnings(result: SweepResult) -> list[tuple[type[Warning], str]]:
-    """The sweep's warnings once per kind (the warning's class), in the order first raised: (class,
+    """The sweep's warnings once per kind (the warning's class; a note on a scenario key: that key), in
+    the order first raised: (class,
     "<kind> at <speeds>[, N messages]: <the first message, as raised at the first speed>"); a band cut
     at 0.1 / time_step by the speed rule is one more ("speed rule at ..."). Each speed's messages in
     full are in its summary (``warnings``) and on the sweep's page."""
@@ -524,7 +525,8 @@ def grouped_warnings(result: SweepResult) -> list[tuple[type[Warning], str]]:
         names = [str(k) for k in s.get("warning_kinds", ())] or ["builtins:UserWarning"] * len(messages)
         for message, kind in zip(messages, names):
             text = re.sub(r" \(at [0-9.e+-]+ km/h\)$", "", message)
-            speeds, texts = kinds.setdefault(kind, ([], []))
+            key = re.match(r"((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) ", text)  # a note on one key: its kind
+            speeds, texts = kinds.setdefault(kind + (f"|{key.group(1)}" if key else ""), ([], []))
             if v not in speeds:
                 speeds.append(v)
             if text not in texts:
@@ -537,7 +539,7 @@ def grouped_warnings(result: SweepResult) -> list[tuple[type[Warning], str]]:
                     f"{0.1 / an.time_step:g} Hz (0.1 / analysis.time_step), so the scenario's shortest wavelengths "
                     f"are left out there (the grid table of the report)"))
     for kind, (speeds, texts) in kinds.items():
-        category = _category(kind)
+        category = _category(kind.partition("|")[0])
         more = f", {len(texts)} messages" if len(texts) > 1 else ""
         out.append((category, f"{_kind_words(category)} at {speeds_text(speeds, result.speeds)}{more}: {texts[0]}"))
     return out

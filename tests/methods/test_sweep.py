@@ -306,3 +306,40 @@ def test_a_requested_channel_is_never_dropped():
     names = model_channel_names(_base())
     default = [q[1] for q in key_patterns(_base(), names=names)]
     assert "bridge.*.acc_z_en1990" in default and "car*.body.acc_y" not in default
+
+
+def test_warnings_are_grouped_by_kind_with_their_speeds():
+    """Exact problem: a hand-made sweep at 160, 170, 180 and 250 km/h whose speeds raised a lightly
+    damped mode warning each (its percentage varying with the speed), a grid-error warning at 160-180
+    km/h and two notes on different scenario keys at 250 km/h. Reference: the grouping's definition
+    (sweep.grouped_warnings): one warning per kind (the class; a note per scenario key) in the order
+    first raised, with the speeds as runs of the sweep's neighbours, the first message, and the count
+    of distinct messages of that kind; compared as exact strings."""
+    from tb_exudyn.methods.common import LightlyDampedModeWarning
+    from tb_exudyn.methods.sweep import SweepResult, grouped_warnings, speeds_text
+
+    speeds = (160.0, 170.0, 180.0, 250.0)
+    assert speeds_text((160.0, 170.0, 180.0, 250.0), speeds) == "every speed (160-250 km/h)"
+    assert speeds_text((160.0, 170.0, 250.0), speeds) == "160-170, 250 km/h"
+    light = "tb_exudyn.methods.common:LightlyDampedModeWarning"
+    grid = "tb_exudyn.methods.pem:GridErrorWarning"
+    note = "builtins:UserWarning"
+
+    def summary(v, items):
+        return {"warnings": np.array([f"{m} (at {v:g} km/h)" for m, _ in items], dtype=str),
+                "warning_kinds": np.array([k for _, k in items], dtype=str)}
+
+    summaries = tuple(summary(v, [(f"mode at 8.3 Hz grows by {20 + i} %", light)]
+                                 + ([("grid too coarse", grid)] if v < 200 else [])
+                                 + ([("track.lead_in = 85 m: short", note), ("track.taper_length = 90 m: long", note)]
+                                    if v == 250 else []))
+                      for i, v in enumerate(speeds))
+    sweep = SweepResult(base=_base(), speeds=speeds, summaries=summaries, quantities=(), resonances=())
+    got = grouped_warnings(sweep)
+    assert [(c.__name__, m) for c, m in got] == [
+        (LightlyDampedModeWarning.__name__,
+         "lightly damped mode at every speed (160-250 km/h), 4 messages: mode at 8.3 Hz grows by 20 %"),
+        ("GridErrorWarning", "grid error at 160-180 km/h: grid too coarse"),
+        ("UserWarning", "note at 250 km/h: track.lead_in = 85 m: short"),
+        ("UserWarning", "note at 250 km/h: track.taper_length = 90 m: long")]
+    assert got[0][0] is LightlyDampedModeWarning
