@@ -222,8 +222,8 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
                                      keep_checkpoint=args.keep_checkpoint, freq_spacing=args.freq_spacing)
     for line in cli_sweep.rule_lines(result) + cli_sweep.quantity_table(result) + cli_sweep.verdict_lines(result):
         print(line)
-    print(f"({len(speeds)} speeds in {result.provenance['seconds']:.1f} s, {result.provenance['tasks_from_checkpoint']} "
-          "from the checkpoint)")
+    print(f"({len(speeds)} speed{'s' if len(speeds) != 1 else ''} in {result.provenance['seconds']:.1f} s, "
+          f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
     figure, png = "", None
     reporting = _figures()
     if not args.no_figures:

@@ -64,7 +64,8 @@ def verdict_lines(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
     criteria = list(dict.fromkeys(k[: -len("_utilisation")] for r in rows for k in r if k.endswith("_utilisation")))
     if not criteria:
         return ["code checks: none applies to the key quantities of this sweep"]
-    out = [f"code checks at {len(rows)} speeds (utilisation: the estimate at the target probability over the limit):"]
+    n = f"{len(rows)} speed{'s' if len(rows) != 1 else ''}"
+    out = [f"code checks at {n} (utilisation: the estimate at the target probability over the limit):"]
     for c in criteria:
         verdicts = [str(r.get(f"{c}_verdict", "")) for r in rows]
         us = [(float(r.get(f"{c}_utilisation", math.nan)), r["speed_kmh"]) for r in rows]
@@ -76,7 +77,7 @@ def verdict_lines(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
             u, v = max(known)
             counts = ", ".join(f"{name} {verdicts.count(name)}" for name in VERDICTS if verdicts.count(name))
             cond = sum(bool(r.get(f"{c}_caveats")) for r in rows)
-            line = (f"  {c}: {counts} of {len(rows)} speeds; largest utilisation {format_number(u, 3)} at "
+            line = (f"  {c}: {counts} of {n}; largest utilisation {format_number(u, 3)} at "
                     f"{format_number(v)} km/h" + (f"; conditional at {cond}" if cond else ""))
         out.append(line if len(line) <= width else line[: width - 4] + " ...")
     return out
