@@ -568,6 +568,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     shown = warnings.showwarning
     warnings.showwarning = _one_line_warning
+    _SHOWN.clear()  # each warning once per command (main called again in one process: tests, scripts)
     try:
         return int(args.func(check_arguments(args)))
     except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
