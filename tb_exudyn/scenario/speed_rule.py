@@ -34,8 +34,8 @@ from .errors import ScenarioError
 from .model import KMH, Scenario
 
 #: the rule in one line (terminal, report, provenance)
-RULE = ("band = the scenario's x v / v0 (the same wavelengths; at most 0.1 / time_step), lead_in x max(1, v / v0), "
-        "its n_freq and spacing (adaptive: at least what the grid needs at v)")
+RULE = ("band x v / v0 (the same wavelengths, at most 0.1 / time_step), lead_in x max(1, v / v0), n_freq and "
+        "spacing kept (adaptive: at least what v needs)")
 #: what the derived scenario's notes start the rule's statement with
 NOTE_HEAD = "Speed rule (tb_exudyn.scenario.speed_rule): "
 
