@@ -343,3 +343,25 @@ def test_warnings_are_grouped_by_kind_with_their_speeds():
         ("UserWarning", "note at 250 km/h: track.lead_in = 85 m: short"),
         ("UserWarning", "note at 250 km/h: track.taper_length = 90 m: long")]
     assert got[0][0] is LightlyDampedModeWarning
+
+
+@pytest.mark.exudyn
+def test_an_adaptive_run_at_a_speed_gets_the_sweeps_grid(tmp_path, capsys):
+    """Problem: quick (adaptive grid) at 350 km/h with --n-freq 20, far below what its adaptive rules
+    need there, by `tb-exudyn run --speed-kmh 350` and by a one-speed sweep. Reference: the sweep's
+    speed result. The run raises the count as the sweep does (sweep.with_least_count, the same
+    analysis_setup(least_count=True)), so both grids have the same nodes, exactly, and the deck's
+    mid-span sigma agrees to 1e-9 relative (the column slices' sums in another order)."""
+    from tb_exudyn import cli
+
+    common = ["--n-freq", "20", "--freq-spacing", "adaptive", "--workers", "1", "--no-progress", "--no-figures"]
+    assert cli.main(["sweep", "quick", "--speeds-kmh", "350", "--out", str(tmp_path / "sw"), "--channels",
+                     "bridge.*.mid.acc_z", *common]) == 0
+    assert cli.main(["run", "quick", "--speed-kmh", "350", "--out", str(tmp_path / "run"), "--channels",
+                     "bridge.*.mid.acc_z", *common]) == 0
+    out = capsys.readouterr().out
+    assert "speed rule: at 350 km/h from quick at 250 km/h" in out
+    swept, run = load_results(tmp_path / "sw" / "350" / "pem"), load_results(tmp_path / "run" / "pem")
+    assert swept.freq.size > 20 and np.array_equal(swept.freq, run.freq)
+    i, j = swept.channels.index("bridge.span1.mid.acc_z"), run.channels.index("bridge.span1.mid.acc_z")
+    assert np.max(np.abs(swept.std[i] - run.std[j])) <= 1e-9 * swept.std[i].max()
