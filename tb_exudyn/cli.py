@@ -375,7 +375,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "model linearised about rest (Monte Carlo results labelled monte_carlo_linear); exudyn: one "
                         "Exudyn run per PEM frequency and part, or per Monte Carlo sample (the reference); dense: "
                         "the linear model on full matrices (a small reference)")
-    p.add_argument("--speed-kmh", dest="speed_kmh", type=float, default=None, help="train speed [km/h] (overrides the scenario's)")
+    p.add_argument("--speed-kmh", dest="speed_kmh", type=float, default=None,
+                   help="train speed [km/h]: the scenario run there by the speed rule of a sweep (band and approach "
+                        "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
                    help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
