@@ -7,12 +7,13 @@ each speed, PEM gives the mean and sigma of the middle span's mid-span accelerat
 ``bridge.span2.mid.acc_z`` (vertical) and ``bridge.span2.mid.acc_y`` (lateral); the design value by
 the 3-sigma rule is max over time of |mean| + 3 sigma.
 
-The frequency grid follows the speed so that every speed sees the same irregularity wavelengths
-(the track's 1-210 m): f from v / 210 m to v / 1 m (at most 0.1 / time_step, the highest frequency
-the time step resolves), ``--n-freq`` points (default 400, logarithmically spaced: the vertical
-acceleration changes by 8 % from 200 to 400 and is converged at 400, docs/findings.md). The approach
-is at least the study's 100 m and at least its 1.64 s (longer at higher speeds), so runs started at
-rest settle before the bridge as they do at 220 km/h. Writes ``speed_sweep.csv`` (one row per
+Each speed's scenario follows the speed rule of ``run --speed-kmh`` (tb_exudyn.scenario.speed_rule):
+the study's band 0.3-60 Hz at 220 km/h scaled by v / 220 km/h, so that every speed sees the same
+irregularity wavelengths (1.02-204 m; at most 0.1 / time_step, the highest frequency the time step
+resolves), ``--n-freq`` points (default 400, logarithmically spaced: the vertical acceleration
+changes by 8 % from 200 to 400 and is converged at 400, docs/findings.md). The approach is the
+study's 100 m, and its 1.64 s at higher speeds, so runs started at rest settle before the bridge as
+they do at 220 km/h. Writes ``speed_sweep.csv`` (one row per
 speed: band, max |mean|, max sigma, max |mean| + 3 sigma per channel, run time) and
 ``speed_sweep.png`` (with the resonance speeds v = f1 d / i of the bridge's first modes, d the car
 length and the bogie spacing) and ``speed_sweep.html`` (the sweep's page: verdicts, key quantities
@@ -23,7 +24,7 @@ maps) with its checkpoint, and ``--resume`` reuses the speeds already done.
 
 Full setting (20 speeds, 400 frequencies, 4 cars): several minutes on 2 cores (docs/speed.md gives
 the measured times). ``--quick``: one motor car, 40 m lead-in, 5 m run-out, two speeds (220 and
-350 km/h), 3 frequencies over wavelengths 2-210 m, 2 ms time step with a softer contact: a smoke run
+350 km/h), 3 frequencies 1-25 Hz at 220 km/h, 2 ms time step with a softer contact: a smoke run
 of the pipeline, not a result.
 """
 

@@ -22,7 +22,7 @@ from .errors import OutputFolderError, SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
-from . import cli_modes, cli_scenario, cli_text
+from . import cli_modes, cli_scenario, cli_sweep, cli_text
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
@@ -111,8 +111,13 @@ def _folder_lock(folder):  # noqa: ANN001, ANN202
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    scenario = cli_scenario.with_options(cli_scenario.load(args), args)
+    base = cli_scenario.load(args)
+    scenario = cli_scenario.with_options(base, args)
     check_scenario_size(scenario)  # before the output folder is made
+    if cli_scenario.speed_rule_line(base, scenario) is not None:  # at another speed: the sweep's rule, said
+        scenario = _methods().sweep.with_least_count(scenario)
+        print(textwrap.fill(cli_scenario.speed_rule_line(base, scenario), cli_text.TERMINAL_WIDTH,
+                            subsequent_indent="  ", break_on_hyphens=False))
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
@@ -215,11 +220,9 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
                                      progress=not args.no_progress, n_freq=args.n_freq, options=options,
                                      channels=args.channels, overwrite=args.overwrite,
                                      keep_checkpoint=args.keep_checkpoint, freq_spacing=args.freq_spacing)
-    for row in result.rows():
-        parts = [f"{row['speed_kmh']:7g} km/h"] + [
-            f"{key} {row[f'{key}_max_abs_mean_plus_3sigma']:.4g}" for key, _, _ in result.quantities]
-        print("  ".join(parts))
-    print(f"(max |mean| + 3 sigma per key quantity; {len(speeds)} speeds in {result.provenance['seconds']:.1f} s, "
+    for line in cli_sweep.rule_lines(result) + cli_sweep.quantity_table(result) + cli_sweep.verdict_lines(result):
+        print(line)
+    print(f"({len(speeds)} speed{'s' if len(speeds) != 1 else ''} in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance['tasks_from_checkpoint']} from the checkpoint)")
     figure, png = "", None
     reporting = _figures()
@@ -227,8 +230,7 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
         reporting.save_figure(result.plot(), out / SWEEP_FIGURE)
         figure, png = f", {SWEEP_FIGURE}", (out / SWEEP_FIGURE).read_bytes()
     page = reporting.write_sweep_report(result, out, png)
-    print(f"speed_sweep.csv{figure} and {page.name} in {out.resolve()}; each speed's result in "
-          f"{out.resolve()}/<speed>/pem")
+    print(f"speed_sweep.csv{figure} and {page.name} (each speed's result in <speed>/pem) in {out.resolve()}")
     return EXIT_OK
 
 
@@ -373,7 +375,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "model linearised about rest (Monte Carlo results labelled monte_carlo_linear); exudyn: one "
                         "Exudyn run per PEM frequency and part, or per Monte Carlo sample (the reference); dense: "
                         "the linear model on full matrices (a small reference)")
-    p.add_argument("--speed-kmh", dest="speed_kmh", type=float, default=None, help="train speed [km/h] (overrides the scenario's)")
+    p.add_argument("--speed-kmh", dest="speed_kmh", type=float, default=None,
+                   help="train speed [km/h]: the scenario run there by the speed rule of a sweep (band and approach "
+                        "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
                    help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
@@ -422,7 +426,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="linear, log or adaptive (converged grids: fine at the system's modes and for the run's "
                         "length, docs/adaptive_grid.md; default: the scenario's freq_spacing)")
     p.add_argument("--channels", nargs="+", default=None,
-                   help="channel patterns of the key quantities (default: deck and car body accelerations, wheel forces)")
+                   help="channel patterns of the key quantities, each must match a channel, derived ones included "
+                        "(default: deck accelerations, bridge.*.acc_z_en1990 with its EN 1990 check among them, car "
+                        "body accelerations, wheel forces)")
     p.add_argument("--precision", choices=("float64", "float32"), default="float64",
                    help="float32: faster (measured in docs/speed.md), sigma within 1e-5 of each channel's largest")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")

@@ -9,6 +9,7 @@ import argparse
 from .errors import SettingError
 from .scenario import Scenario, ScenarioError, load_scenario
 from .scenario.io import parse_setting, with_settings
+from .scenario.speed_rule import at_speed, statement
 
 
 def load(args: argparse.Namespace) -> Scenario:
@@ -26,20 +27,39 @@ def load(args: argparse.Namespace) -> Scenario:
 
 
 def with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
-    """The scenario with the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels); a
-    bad value names the option."""
+    """The scenario with the run's overrides: --speed-kmh by the one rule for a run at a speed
+    (:func:`tb_exudyn.scenario.speed_rule.at_speed`: the band and the approach scaled by v / v0, as
+    every speed of a sweep), then --n-freq, --freq-spacing, --channels; a bad value names the option."""
     sc = scenario
-    for attr, option, section in (("speed_kmh", "--speed-kmh", None), ("n_freq", "--n-freq", "analysis"),
-                                  ("freq_spacing", "--freq-spacing", "analysis"), ("channels", "--channels", "analysis")):
+    speed = getattr(args, "speed_kmh", None)
+    if speed is not None:
+        try:
+            sc = at_speed(sc, speed)
+        except ScenarioError as exc:
+            raise SettingError("command line", "--speed-kmh", speed, exc.allowed,
+                               exc.reason if exc.key == "speed_kmh" else f"{exc.key} = {_shown(exc.value)}: {exc.reason}"
+                               ) from None
+    for attr, option in (("n_freq", "--n-freq"), ("freq_spacing", "--freq-spacing"), ("channels", "--channels")):
         value = getattr(args, attr, None)
         if value is None:
             continue
         value = tuple(value) if isinstance(value, list) else value
         try:
-            sc = sc.replace(**{attr: value}) if section is None else sc.replace(analysis=sc.analysis.replace(**{attr: value}))
+            sc = sc.replace(analysis=sc.analysis.replace(**{attr: value}))
         except ScenarioError as exc:
             raise SettingError("command line", option, value, exc.allowed, exc.reason) from None
     return sc
 
 
-__all__ = ["load", "with_options"]
+def _shown(value: object) -> str:
+    return f"{value:.4g}" if isinstance(value, float) else repr(value)
+
+
+def speed_rule_line(base: Scenario, scenario: Scenario) -> str | None:
+    """The terminal's line on a run at another speed than the scenario's (None when there is none)."""
+    if scenario.speed_kmh == base.speed_kmh:
+        return None
+    return "speed rule: " + statement(base, scenario)
+
+
+__all__ = ["load", "speed_rule_line", "with_options"]

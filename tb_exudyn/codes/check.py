@@ -461,8 +461,8 @@ def check(
                 except ScenarioError as exc:
                     given = source_scenario.source_file or source_scenario.name
                     raise err("stochastic_scenario", given, exc.allowed,
-                              f"its analysis at {v:g} km/h (the band v / track.wavelength_max to min(v / "
-                              f"track.wavelength_min, 0.1 / analysis.time_step)): analysis.{exc.key}: {exc.reason}"
+                              f"its analysis at {v:g} km/h (the speed rule: its band x v / v0, at most "
+                              f"0.1 / analysis.time_step): analysis.{exc.key}: {exc.reason}"
                               ) from None
     rows, responses, resonant = [], [], {}
     for case, train in ((c, t) for c in cases for t in train_list):

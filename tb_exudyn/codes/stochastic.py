@@ -16,8 +16,8 @@ builds one scenario (:func:`base_scenario`):
   up to the cut-off;
 
 and runs it at the chosen speeds with :func:`tb_exudyn.methods.sweep.run_sweep` (one rule for a run at a
-speed: :func:`scenario_at` is ``sweep_scenario``, the grid over the track's wavelength band at that speed
-and an approach at least the scenario's in metres and in seconds), on the channels :data:`CHANNELS`. Each
+speed: :func:`scenario_at` is ``sweep_scenario``, i.e. :func:`tb_exudyn.scenario.speed_rule.at_speed`: the
+scenario's band and approach scaled by v / v0, its grid kept), on the channels :data:`CHANNELS`. Each
 speed's row takes from the verdicts' exceedance machinery (``RandomResponse.checks()``, the default limits
 and target probability: :func:`tb_exudyn.methods.sweep.check_columns`) the deck acceleration criterion of
 the check's track (:data:`CRITERIA`) at its deciding location: ``p_exceed``, the probability of exceeding

@@ -1,19 +1,29 @@
 """Speed sweeps: PEM at a series of train speeds, the frequency grid following the speed.
 
-At each speed v the scenario is :func:`sweep_scenario` of the base: the same train, bridge, track
-and analysis, with
+At each speed v the scenario is :func:`sweep_scenario` of the base: the one rule for a run at a
+speed (:func:`tb_exudyn.scenario.speed_rule.at_speed`, also that of ``run --speed-kmh`` and of the EN
+check's stochastic rows):
 
-- the PEM band over the track's wavelength band at that speed: freq_min = v / wavelength_max,
-  freq_max = min(v / wavelength_min, 0.1 / time_step) (the highest frequency the time step resolves,
-  as ``Analysis`` requires), the base's number of frequencies and spacing (pass ``n_freq`` to refine,
-  ``freq_spacing="adaptive"`` for converged grids: the study's 200 linear points are not converged
-  for every channel, docs/findings.md). With the adaptive spacing each speed's grid has at least
-  ``n_freq`` nodes and at least what the grid's rules need at that speed (its band, run length and
-  train spread follow the speed: :func:`tb_exudyn.methods.adaptive_grid.points_needed`); the count
-  used is in the speed's result (``result.scenario.analysis.n_freq``) and in the table;
-- an approach at least the base's in metres and in seconds (a faster train gets a longer lead-in,
-  so that the runs, started at rest, have settled as well as at the base speed);
-- the output channels of the key quantities (:data:`KEY_QUANTITIES`, or those given).
+- the base's band scaled by v / v0 (the same wavelengths; freq_max at most 0.1 / time_step, the
+  highest frequency the time step resolves, as ``Analysis`` requires), the base's number of
+  frequencies and spacing (pass ``n_freq`` to refine, ``freq_spacing="adaptive"`` for converged
+  grids: the study's 200 linear points are not converged for every channel, docs/findings.md). With
+  the adaptive spacing each speed's grid has at least ``n_freq`` nodes and at least what the grid's
+  rules need at that speed (its band, run length and train spread follow the speed:
+  :func:`tb_exudyn.methods.adaptive_grid.points_needed`); the count used is in the speed's result
+  (``result.scenario.analysis.n_freq``) and in the table;
+- the base's approach kept in seconds above v0 and in metres below it (a faster train gets a longer
+  lead-in, so that the runs, started at rest, have settled as well as at the base speed);
+- the output channels of the key quantities (:data:`KEY_QUANTITIES`, or those given: each given
+  pattern must match a channel of the model, derived channels such as ``acc_z_en1990`` included,
+  else the sweep is refused naming it; a default quantity the model lacks is left out and listed in
+  ``provenance["quantities_left_out"]``). The default ones include the deck acceleration along the
+  track ``bridge.*.acc_z_en1990``, so that every sweep checks the deck acceleration criterion (the
+  code checks of each speed are those whose channels the sweep computes).
+
+The warnings of the speeds are issued once per kind after the sweep (:func:`grouped_warnings`: the
+first message of that kind and the speeds it was raised at); each speed's own are in its summary
+(and in the report).
 
 Each speed is one task on the sweep's executor (the local process pool, a Dask executor: the
 same :class:`~tb_exudyn.execution.Execution` as a sweep over frequencies), running the whole PEM of
@@ -38,7 +48,6 @@ EN 1991-2 (6.4.6.2) analyses a series of speeds up to 1.2 x the maximum line spe
 
 from __future__ import annotations
 
-import dataclasses
 import fnmatch
 import importlib
 import itertools
@@ -54,7 +63,7 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
-from ..builder.model import channel_list
+from ..builder.model import build_model
 from ..engines import check_engine
 from ..errors import ResourceError, ScenarioError, SettingError
 from ..execution import Execution, RunFiles, Task
@@ -65,24 +74,27 @@ from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.model import KMH, Analysis
+from ..scenario.speed_rule import RULE, at_speed, capped
 from ..structure import modal_bridge
 from ..system.modes import DIRECTIONS, nth_frequency
-from .common import fingerprint_identity
+from .common import analysis_setup, fingerprint_identity
+from .speed_series import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds, parse_speeds,
+                           range_count, speed_label, speed_range)
 from .pem import GRID_ERROR_TOLERANCE, default_slices, prepare_sweep
 from . import pem
 
 #: the key quantities of a sweep: (column name, channel pattern, what it is); those that match no
-#: channel of the model are left out
+#: channel of the model are left out (and listed in the sweep's provenance, ``quantities_left_out``)
 KEY_QUANTITIES: tuple[tuple[str, str, str], ...] = (
     ("deck_acc_z", "bridge.*.mid.acc_z", "bridge deck vertical acceleration at mid-span [m/s^2]"),
+    ("deck_acc_z_en1990", "bridge.*.acc_z_en1990",
+     "deck vertical acceleration along the track, modes up to the EN 1990 cut-off (the deck criterion) [m/s^2]"),
     ("deck_acc_y", "bridge.*.mid.acc_y", "bridge deck lateral acceleration at mid-span [m/s^2]"),
     ("body_acc_z", "car*.body.acc_z", "car body vertical acceleration [m/s^2]"),
     ("body_acc_y", "car*.body.acc_y", "car body lateral acceleration [m/s^2]"),
     ("wheel_force_z", "car*.axle*force_z", "vertical wheel-rail force [N]"),
     ("wheel_force_y", "car*.axle*force_y", "lateral wheel-rail force [N]"),
 )
-#: EN 1991-2, 6.4.6.2: speeds up to this factor times the maximum line speed
-EN1991_SPEED_FACTOR = 1.2
 #: sigma multiple of the design value max |mean| + K sigma in the table
 K_SIGMA = 3.0
 #: the grid spacings a sweep may ask for: those of ``Analysis.freq_spacing`` (read from the schema)
@@ -91,158 +103,59 @@ FREQ_SPACINGS: tuple[str, ...] = typing.get_args(typing.get_type_hints(Analysis)
 SWEEP_TABLE = "speed_sweep.csv"
 
 
-# ------------------------------------------------------------------------------------- speeds
-#: a sweep's speeds follow the scenario's rule for speed_kmh (the schema's check: what a scenario file
-#: and ``run --speed-kmh`` accept, finite, > 0 and <= 1000 km/h)
-SPEED_CHECK = next(f.metadata["check"] for f in dataclasses.fields(Scenario) if f.name == "speed_kmh")
-#: at most this many speeds in one sweep: each speed is a whole PEM run (13.6-25.5 s of a worker for
-#: the reference study, docs/speed.md) and its own folder, so 1000 speeds are already 4-7 hours on
-#: one core, a 0.6 km/h step over the whole range of speeds, and 18 times EN 1991-2's series at 5 km/h
-#: steps up to 1.2 x 350 km/h (56 speeds); more is a slip (a step in m/s, a missing digit)
-MAX_SPEEDS = 1000
-
-
-def _keys(where: str) -> dict[str, str]:
-    """How to name the speeds' arguments in a message: command-line options, or function arguments."""
-    if where == "command line":
-        return {"speeds": "--speeds-kmh", "line": "--line-speed-kmh", "step": "--speed-step-kmh",
-                "start": "start_kmh"}  # (no option sets the start)
-    return {"speeds": "speeds_kmh", "line": "line_speed_kmh", "step": "step_kmh", "start": "start_kmh"}
-
-
-def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | None = None,
-                 shown: Any = None) -> tuple[float, ...]:
-    """The speeds of a sweep [km/h] as floats, checked before any work (SettingError naming ``where``
-    and ``key``, showing ``shown``, default the speeds): at most :data:`MAX_SPEEDS`, each within
-    :data:`SPEED_CHECK`, no two with the same :func:`speed_label` (the folder and task key of a speed)."""
-    key = key or _keys(where)["speeds"]
-    shown = list(speeds) if shown is None else shown
-    allowed = f"1 to {MAX_SPEEDS} distinct speeds, each {SPEED_CHECK.describe()} km/h"
-    if len(speeds) > MAX_SPEEDS:
-        raise SettingError(where, key, shown, allowed, f"{len(speeds)} speeds")
-    if not speeds:
-        raise SettingError(where, key, shown, allowed, "no speed")
-    seen: dict[str, float] = {}  # label -> speed
-    for v in speeds:
-        if not (_is_number(v) and SPEED_CHECK.ok(float(v))):
-            raise SettingError(where, key, shown, allowed, f"speed {v!r} out of range")
-        label = speed_label(float(v))
-        if label in seen:
-            raise SettingError(where, key, shown, allowed + " (different in the 6 significant digits of a speed's "
-                               "folder and task key)", f"{seen[label]!r} and {float(v)!r} are the same speed {label!r}")
-        seen[label] = float(v)
-    return tuple(seen.values())
-
-
-def _is_number(x: Any) -> bool:
-    return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
-
-
-def parse_speeds(text: str, where: str = "command line") -> tuple[float, ...]:
-    """'START:STOP:STEP' (km/h, STOP included) or a comma list '160,220,300', checked by
-    :func:`check_speeds` (the count before the list is made)."""
-    key = _keys(where)["speeds"]
-    allowed = (f"START:STOP:STEP with 0 < START <= STOP <= {SPEED_CHECK.high:g} and STEP > 0, or speeds separated "
-               f"by commas, each {SPEED_CHECK.describe()} km/h; at most {MAX_SPEEDS} speeds")
-    try:
-        if ":" in text:
-            start, stop, step = (float(x) for x in text.split(":"))
-        else:
-            speeds = tuple(float(x) for x in text.split(",") if x.strip())
-    except ValueError:
-        raise SettingError(where, key, text, allowed, "not numbers") from None
-    if ":" not in text:
-        return check_speeds(speeds, where, key, text)
-    if not (SPEED_CHECK.ok(start) and SPEED_CHECK.ok(stop) and start <= stop):
-        raise SettingError(where, key, text, allowed, "START or STOP out of range")
-    count = range_count(start, stop, step)
-    if count is None:
-        raise SettingError(where, key, text, allowed, "STEP not finite and > 0")
-    if count > MAX_SPEEDS:
-        raise SettingError(where, key, text, allowed, f"{count:.4g} speeds")
-    return check_speeds(speed_range(start, stop, step), where, key, text)
-
-
-def range_count(start: float, stop: float, step: float) -> float | None:
-    """How many speeds :func:`speed_range` gives (a float: inf or 1e12 are counted, not made), or None
-    when the step is not finite and > 0."""
-    if not (math.isfinite(step) and step > 0):
-        return None
-    return math.floor((stop - start) / step + 1e-9) + 1.0 if stop >= start else 0.0
-
-
-def speed_range(start: float, stop: float, step: float) -> tuple[float, ...]:
-    """start, start + step, ... up to stop (included within 1e-9 of a step) [km/h]."""
-    n = int(math.floor((stop - start) / step + 1e-9)) + 1
-    return tuple(round(start + i * step, 9) for i in range(n))
-
-
-def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: float | None = None,
-                  where: str = "en1991_speeds") -> tuple[float, ...]:
-    """EN 1991-2 (6.4.6.2): a series of speeds up to 1.2 x the maximum line speed, in steps of
-    ``step_kmh`` from ``start_kmh`` (default: half the line speed, rounded to a step) [km/h]; the
-    last speed is 1.2 x the line speed itself. Checked before the series is made (SettingError naming
-    ``where`` and the argument, or the option with ``where="command line"``): the top speed within
-    :data:`SPEED_CHECK`, the step finite and > 0, at most :data:`MAX_SPEEDS` speeds."""
-    keys = _keys(where)
-    top_high = SPEED_CHECK.high / EN1991_SPEED_FACTOR
-    line_allowed = f"a line speed V > 0 and <= {top_high:g} km/h (so that {EN1991_SPEED_FACTOR:g} V is " \
-                   f"{SPEED_CHECK.describe()} km/h)"
-    if not (_is_number(line_speed_kmh) and SPEED_CHECK.ok(EN1991_SPEED_FACTOR * float(line_speed_kmh))):
-        raise SettingError(where, keys["line"], line_speed_kmh, line_allowed, "out of range")
-    top = EN1991_SPEED_FACTOR * line_speed_kmh
-    if not (_is_number(step_kmh) and math.isfinite(step_kmh) and step_kmh > 0):
-        raise SettingError(where, keys["step"], step_kmh, f"a finite step > 0 km/h (at most {MAX_SPEEDS} speeds)",
-                           "out of range")
-    if start_kmh is not None and not (_is_number(start_kmh) and SPEED_CHECK.ok(float(start_kmh)) and start_kmh <= top):
-        raise SettingError(where, keys["start"], start_kmh, f"a speed > 0 and <= {EN1991_SPEED_FACTOR:g} x the line "
-                           f"speed ({top:g} km/h)", "out of range")
-    start = start_kmh if start_kmh is not None else max(step_kmh, step_kmh * round(0.5 * line_speed_kmh / step_kmh))
-    if start > top:  # a step above the top speed: the top speed alone
-        return check_speeds((round(top, 9),), where, keys["line"], line_speed_kmh)
-    count = range_count(start, top, step_kmh) or 0.0
-    if count > MAX_SPEEDS:  # (one more, 1.2 V itself, refused by check_speeds)
-        raise SettingError(where, keys["step"], step_kmh, f"a step giving at most {MAX_SPEEDS} speeds from {start:g} "
-                           f"to {top:g} km/h (at least {(top - start) / (MAX_SPEEDS - 1):.3g} km/h)",
-                           f"{count:.4g} speeds")
-    speeds = [v for v in speed_range(start, top, step_kmh)]
-    if abs(speeds[-1] - top) > 1e-9:
-        speeds.append(round(top, 9))
-    return check_speeds(speeds, where, keys["step"], step_kmh)
-
-
-def speed_label(speed_kmh: float) -> str:
-    """The folder (and task) name of a speed: '220', '222.5'."""
-    return f"{speed_kmh:g}"
-
-
 # ------------------------------------------------------------------------------------- scenario
-def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None) -> tuple[tuple[str, str, str], ...]:
-    """The key quantities (name, pattern, description) that match channels of the scenario's model
-    (``channels``: patterns instead of :data:`KEY_QUANTITIES`, each its own quantity)."""
-    names = [n for n, _ in channel_list(scenario)]
+def model_channel_names(scenario: Scenario) -> list[str]:
+    """Every channel a run of the scenario can output: the model's channels and its derived ones
+    (``acc_z_en1990``, ``twist_3m``, the ratios and weighted accelerations; tb_exudyn.system.derived)."""
+    model = build_model(scenario, warn=False)
+    return [c.name for c in model.channels] + list(model.derived_catalogue.names())
+
+
+def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None,
+                 names: Sequence[str] | None = None) -> tuple[tuple[str, str, str], ...]:
+    """The key quantities (name, pattern, description) that match channels of the scenario's model,
+    derived ones included (``names``: those channels, default :func:`model_channel_names`).
+    ``channels``: patterns instead of :data:`KEY_QUANTITIES`, each its own quantity; a given pattern
+    that matches no channel is refused (SettingError naming ``channels``), never dropped."""
+    names = list(model_channel_names(scenario) if names is None else names)
     known = {q[1]: q for q in KEY_QUANTITIES}  # a given pattern that is a key quantity keeps its name
-    items = KEY_QUANTITIES if channels is None else tuple(known.get(p, (p, p, p)) for p in channels)
-    keep = tuple(q for q in items if fnmatch.filter(names, q[1]))
+    if channels is not None:
+        items = tuple(known.get(p, (p, p, p)) for p in channels)
+        for p in channels:
+            if not fnmatch.filter(names, p):
+                sample = ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
+                raise SettingError("run_sweep", "channels", list(channels), "patterns that each match a channel of "
+                                   f"the model (derived ones included), e.g. {sample}", f"{p!r} matches no channel")
+        return items
+    keep = tuple(q for q in KEY_QUANTITIES if fnmatch.filter(names, q[1]))
     if not keep:
-        raise SettingError("run_sweep", "channels", list(channels or [q[1] for q in items]),
+        raise SettingError("run_sweep", "channels", [q[1] for q in KEY_QUANTITIES],
                            "patterns matching channels of the model, e.g. 'bridge.*.mid.acc_z'", "no key quantity")
     return keep
 
 
 def sweep_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str] | None = None,
                    n_freq: int | None = None, freq_spacing: str | None = None) -> Scenario:
-    """The scenario of a sweep at ``speed_kmh`` (the module docstring): the grid over the track's
-    wavelength band at that speed (``n_freq`` nodes spaced ``freq_spacing``, default the base's),
-    an approach at least the base's in metres and in seconds, the channels ``patterns`` (default:
-    those of :func:`key_patterns`)."""
-    lead_in = max(base.track.lead_in, base.track.lead_in * speed_kmh / base.speed_kmh)
-    sc = base.replace(speed_kmh=float(speed_kmh), track=base.track.replace(lead_in=lead_in))
-    v, tr, an = sc.speed, sc.track, sc.analysis
+    """The scenario of a sweep at ``speed_kmh`` (the module docstring): the one rule for a run at a
+    speed (:func:`tb_exudyn.scenario.speed_rule.at_speed`: band and approach scaled by v / v0, the grid
+    kept), then ``n_freq`` nodes spaced ``freq_spacing`` (default the base's), the channels
+    ``patterns`` (default: those of :func:`key_patterns`), as ``run --speed-kmh v --n-freq N
+    --freq-spacing S --channels ...`` makes it."""
+    sc = at_speed(base, speed_kmh)
+    an = sc.analysis
     patterns = tuple(patterns) if patterns is not None else tuple(q[1] for q in key_patterns(base))
-    return sc.replace(analysis=an.replace(
-        freq_min=v / tr.wavelength_max, freq_max=min(v / tr.wavelength_min, 0.1 / an.time_step),
-        n_freq=int(n_freq or an.n_freq), freq_spacing=freq_spacing or an.freq_spacing, channels=patterns))
+    return sc.replace(analysis=an.replace(n_freq=int(n_freq or an.n_freq), freq_spacing=freq_spacing or an.freq_spacing,
+                                          channels=patterns))
+
+
+def with_least_count(scenario: Scenario) -> Scenario:
+    """``scenario`` with an adaptive grid's ``analysis.n_freq`` raised to what its rules need (what a
+    sweep's speed runs with: :func:`tb_exudyn.methods.common.analysis_setup` with ``least_count``; one
+    model build and two modal analyses); any other grid as it is. ``run --speed-kmh`` calls it, so
+    that a run at a speed and the sweep's row there use the same grid."""
+    if scenario.analysis.freq_spacing != "adaptive":
+        return scenario
+    return analysis_setup(scenario, warn=False, least_count=True).scenario
 
 
 def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n_freq: int | None,
@@ -343,8 +256,10 @@ def _work(_: Any, task: Task) -> dict[str, np.ndarray]:
         result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
                          least_count=st.scenario.analysis.freq_spacing == "adaptive")
     summary = speed_summary(result)
-    summary["warnings"] = np.array(list(dict.fromkeys(f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)"
-                                                      for w in caught)), dtype=str).reshape(-1)
+    seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
+                          f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)
+    summary["warnings"] = np.array([m for m, _ in seen], dtype=str).reshape(-1)
+    summary["warning_kinds"] = np.array([k for _, k in seen], dtype=str).reshape(-1)
     return summary
 
 
@@ -357,6 +272,7 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
         "max_abs_mean": peak, "max_sigma": result.std.max(axis=1),
         "max_design": (np.abs(result.mean) + K_SIGMA * result.std).max(axis=1),
         "band": np.array(result.band, dtype=float), "n_freq": np.array(result.freq.size),
+        "lead_in": np.array(float(result.scenario.track.lead_in) if result.scenario is not None else math.nan),
         "freq_spacing": np.array(result.scenario.analysis.freq_spacing if result.scenario is not None else ""),
         "seconds": np.array(float(result.provenance.get("seconds", math.nan))),
         "checks": np.array(json.dumps(check_columns(result))),
@@ -393,7 +309,8 @@ def check_columns(result: RandomResponse) -> dict[str, Any]:
         out[f"{c}_estimate"], out[f"{c}_limit"], out[f"{c}_unit"] = float(r.estimate), float(r.limit), str(r.unit)
         out[f"{c}_channel"], out[f"{c}_verdict"], out[f"{c}_title"] = str(r.channel), str(r.verdict), str(r.title)
         out[f"{c}_caveats"] = "; ".join(dict.fromkeys(k.kind for k in r.caveats if k.changes_verdict))
-        out[f"{c}_reason"] = "; ".join(k.text for k in r.caveats if k.kind == "statistic") if r.verdict == "NOT EVALUATED" else ""
+        out[f"{c}_reason"] = "; ".join(k.text for k in r.caveats if k.kind in ("statistic", "model")) \
+            if r.verdict == "NOT EVALUATED" else ""
     out["checks_exceeding"] = float(sum(r.verdict == "EXCEEDS" for r in worst))
     return out
 
@@ -434,7 +351,8 @@ class SweepResult:
 
 
 def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
-    """The table: one row per speed; per key quantity the largest |mean|, sigma and |mean| + 3
+    """The table: one row per speed (its band, number of frequencies and approach, from the speed
+    rule); per key quantity the largest |mean|, sigma and |mean| + 3
     sigma over its channels and time, the channel of the largest |mean| + 3 sigma and the largest
     estimated grid error of its channels (:func:`grid_errors`; NaN: not estimated); the number of
     channels whose grid error exceeds GRID_ERROR_TOLERANCE; then the check hook's columns."""
@@ -442,7 +360,7 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
     for v, s in zip(result.speeds, result.summaries):
         names = list(s["channels"])
         row: dict[str, Any] = {"speed_kmh": v, "f_min_hz": float(s["band"][0]), "f_max_hz": float(s["band"][1]),
-                               "n_freq": int(s["n_freq"])}
+                               "n_freq": int(s["n_freq"]), "lead_in_m": float(np.asarray(s.get("lead_in", math.nan)))}
         for key, pattern, _ in result.quantities:
             idx = [i for i, n in enumerate(names) if fnmatch.fnmatchcase(n, pattern)]
             j = idx[int(np.argmax(s["max_design"][idx]))]
@@ -473,7 +391,8 @@ def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str 
 
 def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels: Sequence[str] | None,
           n_freq: int | None, options: Any, freq_spacing: str | None) -> tuple[Any, ...]:
-    """The checks of :func:`check_sweep`; (speeds, key quantities, engine class, each speed's scenario)."""
+    """The checks of :func:`check_sweep`; (speeds, key quantities, engine class, each speed's scenario,
+    the default key quantities the model lacks)."""
     if hasattr(speeds_kmh, "__len__") and len(speeds_kmh) > MAX_SPEEDS:  # type: ignore[arg-type]
         raise SettingError("run_sweep", "speeds_kmh", speeds_kmh, f"at most {MAX_SPEEDS} speeds",
                            f"{len(speeds_kmh)} speeds")  # type: ignore[arg-type]
@@ -485,12 +404,13 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
+    left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
     scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
     for sc in scenarios:  # every speed's grid and spectra checked before any run
         prepare_sweep(sc)
-    return speeds, quantities, cls, scenarios
+    return speeds, quantities, cls, scenarios, left_out
 
 
 def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = "batched", workers: int | None = None,
@@ -521,7 +441,8 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     """
     t0 = _time.perf_counter()
     default_limits()  # the limit files of check_columns, read and checked before any speed runs
-    speeds, quantities, cls, scenarios = _plan(scenario, speeds_kmh, engine, channels, n_freq, options, freq_spacing)
+    speeds, quantities, cls, scenarios, left_out = _plan(scenario, speeds_kmh, engine, channels, n_freq, options,
+                                                         freq_spacing)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     root = execution.output_folder()
@@ -538,20 +459,90 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     summaries: list[dict[str, np.ndarray]] = [{} for _ in tasks]
 
     def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
-        summaries[i] = result
-        for message in result.get("warnings", ()):
-            warnings.warn(str(message), stacklevel=4)
+        summaries[i] = result  # its warnings: grouped by kind once every speed is in
 
     with execution.claim(RunFiles(SWEEP_TABLE, "checkpoint-sweep", drawn=(SWEEP_FIGURE, SWEEP_PAGE))) as root:
         checkpoint = execution.checkpoint("checkpoint-sweep", identity)
         stats = execution.run(tasks, setup=_setup, setup_args=(), work=_work, reduce=reduce, checkpoint=checkpoint,
                               desc=f"speed sweep ({engine})")
+        cut = [v for v, sc in zip(speeds, scenarios) if capped(scenario, sc)]
         result = SweepResult(base=scenario, speeds=speeds, summaries=tuple(summaries), quantities=quantities,
                              resonances=tuple(resonance_speeds(scenario)),
-                             provenance={"seconds": _time.perf_counter() - t0, "engine": engine, **stats})
+                             provenance={"seconds": _time.perf_counter() - t0, "engine": engine, "speed_rule": RULE,
+                                         "base_speed_kmh": scenario.speed_kmh, "band_capped_kmh": cut,
+                                         "quantities_left_out": [q[1] for q in left_out], **stats})
+        for category, message in grouped_warnings(result):
+            warnings.warn(message, category, stacklevel=2)
         if root is not None:
             write_sweep(result, root)
     return result
+
+
+def speeds_text(speeds: Sequence[float], among: Sequence[float]) -> str:
+    """``speeds`` (a subset of the sweep's ``among``) in few words: "every speed (160-350 km/h)",
+    "160-200, 250 km/h" (runs of neighbours in the sweep's order as first-last)."""
+    if len(among) > 1 and set(speeds) == set(among):
+        return f"every speed ({speed_label(min(among))}-{speed_label(max(among))} km/h)"
+    index = {v: i for i, v in enumerate(among)}
+    order = sorted(set(speeds), key=lambda v: index.get(v, len(among)))
+    runs: list[list[float]] = []
+    for v in order:
+        if runs and index.get(v) is not None and index.get(runs[-1][-1]) == index[v] - 1:
+            runs[-1].append(v)
+        else:
+            runs.append([v])
+    return ", ".join(speed_label(r[0]) if len(r) == 1 else f"{speed_label(r[0])}-{speed_label(r[-1])}"
+                     for r in runs) + " km/h"
+
+
+def _category(name: str) -> type[Warning]:
+    """The warning class of a speed's warning ("module:qualname"; UserWarning when it cannot be found)."""
+    module, _, qualname = name.partition(":")
+    try:
+        obj: Any = importlib.import_module(module)
+        for part in qualname.split("."):
+            obj = getattr(obj, part)
+    except (ImportError, AttributeError, ValueError):
+        return UserWarning
+    return obj if isinstance(obj, type) and issubclass(obj, Warning) else UserWarning
+
+
+def _kind_words(category: type[Warning]) -> str:
+    """'LightlyDampedModeWarning' -> 'lightly damped mode'; UserWarning -> 'note'."""
+    words = re.sub(r"(?<!^)(?=[A-Z])", " ", category.__name__.removesuffix("Warning")).lower().strip()
+    return words if words and category is not UserWarning else "note"
+
+
+def grouped_warnings(result: SweepResult) -> list[tuple[type[Warning], str]]:
+    """The sweep's warnings once per kind (the warning's class; a note on a scenario key: that key), in
+    the order first raised: (class,
+    "<kind> at <speeds>[, N messages]: <the first message, as raised at the first speed>"); a band cut
+    at 0.1 / time_step by the speed rule is one more ("speed rule at ..."). Each speed's messages in
+    full are in its summary (``warnings``) and on the sweep's page."""
+    kinds: dict[str, tuple[list[float], list[str]]] = {}
+    for v, s in zip(result.speeds, result.summaries):
+        messages = [str(m) for m in s.get("warnings", ())]
+        names = [str(k) for k in s.get("warning_kinds", ())] or ["builtins:UserWarning"] * len(messages)
+        for message, kind in zip(messages, names):
+            text = re.sub(r" \(at [0-9.e+-]+ km/h\)$", "", message)
+            key = re.match(r"((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) ", text)  # a note on one key: its kind
+            speeds, texts = kinds.setdefault(kind + (f"|{key.group(1)}" if key else ""), ([], []))
+            if v not in speeds:
+                speeds.append(v)
+            if text not in texts:
+                texts.append(text)
+    out = []
+    cut = result.provenance.get("band_capped_kmh") or []
+    if cut:
+        an = result.base.analysis
+        out.append((UserWarning, f"speed rule at {speeds_text(cut, result.speeds)}: the band is capped at "
+                    f"{0.1 / an.time_step:g} Hz (0.1 / analysis.time_step), so the scenario's shortest wavelengths "
+                    f"are left out there (the grid table of the report)"))
+    for kind, (speeds, texts) in kinds.items():
+        category = _category(kind.partition("|")[0])
+        more = f", {len(texts)} messages" if len(texts) > 1 else ""
+        out.append((category, f"{_kind_words(category)} at {speeds_text(speeds, result.speeds)}{more}: {texts[0]}"))
+    return out
 
 
 def write_sweep(result: SweepResult, folder: str | Path) -> Path:
@@ -561,6 +552,6 @@ def write_sweep(result: SweepResult, folder: str | Path) -> Path:
 
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK", "SWEEP_TABLE",
            "Resonance", "SpeedTask", "SweepResult", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
-           "grid_errors", "key_patterns", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_summary", "sweep_rows", "sweep_scenario", "train_distances",
+           "grid_errors", "grouped_warnings", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
+           "speed_label", "speed_range", "speed_summary", "speeds_text", "with_least_count", "sweep_rows", "sweep_scenario", "train_distances",
            "write_sweep"]

@@ -10,8 +10,10 @@ Read top-down, like the report of one run:
   quantity its largest |mean|, sigma, the channel and the estimated grid error of its channels;
 - the figure (the table's quantities against speed, the resonance speeds marked), when drawn;
 - the resonance speeds v = f_n d / i;
-- the grid: per speed the band, the number of frequencies and the channels whose estimated grid
-  error exceeds the tolerance, so that an unconverged grid is seen next to the numbers it affects;
+- the grid: the speed rule each speed's scenario follows (:mod:`tb_exudyn.scenario.speed_rule`, as
+  ``run --speed-kmh``), per speed the band, the number of frequencies, the approach and the channels
+  whose estimated grid error exceeds the tolerance, so that an unconverged grid is seen next to the
+  numbers it affects;
 - the warnings: each distinct message once, with the speeds it was raised at;
 - the base scenario.
 
@@ -37,6 +39,7 @@ from ..execution.output import SWEEP_PAGE
 from ..system.labels import display_unit, format_number
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..results.checks_table import SMALLEST_SHOWN
+from ..scenario.speed_rule import RULE
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
 esc = html.escape
@@ -99,8 +102,10 @@ def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
                f"limit in one passage (shown as &lt; {SMALLEST_SHOWN:.0e} below that). &dagger;: conditional, a "
                "caveat could change the verdict (a lightly damped mode, a loss of contact: see the Warnings and "
                "the criterion's table below). Only the criteria whose channels are among the sweep's key "
-               "quantities are checked (e.g. no deck twist, derailment or unloading check without those channels); "
-               "a run at one speed (tb-exudyn run) checks every criterion of its channels.</p>")
+               "quantities are checked: the deck acceleration by default (its channels bridge.*.acc_z_en1990 are a "
+               "key quantity), no deck twist, derailment or unloading check without those channels; a run at "
+               "one speed (tb-exudyn run --speed-kmh, the same scenario as the sweep's there) checks every "
+               "criterion of its channels.</p>")
     body = []
     for row in rows:
         n = row.get("checks_exceeding", math.nan)
@@ -145,6 +150,10 @@ def quantities_by_speed(result: Any) -> str:
     body = [[format_number(r["speed_kmh"])] + [format_number(r[f"{key}_max_abs_mean_plus_3sigma"] * units[key].factor)
                                                for key, _, _ in result.quantities] for r in rows]
     out.append(html_table("sweep-quantities", head, body, ["num"] * len(head)))
+    left = result.provenance.get("quantities_left_out") or []
+    if left:
+        out.append(f'<p class="meta">Default key quantities without a channel in this model (left out): '
+                   f'{esc(", ".join(map(str, left)))}.</p>')
     for key, pattern, _ in result.quantities:
         u = units[key]
         body = [[format_number(r["speed_kmh"]), format_number(r[f"{key}_max_abs_mean"] * u.factor),
@@ -184,7 +193,9 @@ def grid_section(result: Any, tolerance: float) -> str:
     ``tolerance`` (with the largest)."""
     spacing = {str(s.get("freq_spacing", "")) for s in result.summaries} - {""}
     out = ['<section id="grid"><h2>Frequency grid by speed</h2>',
-           f"<p>The grid follows the speed (the track's wavelength band){'; spacing ' + ', '.join(sorted(spacing)) if spacing else ''}. "
+           f"<p>Each speed's scenario follows the speed rule, as tb-exudyn run --speed-kmh does, from the base at "
+           f"v0 = {format_number(result.base.speed_kmh)} km/h: {esc(str(result.provenance.get('speed_rule', RULE)))}"
+           f"{'; spacing ' + ', '.join(sorted(spacing)) if spacing else ''}. "
            f"The grid error of a channel is estimated from the same sweep on the cells' midpoints: a channel whose "
            f"estimate exceeds {100 * tolerance:g} % changes by more than that when the grid is refined, so its numbers "
            "above depend on the grid.</p>"]
@@ -207,11 +218,13 @@ def grid_section(result: Any, tolerance: float) -> str:
         over = r.get("channels_grid_error_over_tolerance", math.nan)
         worst = "not estimated" if not known.size else f"{_percent(float(known.max()))} ({s['channels'][int(np.nanargmax(ge))]})"
         cls = "" if not known.size or known.max() <= tolerance else "exceeds"
+        lead_in = float(np.asarray(s.get("lead_in", math.nan)))
         body.append([format_number(r["speed_kmh"]), f"{format_number(r['f_min_hz'])}-{format_number(r['f_max_hz'])}",
-                     str(r["n_freq"]), "-" if not math.isfinite(over) else f"{int(over)} of {ge.size}",
+                     str(r["n_freq"]), format_number(lead_in) or "-", "-" if not math.isfinite(over) else f"{int(over)} of {ge.size}",
                      Raw(f'<span class="{cls}">{esc(worst)}</span>' if cls else esc(worst))])
-    out.append(html_table("sweep-grid", ["speed [km/h]", "band [Hz]", "frequencies", f"channels above {100 * tolerance:g} %",
-                                         "largest grid error (channel)"], body, ["num", "", "num", "num", ""]))
+    out.append(html_table("sweep-grid", ["speed [km/h]", "band [Hz]", "frequencies", "approach [m]",
+                                         f"channels above {100 * tolerance:g} %", "largest grid error (channel)"], body,
+                          ["num", "", "num", "num", "num", ""]))
     out.append("</section>")
     return "\n".join(out)
 
@@ -263,9 +276,9 @@ def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance:
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
             verdicts_by_speed(result.rows()), quantities_by_speed(result), figure, resonances_section(result),
             grid_section(result, tolerance), warnings_by_message(result),
-            '<p class="meta" id="base-scenario">The scenario below is the sweep\'s base: at each speed the sweep sets '
-            "the speed, the band, the grid and the approach (the grid table above); each speed's own scenario is in its "
-            "result.</p>", scenario_section([sc])]
+            '<p class="meta" id="base-scenario">The scenario below is the sweep\'s base: at each speed the speed rule '
+            "sets the speed, the band, the grid and the approach (the grid section above); each speed's own scenario, "
+            "the rule's statement in its notes, is in its result.</p>", scenario_section([sc])]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<meta name=\"viewport\" content=\"width=device-width\"><title>{esc(title)}</title>"
             f"<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")

@@ -12,8 +12,10 @@ from .cases_guards import CASES_GUARDS
 from .cases_limits import CASES_LIMITS
 from .cases_modal import CASES_MODAL
 from .cases_results2 import CASES_RESULTS2
+from .cases_speedrule import CASES_SPEEDRULE
 from .cases_stochastic import CASES_STOCHASTIC
 from .cases_writes import CASES_WRITES
 
 ALL_CASES = [*CASES, *CASES_LIMITS, *CASES_WRITES, *CASES_RESULTS2, *CASES_BOUNDS, *CASES_GUARDS, *CASES_EN1991,
-             *CASES_STOCHASTIC, *CASES_CONT, *CASES_MODAL]
+             *CASES_STOCHASTIC, *CASES_CONT, *CASES_MODAL,
+             *CASES_SPEEDRULE]

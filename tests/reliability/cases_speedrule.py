@@ -1,0 +1,51 @@
+"""Hostile inputs of issue 26 item 4 ("one rule for a run at a speed") as data, in the form of cases.py.
+
+A sweep's key quantity that matches no channel of the model was dropped without a word; a speed at
+which the speed rule (tb_exudyn.scenario.speed_rule: the band scaled by v / v0, at most
+0.1 / time_step) leaves no band must be refused naming the option, for ``run --speed-kmh`` as for the
+sweep. Every case ends in exit status 2 with one line naming the option, no traceback, and nothing
+written (tests/reliability/test_speedrule.py).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from .cases import Case, Run
+
+GROUP = "speedrule"
+
+#: quick with a 0.05 s time step and a 0.6-2 Hz band: 0.1 / 0.05 = 2 Hz is the highest band frequency
+#: the step allows, so the rule's band at 900 km/h (0.6-2 Hz x 3.6 = 2.16-7.2 Hz, capped at 2 Hz) is empty
+COARSE_STEP = ("--set", "analysis.freq_max=2", "--set", "analysis.freq_spacing=linear", "--set",
+               "analysis.output_step=0.05", "--set", "analysis.time_step=0.05")
+
+
+def _sweep_channel_matching_nothing(d: Path) -> Run:
+    return Run(argv=("sweep", "quick", "--speeds-kmh", "200,300", "--out", str(d / "out"), "--channels",
+                     "bridge.*.acc_z_en1990", "bridge.*.acc_z_en1991"),
+               expect=("command line", "--channels", "'bridge.*.acc_z_en1991' matches no channel"))
+
+
+def _sweep_speed_with_an_empty_band(d: Path) -> Run:
+    return Run(argv=("sweep", "quick", *COARSE_STEP, "--speeds-kmh", "200,900", "--out", str(d / "out")),
+               expect=("command line", "--speeds-kmh", "at 900 km/h freq_min", "empty frequency band"))
+
+
+def _run_speed_with_an_empty_band(d: Path) -> Run:
+    return Run(argv=("run", "quick", *COARSE_STEP, "--speed-kmh", "900", "--out", str(d / "out")),
+               expect=("command line", "--speed-kmh", "900", "freq_min", "empty frequency band"))
+
+
+def _sweep_python_channel_matching_nothing(d: Path) -> Run:
+    return Run(code="from tb_exudyn.scenario import load_scenario\nfrom tb_exudyn.methods.sweep import check_sweep\n"
+                    "check_sweep(load_scenario('quick'), [250.0], channels=['car*.body.acc_q'])",
+               expect=("run_sweep", "channels", "'car*.body.acc_q' matches no channel"))
+
+
+CASES_SPEEDRULE: list[Case] = [
+    Case("speedrule: sweep --channels pattern matching no channel", GROUP, _sweep_channel_matching_nothing),
+    Case("speedrule: sweep speed whose band the time step empties", GROUP, _sweep_speed_with_an_empty_band),
+    Case("speedrule: run --speed-kmh whose band the time step empties", GROUP, _run_speed_with_an_empty_band),
+    Case("speedrule: check_sweep channels matching no channel", GROUP, _sweep_python_channel_matching_nothing),
+]
