@@ -93,6 +93,12 @@ def _row(table, first):
     return row
 
 
+def _criterion_rows(table):
+    """The verdict table's rows of criteria: without its head and the one-cell rows heading a part
+    (bridge, vehicle) and limit set."""
+    return [r for r in table[1:] if len(r) > 1]
+
+
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
     d = tmp_path_factory.mktemp("results")
@@ -133,7 +139,8 @@ def test_verdicts_not_computed_show_the_screening(report):
 
 def test_the_checks_slot_in(folder):
     """CheckEntry rows and rows of another type with the same attributes: one row per criterion (its
-    deciding location, exceeding first), numbers in display units (170e3 N -> 170 kN), probabilities
+    deciding location), the bridge's (a bridge.* channel) under a "Bridge" heading before the
+    vehicle's, each heading with its counts; numbers in display units (170e3 N -> 170 kN), probabilities
     by format_probability (1e-9 is not below SMALLEST_SHOWN: shown), the caveat's text in a numbered
     note the row links to, the location linked to its figure; the other locations in the folded
     per-location table. Fails if the rows lose their order, units or links, or a caveat is inlined."""
@@ -160,11 +167,12 @@ def test_the_checks_slot_in(folder):
     text = render_report(found, channels=[CH], checks=checks)
     page = Page(text)
     table = page.tables["verdicts-table"]
-    assert [r[0] for r in table] == ["criterion", "lateral axle force H", "deck vertical acceleration", "Q/P"]
-    first = table[1]
-    assert first == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
-                     "EXCEEDS", "1"]
-    assert table[2][4] == "1e-09" and table[3][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
+    assert [r[0] for r in table] == ["criterion", "Bridge \u00b7 1 OK", "deck vertical acceleration",
+                                     "Vehicle \u00b7 1 OK, 1 EXCEEDS", "lateral axle force H", "Q/P"]
+    rows = _criterion_rows(table)
+    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
+                       "EXCEEDS", "1"]
+    assert rows[0][4] == "1e-09" and rows[2][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
     assert text.count(caveat) == 1 and '<li id="note-1">' + caveat in text and 'href="#note-1"' in text
     assert '<a href="#fig-car1.axle1.force_y">car 1, axle 1</a>' in text
     assert len(page.tables["verdicts-locations-3"]) == 1 + 12  # the Q/P locations, folded
@@ -450,7 +458,7 @@ def test_first_screen_shows_every_criterions_verdict(folder, tmp_path):
     attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', dom.split(">", 2)[1]))
     assert attrs["width"] == "1400"  # the layout's width; heights do not change the layout
     assert 0 < int(attrs["verdict-top"]) < int(attrs["verdict-bottom"]) <= 900, attrs
-    rows = Page(dom).tables["verdicts-table"][1:]
+    rows = _criterion_rows(Page(dom).tables["verdicts-table"])
     titles = [c.title for ls in default_limits() for c in ls.criteria]
     assert len(titles) == len(table.by_criterion()) and sorted(r[0] for r in rows) == sorted(titles)
     shown = {r[0]: r[4] for r in rows}
@@ -488,7 +496,7 @@ def test_verdict_numbers_are_in_display_units():
     values by the unit factors (1e-3 for N, 1e3 for m). Fails if a value is shown in N or m."""
     table = _checks_table()
     text = render_report([(Path("pem"), synthetic.pem_response())], checks=table)
-    shown = {r[0]: r for r in Page(text).tables["verdicts-table"][1:]}
+    shown = {r[0]: r for r in _criterion_rows(Page(text).tables["verdicts-table"])}
     shows = {"N": (1e-3, " kN"), "m": (1e3, " mm"), "m/s^2": (1.0, " m/s^2"), "-": (1.0, "")}
     units = set()
     for r in table.worst():
@@ -498,7 +506,7 @@ def test_verdict_numbers_are_in_display_units():
         assert shown[r.title][2:4] == [estimate, f"{r.limit * factor:.4g}{unit}"], r.title
     assert units == set(shows)  # every kind of unit is among the criteria
     cells = [r[t[0].index(col)] for tid, t in Page(text).tables.items() if tid.startswith("verdicts-")
-             for r in t[1:] for col in ("estimate", "limit")]  # the first table and the per-location ones
+             for r in _criterion_rows(t) for col in ("estimate", "limit")]  # the first table and the per-location ones
     assert len(cells) == 2 * (15 + 45) and not [c for c in cells if re.search(r"\d( N| m)$|e\+0", c)]
 
 
