@@ -18,6 +18,7 @@ from ..plotting.data import channel_group, channel_label, crossing_times, displa
 from ..results import RandomResponse, TimeHistory
 from ..results.checks_table import format_value
 from ..scenario import Scenario
+from ..scenario.show import run_label
 from ..scenario.studies import MEASURES, Study, StudyQuantity
 from .entries import FindingRow, ModeEntry, Result, code_limit, compare_findings, static_axle_load
 
@@ -451,7 +452,9 @@ def scenario_section(scenarios: Sequence[Scenario]) -> str:
         out.append("<p>The results do not record their scenario.</p></section>")
         return "\n".join(out)
     sc = scenarios[0]
-    out.append(f"<p><b>{esc(sc.name)}</b>: {esc(sc.description)}</p>")
+    out.append(f"<p><b>{esc(sc.name)}</b> as run: {esc(run_label(sc))}.</p>")
+    out.append(f'<p class="meta">The scenario file\'s description (an override such as --speed-kmh or --set does '
+               f"not change it): {esc(sc.description)}</p>")
     others = sorted({s.name for s in scenarios if s != sc})
     if others:
         out.append(f'<p class="warn">Some results were computed for other scenarios: {esc(", ".join(others))}'

@@ -7,6 +7,7 @@ import base64
 import fnmatch
 import html
 import importlib.util
+import io
 import math
 import os
 import re
@@ -529,3 +530,136 @@ def test_derived_channels_have_readable_labels():
     assert len(set(every)) == len(every)
     assert labels["car1.axle1.left.derailment"] == "car 1, axle 1, left wheel, derailment quotient Q/P"
     assert labels["bridge.span2.start.twist_3m"] == "span 2, 1.5 m from the span's start, deck twist over 3 m"
+
+
+# ------------------------------------------------------------------------------------------ the first screen (issue 26)
+def _part_rows(table):
+    """The one-cell rows heading a part and limit set, with the criteria under each: [(heading, [titles])]."""
+    out = []
+    for r in table[1:]:
+        if len(r) == 1:
+            out.append((r[0], []))
+        else:
+            out[-1][1].append(r[0])
+    return out
+
+
+def test_first_screen_reads_bridge_then_vehicle():
+    """The checks of every shipped criterion (_checks_table), given in reverse order: the first table
+    heads the bridge's limit set first (deck acceleration and twist, en1990_deck), then the vehicle's
+    (ride comfort, then running safety), each criterion under the heading of its own limit file, the
+    heading with its counts. Fails if the rows follow the order they came in (the vehicle's first
+    here) or a criterion lands under another set's heading."""
+    table = _checks_table()
+    reversed_table = ChecksTable(**{**table.__dict__, "rows": tuple(reversed(table.rows))})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=reversed_table)
+    parts = _part_rows(Page(text).tables["verdicts-table"])
+    assert [h.split(" \u00b7 ")[0] for h, _ in parts] == [
+        "Bridge: deck acceleration and twist en1990_deck", "Vehicle: ride comfort ride_comfort",
+        "Vehicle: running safety running_safety"]
+    for (heading, titles), ls in zip(parts, default_limits()):  # the shipped files, named in this order
+        assert f" {ls.name} \u00b7 " in heading
+        assert sorted(titles) == sorted(c.title for c in ls.criteria), ls.name
+        worst = [r for r in reversed_table.worst() if r.criterion.startswith(ls.name + "/")]
+        n_ok, n_ex = sum(r.verdict == "OK" for r in worst), sum(r.verdict == "EXCEEDS" for r in worst)
+        assert heading.endswith(", ".join(f"{n} {w}" for n, w in ((n_ok, "OK"), (n_ex, "EXCEEDS")) if n)
+                                + f"; {len(worst)} conditional"), heading
+
+
+def test_first_screen_says_what_target_and_estimate_are():
+    """One sentence each, above the table: the target probability (its value, per passage, what OK
+    means in terms of P(exceed)) and the estimate (the level exceeded with that probability, not
+    mean + 3 sigma); a deterministic run says its estimate is the run's own statistic instead."""
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=_checks_table())
+    terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
+    assert text.index('id="verdict-terms"') < text.index('id="verdicts-table"')
+    assert terms.count("<b>Target probability</b>") == terms.count("<b>Estimate</b>") == 1
+    assert "<b>Target probability</b> 2.74e-05 per passage (one exceedance in a year of 100 train pairs a day" in terms
+    assert "is met (OK) when the probability that its limit is exceeded at least once while the train passes" in terms
+    assert "the level exceeded with the target probability in one passage" in terms
+    assert "not max |mean| + 3 sigma" in terms
+    det = ChecksTable(**{**_checks_table().__dict__, "method": "deterministic"})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=det)
+    terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
+    assert "Target probability" not in terms and "the run's own statistic" in terms
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    """The shipped quick scenario run by the command line (PEM, one ICE motor car, a 15-DOF car15,
+    over one 32 m span; about 20 s), its report written with the default figures (one worker)."""
+    from tb_exudyn.cli import main
+    out = tmp_path_factory.mktemp("quick") / "q"
+    assert main(["run", "quick", "--out", str(out), "--no-figures", "--no-progress"]) == 0
+    report = write_report(out, workers=1)
+    return out, report
+
+
+def test_not_evaluated_rows_carry_their_reason(quick_run):
+    """quick's car is a car15 (wheelsets follow the rail): its running-safety rows are NOT EVALUATED
+    (results.checks). In the first table they read NOT EVALUATED with the checks' own reason in one
+    cell ("not evaluated: " + the model caveat's text, once for the six neighbouring rows) and
+    without a location, estimate or probability; the reason is not repeated as a numbered note of the
+    first table. Fails if the reason moves to a note, repeats per row, or the rows show a location."""
+    out, report = quick_run
+    text = report.read_text(encoding="utf-8")
+    (_, pem), = find_results(out)
+    table = pem.checks()
+    worst = [r for r in table.worst() if r.criterion.startswith("running_safety/")]
+    reasons = {r.caveats[0].text for r in worst}
+    assert {r.verdict for r in worst} == {"NOT EVALUATED"} and {r.caveats[0].kind for r in worst} == {"model"}
+    (reason,) = reasons
+    assert "creep" in reason and "li_zhu_2011_creep" in reason
+    top = text.split('id="verdicts-table"')[1].split("</table>")[0]
+    assert top.count(f'colspan="4" rowspan="{len(worst)}">not evaluated: {html.escape(reason)}</td>') == 1
+    rows = [r for r in _part_rows(Page(text).tables["verdicts-table"]) if r[0].startswith("Vehicle: running safety")]
+    assert len(rows) == 1 and len(rows[0][1]) == len(worst)
+    page_rows = [r for r in _criterion_rows(Page(text).tables["verdicts-table"]) if r[0] in {w.title for w in worst}]
+    assert page_rows[0][2] == "NOT EVALUATED" and all(r[1] == "NOT EVALUATED" for r in page_rows[1:])
+    notes = text.split('id="verdict-notes"')[1].split("</ol>")[0] if 'id="verdict-notes"' in text else ""
+    assert html.escape(reason) not in notes
+
+
+def test_report_of_a_run_is_small_and_keeps_its_pictures(quick_run):
+    """The report of the quick run (36 default figures: 12 channels, bounds + PSD map + PSD slices)
+    is at most 1.5 MB. Embedded as they are, its figure files (about 2.2 MB of PNG) would take about
+    2.9 MB in base64 alone; as 256-colour palette PNGs they take about 1 MB. The reference study's
+    report measured 6.92 MB before and 2.83 MB after (69 figures, 559 channels; the issue's bound:
+    3 MB). Each embedded picture has the size of its file and differs from it by at most 1/255 per
+    channel on average (measured: at most 0.51/255 over the reference study's 69 figures). Fails if
+    the figures are embedded as they are (the page then exceeds 2.9 MB) or lose their picture."""
+    from PIL import Image
+    out, report = quick_run
+    size = report.stat().st_size
+    files = sorted((out / "pem" / "figures").glob("*.png"))
+    images = Page(report.read_text(encoding="utf-8")).images
+    assert len(files) == len(images) == 36
+    assert size <= 1.5e6, size
+    embedded = [base64.b64decode(src.split(",", 1)[1]) for src in images]
+    assert sum(len(b) for b in embedded) <= 0.5 * sum(f.stat().st_size for f in files)
+    by_size = {}
+    for f in files:
+        with Image.open(f) as im:
+            by_size.setdefault(im.size, []).append(np.asarray(im.convert("RGB"), dtype=float))
+    for b in embedded:
+        with Image.open(io.BytesIO(b)) as im:
+            got = np.asarray(im.convert("RGB"), dtype=float)
+            assert im.size in by_size
+        assert min(np.abs(got - ref).mean() for ref in by_size[im.size]) <= 1.0
+
+
+def test_labels_follow_the_runs_own_settings(quick_run):
+    """The quick result re-labelled as run at 300 km/h with a 25 Hz upper band (quick.toml: 250 km/h,
+    30 Hz): the title, the run label under it, the verdicts' heading and the scenario section say
+    300 km/h and 25 Hz; 250 km/h appears only in the scenario file's description, which says so."""
+    out, _ = quick_run
+    (path, pem), = find_results(out)
+    sc = pem.scenario.replace(speed_kmh=300.0, analysis=pem.scenario.analysis.replace(freq_max=25.0))
+    text = render_report([(path, RandomResponse(**{**pem.__dict__, "scenario": sc}))])
+    head = text.split('id="verdicts"')[0]
+    assert "<h1>tb_exudyn report: quick at 300 km/h</h1>" in head
+    assert "1 vehicle (ice_motor) at 300 km/h over single_span_32m (32 m)" in head and "0.6-25 Hz" in head
+    assert "pem, 300 km/h" in text.split('id="verdicts"')[1].split("</h2>")[0]
+    scenario = text.split('id="scenario"')[1]
+    assert "quick</b> as run: 1 vehicle (ice_motor) at 300 km/h" in scenario
+    assert text.count("250 km/h") == 1 and "The scenario file's description" in text.split("250 km/h")[0][-400:]
