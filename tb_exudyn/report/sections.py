@@ -122,8 +122,12 @@ ol.notes li{margin:.05rem 0} #verdicts-all table{width:100%;table-layout:fixed}
 #verdicts-all th:nth-child(1){width:46%} #verdicts-all th:nth-child(5){width:18%} #verdicts-all th:nth-child(6){width:9%}
 """
 
-#: the channel filter: an input box, made by the script (without it the page reads the same)
+#: the page's script: a link opens the folded sections around its target; the channel filter, an
+#: input box made by the script (without it the page reads the same)
 FILTER_SCRIPT = """
+document.addEventListener('click',function(e){var a=e.target.closest&&e.target.closest('a[href^="#"]');if(!a)return;
+var t=document.getElementById(a.getAttribute('href').slice(1));
+for(var d=t&&t.parentElement;d;d=d.parentElement){if(d.tagName==='DETAILS')d.open=true;}});
 (function(){var box=document.getElementById('channel-filter');if(!box)return;
 var input=document.createElement('input');input.type='search';input.size=40;
 input.placeholder='filter channels: words, e.g. car2 lateral';box.appendChild(input);

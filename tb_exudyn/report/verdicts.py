@@ -139,6 +139,22 @@ def terms_html(verdicts: Verdicts) -> str:
     return f'<p class="terms" id="verdict-terms">{target}<br>{estimate}</p>'
 
 
+def notes_fold(notes: _Notes, n_top: int) -> str:
+    """The first table's numbered notes in a <details>: open when one of them could change a verdict,
+    else folded under a line that counts them by kind (the first screen then ends with the table)."""
+    if not n_top:
+        return ""
+    items = notes.items[:n_top]
+    n_turn = sum(c.changes_verdict for c in items)
+    kinds: dict[str, int] = {}
+    for c in items:
+        kinds[c.kind or "other"] = kinds.get(c.kind or "other", 0) + 1
+    what = ", ".join(f"{k.replace('_', ' ')} {n}" for k, n in kinds.items())
+    turn = (f'<b class="conditional">{n_turn} could change the verdict</b>' if n_turn else "none can change a verdict")
+    return (f'<details id="verdict-notes-fold"{" open" if n_turn else ""}><summary>Notes 1-{n_top} on the rows: '
+            f"{turn} <small>({esc(what)})</small></summary>{notes.html(1, 'verdict-notes')}</details>")
+
+
 def _criterion(c: CheckEntry) -> str:
     return f'<span title="{esc(c.clause)}">{esc(c.criterion)}</span>' if c.clause else esc(c.criterion)
 
@@ -203,7 +219,7 @@ def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
     if any(c.conditional for c in rows):
         out.append(f'<p class="meta" id="conditional"><span class="conditional">conditional</span>: {esc(CONDITIONAL)}.</p>')
     n_top = len(notes.items)
-    out.append(notes.html(1, "verdict-notes"))
+    out.append(notes_fold(notes, n_top))
     out += [f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
     if folded:
         by_criterion: dict[str, list[CheckEntry]] = {c.criterion: [] for c in top}  # the table's order

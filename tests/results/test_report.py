@@ -663,3 +663,27 @@ def test_labels_follow_the_runs_own_settings(quick_run):
     scenario = text.split('id="scenario"')[1]
     assert "quick</b> as run: 1 vehicle (ice_motor) at 300 km/h" in scenario
     assert text.count("250 km/h") == 1 and "The scenario file's description" in text.split("250 km/h")[0][-400:]
+
+
+def test_notes_fold_unless_one_can_change_a_verdict(quick_run):
+    """The first table's numbered notes: open, saying how many could change a verdict, when one can
+    (the quick run: the distinct caveats of its deciding rows that the checks mark as able to turn a
+    verdict, counted here from pem.checks(); _checks_table: the loss-of-contact caveat, on every row,
+    the grid error only at location 2, not a deciding one); folded under a line that counts them by
+    kind when none can (_checks_table without those two caveats: only [check] notes). Fails if the
+    notes fold away a condition, or push the warnings off the page for nothing."""
+    out, report = quick_run
+    (_, pem), = find_results(out)
+    turn = {(c.kind, c.text) for r in pem.checks().worst() for c in r.caveats if c.changes_verdict}
+    fold = report.read_text(encoding="utf-8").split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    assert turn and fold.startswith(" open>") and f"{len(turn)} could change the verdict" in fold
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=_checks_table())
+    fold = text.split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    assert fold.startswith(" open>") and "1 could change the verdict" in fold
+    table = _checks_table()
+    quiet = ChecksTable(**{**table.__dict__, "rows": tuple(
+        CheckRow(**{**r.__dict__, "caveats": tuple(c for c in r.caveats if not c.changes_verdict)}) for r in table.rows)})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=quiet)
+    fold = text.split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    n = len({c.note for ls in default_limits() for c in ls.criteria if c.check})
+    assert fold.startswith(">") and f"none can change a verdict <small>(limit unverified {n})</small>" in fold
