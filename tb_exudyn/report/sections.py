@@ -456,7 +456,7 @@ def scenario_section(scenarios: Sequence[Scenario]) -> str:
         out.append("<p>The results do not record their scenario.</p></section>")
         return "\n".join(out)
     sc = scenarios[0]
-    out.append(f"<p><b>{esc(sc.name)}</b> as run: {esc(run_label(sc))}.</p>")
+    out.append(f"<p><b>{esc(sc.name)}</b>: {esc(run_label(sc))}.</p>")
     out.append(f'<p class="meta">The scenario file\'s description (an override such as --speed-kmh or --set does '
                f"not change it): {esc(sc.description)}</p>")
     others = sorted({s.name for s in scenarios if s != sc})

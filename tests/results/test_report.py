@@ -661,7 +661,7 @@ def test_labels_follow_the_runs_own_settings(quick_run):
     assert "1 vehicle (ice_motor) at 300 km/h over single_span_32m (32 m)" in head and "0.6-25 Hz" in head
     assert "pem, 300 km/h" in text.split('id="verdicts"')[1].split("</h2>")[0]
     scenario = text.split('id="scenario"')[1]
-    assert "quick</b> as run: 1 vehicle (ice_motor) at 300 km/h" in scenario
+    assert "quick</b>: 1 vehicle (ice_motor) at 300 km/h" in scenario
     assert text.count("250 km/h") == 1 and "The scenario file's description" in text.split("250 km/h")[0][-400:]
 
 
