@@ -1,8 +1,11 @@
 """The report's verdict section: what an engineer reads first.
 
-A one-line count per verdict (and how many are conditional), one row per criterion (the location
-that decides it), each distinct caveat once as a numbered note under the table (the rows carry the
-numbers), the table's own notes, and the full per-location table folded below. Numbers are shown by
+A one-line count per verdict (and how many are conditional); one sentence each on the target
+probability and the estimate (:func:`terms_html`); one row per criterion (the location that decides
+it) under a heading per part and limit set, the bridge's first (:func:`first_screen_groups`); a NOT
+EVALUATED row with its reason in the row (:func:`reason_of`); each distinct caveat once as a numbered
+note under the table (the rows carry the numbers), folded unless one could change a verdict
+(:func:`notes_fold`); the table's own notes, and the full per-location table folded below. Numbers are shown by
 the one display rule of the checks (:func:`tb_exudyn.results.checks_table.format_probability`,
 :func:`~tb_exudyn.results.checks_table.format_value`: "< 1e-09" below SMALLEST_SHOWN, kN, mm,
 m/s^2), the same as the terminal's. Without checks: the interim screening, labelled as not a verdict.
@@ -268,5 +271,5 @@ def verdicts_section(verdicts: Verdicts | None, first: Result | None, k: float, 
     return "\n".join([f'<section id="verdicts"><h2>Verdicts{what}</h2>', *body, "</section>"])
 
 
-__all__ = ["CONDITIONAL", "PARTS", "SET_WORDS", "checks_html", "count_text", "first_screen_groups", "reason_of",
-           "screening_html", "terms_html", "verdicts_section"]
+__all__ = ["CONDITIONAL", "PARTS", "SET_WORDS", "checks_html", "count_text", "first_screen_groups", "notes_fold",
+           "reason_of", "screening_html", "terms_html", "verdicts_section"]
