@@ -711,3 +711,23 @@ window.addEventListener('load', function () {
     attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', dom.split(">", 2)[1]))
     assert attrs["first-part"] == "Bridge" and int(attrs["bridge-top"]) < int(attrs["vehicle-top"])
     assert int(attrs["table-bottom"]) < int(attrs["notes-bottom"]) <= 900, attrs
+
+
+def test_not_evaluated_without_a_channel_gives_the_statistics_reason():
+    """A criterion whose statistic has no channel (EN 14363's 2 m sliding mean: results.checks marks
+    it NOT EVALUATED with a 'statistic' caveat after its [check] note, as on li_zhu_2011_creep) shows
+    that caveat's text as its reason in the first table, its [check] note still numbered; the other
+    criteria of its set keep their numbers. Fails if the reason is taken from the wrong caveat."""
+    table = _checks_table()
+    why = Caveat("statistic", "statistic 'sliding_mean_max_abs' is not evaluated: no such channel (EN 14363's sliding "
+                 "mean of the low-passed force is not formed yet)", False)
+    rows = tuple(CheckRow(**{**r.__dict__, "verdict": "NOT EVALUATED", "estimate": math.nan, "probability": None,
+                             "caveats": r.caveats + (why,)}) if r.criterion.endswith("/lateral_force_en14363") else r
+                 for r in table.rows)
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=ChecksTable(**{**table.__dict__, "rows": rows}))
+    top = text.split('id="verdicts-table"')[1].split("</table>")[0]
+    assert top.count(f'<td class="reason" colspan="4">not evaluated: {html.escape(why.text)}</td>') == 1
+    row = _row(_criterion_rows(Page(text).tables["verdicts-table"]), next(
+        c.title for ls in default_limits() for c in ls.criteria if c.id == "lateral_force_en14363"))
+    assert row[1].startswith("not evaluated: statistic") and row[2] == "NOT EVALUATED" and row[3]  # its notes
+    assert "0.93" in [r[4] for r in _criterion_rows(Page(text).tables["verdicts-table"]) if len(r) == 7]
