@@ -355,7 +355,8 @@ def _img(png: bytes, alt: str) -> str:
 def figures_section(found: Sequence[tuple[Path, Result]], pictures: dict[tuple[str, str, str], bytes],
                     names: dict[str, list[str]], k: float, comparison: list[str]) -> str:
     """Per result, per channel group (bridge, car k, car k wheelsets): each channel's numbers
-    above its figures. ``pictures[(result folder name, channel, kind)]`` = PNG bytes."""
+    above its figures; the bridge's group open (else the first), the others folded.
+    ``pictures[(result folder name, channel, kind)]`` = PNG bytes."""
     out = ['<section id="figures"><h2>Figures</h2>']
     many = len(found) > 1
     for path, result in found:
@@ -365,8 +366,10 @@ def figures_section(found: Sequence[tuple[Path, Result]], pictures: dict[tuple[s
         for ch in names[path.name]:
             key, heading = channel_group(ch)
             groups.setdefault(key, (heading, []))[1].append(ch)
-        for key, (heading, chans) in groups.items():
-            out.append(f'<details class="figgroup" open><summary>{esc(heading)} ({len(chans)} channels)</summary>')
+        shown = "bridge" if "bridge" in groups else next(iter(groups), "")
+        for key, (heading, chans) in groups.items():  # the bridge's figures open, the vehicle's a click away
+            out.append(f'<details class="figgroup"{" open" if key == shown else ""}><summary>{esc(heading)} '
+                       f"({len(chans)} channels)</summary>")
             for ch in chans:
                 fig_id = anchor("fig", ch) if path.name == found[0][0].name else anchor(f"fig-{path.name}", ch)
                 out.append(f'<section class="channel" id="{esc(fig_id)}"><h4>{esc(channel_label(ch))} '
@@ -432,6 +435,10 @@ def channels_section(found: Sequence[tuple[Path, Result]], k: float, figure_ids:
     return "\n".join(out)
 
 
+#: the modes table is shown open up to this many modes, folded beyond
+MODES_SHOWN = 12
+
+
 def modes_section(modes: Sequence[ModeEntry] | None) -> str:
     """The modal table, or "not computed"."""
     out = ['<section id="modes"><h2>Modes</h2>']
@@ -444,8 +451,17 @@ def modes_section(modes: Sequence[ModeEntry] | None) -> str:
         rows = [(format_number(m.frequency, 4), f"{m.damping_ratio:.3g}", m.label, m.context,
                  Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
                 for m in sorted(modes, key=lambda m: m.frequency)]
-        out.append(html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
-                          rows, ("num", "num", "", "", "")))
+        table = html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
+                           rows, ("num", "num", "", "", ""))
+        if len(modes) <= MODES_SHOWN:
+            out.append(table)
+        else:  # a long table (the reference study: 100 modes over several screens) folded under a line
+            f = [m.frequency for m in modes]
+            warned = sum(bool(m.warning) for m in modes)
+            out.append(f'<details id="modes-all"><summary>The table of all {len(modes)} modes, '
+                       f"{format_number(min(f), 4)}-{format_number(max(f), 4)} Hz"
+                       + (f' (<span class="exceeds">{warned} with a warning</span>)' if warned else "")
+                       + "</summary>" + table + "</details>")
     out.append("</section>")
     return "\n".join(out)
 

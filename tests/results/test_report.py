@@ -731,3 +731,25 @@ def test_not_evaluated_without_a_channel_gives_the_statistics_reason():
         c.title for ls in default_limits() for c in ls.criteria if c.id == "lateral_force_en14363"))
     assert row[1].startswith("not evaluated: statistic") and row[2] == "NOT EVALUATED" and row[3]  # its notes
     assert "0.93" in [r[4] for r in _criterion_rows(Page(text).tables["verdicts-table"]) if len(r) == 7]
+
+
+def test_long_sections_are_folded(quick_run):
+    """The quick run's page: the bridge's figures open and the vehicle's groups folded (each one
+    click away, its heading counting its channels); the modes table (more than MODES_SHOWN = 12
+    modes) folded under a line giving their number, range and how many carry a warning; a short
+    modes table (two modes) stays open. Every figure and every mode is still in the page."""
+    from tb_exudyn.report.sections import MODES_SHOWN
+    out, report = quick_run
+    text = report.read_text(encoding="utf-8")
+    groups = re.findall(r'<details class="figgroup"( open)?><summary>([^<]*)</summary>', text)
+    assert groups[0][0] == " open" and groups[0][1].startswith("Bridge (")
+    assert len(groups) >= 3 and all(not g[0] for g in groups[1:]) and all(g[1].startswith("Car 1") for g in groups[1:])
+    assert len(Page(text).images) == len(list((out / "pem" / "figures").glob("*.png")))
+    (_, pem), = find_results(out)
+    modes = pem.provenance["damped_modes"]
+    warned = sum(bool(m["warning"]) for m in modes)
+    assert len(modes) > MODES_SHOWN and len(Page(text).tables["modes-table"]) == 1 + len(modes)
+    assert re.search(rf'<details id="modes-all"><summary>The table of all {len(modes)} modes, [0-9.]+-[0-9.]+ Hz'
+                     + (rf' \(<span class="exceeds">{warned} with a warning</span>\)' if warned else "</summary>"), text)
+    short = render_report(find_results(out), modes=[ModeEntry(3.33, 0.05, "bridge, lateral 1"), ModeEntry(8.3, 1e-4, "yaw")])
+    assert 'id="modes-all"' not in short and len(Page(short).tables["modes-table"]) == 3
