@@ -34,7 +34,9 @@ class CheckEntry:
     text: a caveat that does not change the verdict); ``channel`` the channel it comes from (links the
     row to its figures); ``conditional``: a caveat could turn the verdict; ``grade`` the grade of a
     graded limit; ``decisive``: this location decides its criterion (its worst), the row of the
-    report's first table (the others are in the per-location table)."""
+    report's first table (the others are in the per-location table); ``limit_set`` the name of the
+    limit file it comes from ("en1990_deck"; "": unknown), which places the row on the first screen
+    (the bridge's sets first, :func:`part_of`)."""
 
     criterion: str
     location: str
@@ -50,6 +52,7 @@ class CheckEntry:
     grade: str = ""
     conditional: bool = False
     decisive: bool = True
+    limit_set: str = ""
 
     def __post_init__(self) -> None:
         if self.probability is not None and math.isnan(self.probability):
@@ -61,12 +64,15 @@ class CheckEntry:
 @dataclass(frozen=True)
 class Verdicts:
     """The report's verdict section: ``rows`` (every criterion and location, :class:`CheckEntry`),
-    ``heading`` (what was checked: method, speed, passage, target probability; "" if unknown) and the
-    table's ``notes`` (remarks on the whole table)."""
+    ``heading`` (what was checked: method, speed, passage, target probability; "" if unknown), the
+    table's ``notes`` (remarks on the whole table), the ``target`` probability per passage (None if
+    unknown) and the result's ``method`` ("pem", "monte_carlo...", "deterministic"; "" if unknown)."""
 
     rows: tuple[CheckEntry, ...]
     heading: str = ""
     notes: tuple[str, ...] = ()
+    target: float | None = None
+    method: str = ""
 
     @property
     def decisive(self) -> list[CheckEntry]:
@@ -119,8 +125,19 @@ def check_entries(table: Any) -> list[CheckEntry]:
         criterion=r.title or r.criterion, location=channel_label(r.channel), estimate=float(r.estimate),
         limit=float(r.limit), unit=r.unit, verdict=r.verdict, probability=r.probability, clause=r.clause,
         caveats=tuple(r.caveats), channel=r.channel, interval=r.interval, grade=r.grade,
-        conditional=r.verdict_text != r.verdict, decisive=id(r) in worst,
+        conditional=r.verdict_text != r.verdict, decisive=id(r) in worst, limit_set=r.criterion.split("/")[0],
     ) for r in table.rows]
+
+
+#: the limit sets of the bridge (the first screen's first part); any set whose channels are the
+#: bridge's belongs to it too
+BRIDGE_SETS = ("en1990_deck",)
+
+
+def part_of(row: CheckEntry) -> str:
+    """"bridge" or "vehicle": the part of the first screen a row belongs to (a bridge limit set, or a
+    bridge channel, bridge.*: the bridge's)."""
+    return "bridge" if row.limit_set in BRIDGE_SETS or row.channel.startswith("bridge.") else "vehicle"
 
 
 def verdicts_of(checks: Any) -> Verdicts | None:
@@ -133,7 +150,7 @@ def verdicts_of(checks: Any) -> Verdicts | None:
         heading = (f"{checks.method}, {checks.speed_kmh:g} km/h, passage {checks.window[0]:.3g}-{checks.window[1]:.4g} s, "
                    f"target P <= {checks.target:.3g} per passage"
                    + (f" ({checks.first_passage} first passage)" if checks.method == "pem" else ""))
-        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes))
+        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes), float(checks.target), checks.method)
     return Verdicts(tuple(as_check_entries(checks)))
 
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import base64
 import html
+import io
 import math
 import re
 from dataclasses import dataclass, fields, is_dataclass
@@ -17,6 +18,7 @@ from ..plotting.data import channel_group, channel_label, crossing_times, displa
 from ..results import RandomResponse, TimeHistory
 from ..results.checks_table import format_value
 from ..scenario import Scenario
+from ..scenario.show import run_label
 from ..scenario.studies import MEASURES, Study, StudyQuantity
 from .entries import FindingRow, ModeEntry, Result, code_limit, compare_findings, static_axle_load
 
@@ -113,13 +115,19 @@ p.nums{font-size:.85rem;margin:.1rem 0 .3rem} code{font-size:.85em} small{color:
 details{margin:.2rem 0} summary{cursor:pointer;font-weight:600}
 p.counts{margin:.2rem 0 .3rem;font-size:.92rem} .conditional{color:#a60;font-weight:600}
 #verdicts td.notes{font-size:.78rem;white-space:nowrap}
-#verdicts-table td{padding:.08rem .4rem;line-height:1.22} h2 small{font-weight:normal;font-size:.8rem;color:#555} ol.notes{font-size:.78rem;margin:.1rem 0 .5rem;padding-left:2.4rem}
+#verdicts-table td{padding:.08rem .4rem;line-height:1.22} #verdicts-table tr.part th{background:#e6edf5;font-weight:600}
+#verdicts-table .not-evaluated{white-space:nowrap} #verdicts-table td:first-child{min-width:26rem} #verdicts-table td.reason{color:#444}
+p.terms{font-size:.8rem;margin:.1rem 0 .35rem;color:#333;max-width:80rem} h2 small{font-weight:normal;font-size:.8rem;color:#555} ol.notes{font-size:.78rem;margin:.1rem 0 .5rem;padding-left:2.4rem}
 ol.notes li{margin:.05rem 0} #verdicts-all table{width:100%;table-layout:fixed}
 #verdicts-all th:nth-child(1){width:46%} #verdicts-all th:nth-child(5){width:18%} #verdicts-all th:nth-child(6){width:9%}
 """
 
-#: the channel filter: an input box, made by the script (without it the page reads the same)
+#: the page's script: a link opens the folded sections around its target; the channel filter, an
+#: input box made by the script (without it the page reads the same)
 FILTER_SCRIPT = """
+document.addEventListener('click',function(e){var a=e.target.closest&&e.target.closest('a[href^="#"]');if(!a)return;
+var t=document.getElementById(a.getAttribute('href').slice(1));
+for(var d=t&&t.parentElement;d;d=d.parentElement){if(d.tagName==='DETAILS')d.open=true;}});
 (function(){var box=document.getElementById('channel-filter');if(!box)return;
 var input=document.createElement('input');input.type='search';input.size=40;
 input.placeholder='filter channels: words, e.g. car2 lateral';box.appendChild(input);
@@ -127,7 +135,8 @@ input.addEventListener('input',function(){var words=input.value.toLowerCase().sp
 document.querySelectorAll('#channels details.group').forEach(function(d){var n=0;
 d.querySelectorAll('tbody tr').forEach(function(tr){var t=tr.textContent.toLowerCase();
 var ok=words.every(function(w){return t.indexOf(w)>=0;});tr.hidden=!ok;if(ok)n++;});
-d.hidden=n===0;d.open=words.length>0&&n>0;});});})();
+d.hidden=n===0;d.open=words.length>0&&n>0;});
+var all=document.getElementById('channels-all');if(all&&words.length>0)all.open=true;});})();
 """
 
 
@@ -312,14 +321,42 @@ _CAPTIONS = {
 }
 
 
+#: colours of a figure's palette in the page (a PNG palette holds at most 256)
+PALETTE_COLOURS = 256
+
+
+def compact_png(png: bytes) -> bytes:
+    """A figure's PNG as the page embeds it: re-encoded with a palette of :data:`PALETTE_COLOURS`
+    colours (median cut) when that is smaller. A matplotlib figure has few colours (a colour map
+    holds 256), so the picture barely changes (the reference study's 69 figures: mean difference
+    at most 0.5 of 255 per channel) and takes about a third of the bytes (4.76 MB of PNG files
+    gave 1.81 MB). The bytes as they are when they are not an opaque PNG (a transparent one would
+    lose its alpha), or when Pillow (matplotlib's image library) cannot read them. The figure files
+    on disk are not changed."""
+    try:
+        from PIL import Image
+        with Image.open(io.BytesIO(png)) as im:
+            if im.format != "PNG" or im.mode not in ("RGB", "RGBA"):
+                return png
+            if im.mode == "RGBA" and im.getchannel("A").getextrema()[0] < 255:
+                return png
+            out = io.BytesIO()
+            im.convert("RGB").quantize(PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT).save(out, "PNG")
+    except (ImportError, OSError, ValueError, SyntaxError):  # not an image Pillow reads (SyntaxError: a broken PNG)
+        return png
+    small = out.getvalue()
+    return small if len(small) < len(png) else png
+
+
 def _img(png: bytes, alt: str) -> str:
-    return f'<img alt="{esc(alt)}" src="data:image/png;base64,{base64.b64encode(png).decode("ascii")}">'
+    return f'<img alt="{esc(alt)}" src="data:image/png;base64,{base64.b64encode(compact_png(png)).decode("ascii")}">'
 
 
 def figures_section(found: Sequence[tuple[Path, Result]], pictures: dict[tuple[str, str, str], bytes],
                     names: dict[str, list[str]], k: float, comparison: list[str]) -> str:
     """Per result, per channel group (bridge, car k, car k wheelsets): each channel's numbers
-    above its figures. ``pictures[(result folder name, channel, kind)]`` = PNG bytes."""
+    above its figures; the bridge's group open (else the first), the others folded.
+    ``pictures[(result folder name, channel, kind)]`` = PNG bytes."""
     out = ['<section id="figures"><h2>Figures</h2>']
     many = len(found) > 1
     for path, result in found:
@@ -329,8 +366,10 @@ def figures_section(found: Sequence[tuple[Path, Result]], pictures: dict[tuple[s
         for ch in names[path.name]:
             key, heading = channel_group(ch)
             groups.setdefault(key, (heading, []))[1].append(ch)
-        for key, (heading, chans) in groups.items():
-            out.append(f'<details class="figgroup" open><summary>{esc(heading)} ({len(chans)} channels)</summary>')
+        shown = "bridge" if "bridge" in groups else next(iter(groups), "")
+        for key, (heading, chans) in groups.items():  # the bridge's figures open, the vehicle's a click away
+            out.append(f'<details class="figgroup"{" open" if key == shown else ""}><summary>{esc(heading)} '
+                       f"({len(chans)} channels)</summary>")
             for ch in chans:
                 fig_id = anchor("fig", ch) if path.name == found[0][0].name else anchor(f"fig-{path.name}", ch)
                 out.append(f'<section class="channel" id="{esc(fig_id)}"><h4>{esc(channel_label(ch))} '
@@ -361,8 +400,10 @@ def channels_section(found: Sequence[tuple[Path, Result]], k: float, figure_ids:
     <details>, with a filter box (made by the inline script)."""
     out = ['<section id="channels"><h2>All channels</h2>',
            f"<p>Per channel over the run: max |mean|, max sigma and max |mean| + {k:g} sigma (random responses), "
-           "or max |value| (one run), in engineering units. Groups open on click; "
+           "or max |value| (one run), in engineering units. The table and its groups open on click; "
            'the box filters by words of the label or name.</p><div id="channel-filter"></div>']
+    n_all = sum(len(pdata.channel_names(r)) for _, r in found)
+    out.append(f'<details id="channels-all"><summary>The table of all {n_all} channels, by group</summary>')
     for path, result in found:
         if len(found) > 1:
             out.append(f"<h3>{esc(result_name(path, result))}</h3>")
@@ -390,8 +431,12 @@ def channels_section(found: Sequence[tuple[Path, Result]], k: float, figure_ids:
             out.append(f'<details class="group"><summary>{esc(heading)} ({len(rows)} channels)</summary>'
                        + html_table(f"channels-{path.name}-{key}", head, cells, ("", "", "") + ("num",) * len(head))
                        + "</details>")
-    out.append("</section>")
+    out.append("</details></section>")
     return "\n".join(out)
+
+
+#: the modes table is shown open up to this many modes, folded beyond
+MODES_SHOWN = 12
 
 
 def modes_section(modes: Sequence[ModeEntry] | None) -> str:
@@ -406,8 +451,17 @@ def modes_section(modes: Sequence[ModeEntry] | None) -> str:
         rows = [(format_number(m.frequency, 4), f"{m.damping_ratio:.3g}", m.label, m.context,
                  Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
                 for m in sorted(modes, key=lambda m: m.frequency)]
-        out.append(html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
-                          rows, ("num", "num", "", "", "")))
+        table = html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
+                           rows, ("num", "num", "", "", ""))
+        if len(modes) <= MODES_SHOWN:
+            out.append(table)
+        else:  # a long table (the reference study: 100 modes over several screens) folded under a line
+            f = [m.frequency for m in modes]
+            warned = sum(bool(m.warning) for m in modes)
+            out.append(f'<details id="modes-all"><summary>The table of all {len(modes)} modes, '
+                       f"{format_number(min(f), 4)}-{format_number(max(f), 4)} Hz"
+                       + (f' (<span class="exceeds">{warned} with a warning</span>)' if warned else "")
+                       + "</summary>" + table + "</details>")
     out.append("</section>")
     return "\n".join(out)
 
@@ -418,7 +472,9 @@ def scenario_section(scenarios: Sequence[Scenario]) -> str:
         out.append("<p>The results do not record their scenario.</p></section>")
         return "\n".join(out)
     sc = scenarios[0]
-    out.append(f"<p><b>{esc(sc.name)}</b>: {esc(sc.description)}</p>")
+    out.append(f"<p><b>{esc(sc.name)}</b>: {esc(run_label(sc))}.</p>")
+    out.append(f'<p class="meta">The scenario file\'s description (an override such as --speed-kmh or --set does '
+               f"not change it): {esc(sc.description)}</p>")
     others = sorted({s.name for s in scenarios if s != sc})
     if others:
         out.append(f'<p class="warn">Some results were computed for other scenarios: {esc(", ".join(others))}'
@@ -429,13 +485,68 @@ def scenario_section(scenarios: Sequence[Scenario]) -> str:
     return "\n".join(out)
 
 
+#: a provenance entry with at least this many keys (one per channel, e.g. grid_error.channels) is
+#: shown as a table of its own instead of one row per leaf
+PER_CHANNEL_ROWS = 10
+
+
+def _scalar(v: Any) -> bool:
+    return isinstance(v, (str, int, float, bool)) or v is None
+
+
+def _columns(records: Sequence[Any]) -> list[str] | None:
+    """The keys the records share when each is a dict of scalars with the same keys, else None."""
+    if not records or not all(isinstance(r, dict) for r in records):
+        return None
+    cols = list(records[0])
+    if not cols or any(list(r) != cols or not all(_scalar(x) for x in r.values()) for r in records):
+        return None
+    return cols
+
+
+def _split(d: Any, prefix: str = "") -> tuple[list[tuple[str, str]], list[tuple[str, list[str], list[list[str]]]]]:
+    """A provenance dict as (key, value) rows and tables (key, header, rows): a dict of many same-shaped
+    dicts becomes one table (a row per key), a list of same-shaped dicts one table (a row per item), a
+    dict of many scalars one row per distinct value with the keys that hold it; everything else one
+    row per leaf (:func:`_flatten`).
+    The same information as one row per leaf, in a fraction of the bytes (the reference study's
+    provenance: 286 kB as leaves)."""
+    if not isinstance(d, dict):
+        return _flatten(d, prefix), []
+    rows: list[tuple[str, str]] = []
+    tables: list[tuple[str, list[str], list[list[str]]]] = []
+    for key in sorted(d):
+        v, path = d[key], f"{prefix}{key}"
+        cols = _columns(list(v.values())) if isinstance(v, dict) and len(v) >= PER_CHANNEL_ROWS else None
+        if cols is not None:
+            tables.append((path, ["key"] + cols, [[k] + [_flatten(e[c])[0][1] for c in cols] for k, e in sorted(v.items())]))
+        elif isinstance(v, list) and len(v) > 1 and _columns(v) is not None:  # records (damped_modes): a row each
+            cols = list(v[0])
+            tables.append((path, cols, [[_flatten(e[c])[0][1] for c in cols] for e in v]))
+        elif isinstance(v, dict) and len(v) >= PER_CHANNEL_ROWS and all(_scalar(x) for x in v.values()):
+            by: dict[str, list[str]] = {}
+            for k in sorted(v):
+                by.setdefault(_flatten(v[k])[0][1], []).append(k)
+            tables.append((path, ["value", "count", "keys holding it"], [[val, str(len(ks)), ", ".join(ks)] for val, ks in by.items()]))
+        elif isinstance(v, dict) and v:
+            r, t = _split(v, path + ".")
+            rows += r
+            tables += t
+        else:
+            rows += _flatten(v, path)
+    return rows, tables
+
+
 def provenance_section(found: Sequence[tuple[Path, Result]]) -> str:
     out = ['<section id="provenance"><h2>Provenance</h2>']
     for path, result in found:
-        rows = _flatten(result.provenance)
+        rows, tables = _split(result.provenance)
         if result.scenario is not None:
             rows.insert(0, ("scenario seed (analysis.seed)", str(result.scenario.analysis.seed)))
-        out.append(f"<details><summary>{esc(result_name(path, result))}</summary>"
-                   + html_table(f"provenance-{path.name}", ["key", "value"], rows) + "</details>")
+        parts = [html_table(f"provenance-{path.name}", ["key", "value"], rows)]
+        for key, head, trows in tables:
+            parts.append(f"<details><summary><code>{esc(key)}</code> ({len(trows)} rows)</summary>"
+                         + html_table(f"provenance-{path.name}-{key}", head, trows) + "</details>")
+        out.append(f"<details><summary>{esc(result_name(path, result))}</summary>" + "".join(parts) + "</details>")
     out.append("</section>")
     return "\n".join(out)

@@ -1,8 +1,11 @@
 """The report's verdict section: what an engineer reads first.
 
-A one-line count per verdict (and how many are conditional), one row per criterion (the location
-that decides it), each distinct caveat once as a numbered note under the table (the rows carry the
-numbers), the table's own notes, and the full per-location table folded below. Numbers are shown by
+A one-line count per verdict (and how many are conditional); one sentence each on the target
+probability and the estimate (:func:`terms_html`); one row per criterion (the location that decides
+it) under a heading per part and limit set, the bridge's first (:func:`first_screen_groups`); a NOT
+EVALUATED row with its reason in the row (:func:`reason_of`); each distinct caveat once as a numbered
+note under the table (the rows carry the numbers), folded unless one could change a verdict
+(:func:`notes_fold`); the table's own notes, and the full per-location table folded below. Numbers are shown by
 the one display rule of the checks (:func:`tb_exudyn.results.checks_table.format_probability`,
 :func:`~tb_exudyn.results.checks_table.format_value`: "< 1e-09" below SMALLEST_SHOWN, kN, mm,
 m/s^2), the same as the terminal's. Without checks: the interim screening, labelled as not a verdict.
@@ -14,8 +17,9 @@ import html
 from typing import Sequence
 
 from ..plotting.data import channel_label
+from ..results.checks import DEFAULT_TARGET_PROBABILITY, SET_ORDER
 from ..results.checks_table import VERDICTS, Caveat, format_probability, format_value
-from .entries import CheckEntry, Result, Verdicts, screening
+from .entries import CheckEntry, Result, Verdicts, part_of, screening
 from .sections import Raw, anchor, html_table, link, verdict_class
 
 esc = html.escape
@@ -60,11 +64,15 @@ def _where(channel: str, label: str, figure_ids: set[str]) -> str:
     return text + (f" <small><code>{esc(channel)}</code></small>" if channel and channel != label else "")
 
 
-def _cells(c: CheckEntry, notes: _Notes, figure_ids: set[str], mark_worst: bool = False) -> tuple:
-    """location, estimate, limit, probability, verdict (conditional, grade) and the caveats' numbers;
-    ``mark_worst``: say "worst" at the location that decides its criterion."""
+def _cells(c: CheckEntry, notes: _Notes, figure_ids: set[str], mark_worst: bool = False,
+           skip: Caveat | None = None) -> tuple:
+    """location, estimate, limit, probability, verdict (conditional, grade) and the caveats' numbers
+    (``skip``: a caveat the row shows itself); ``mark_worst``: say "worst" at the location that
+    decides its criterion."""
     marks = []
     for cav in c.caveats:
+        if cav == skip:
+            continue
         n = notes.number(cav)
         cls = ' class="conditional"' if cav.changes_verdict else ""
         marks.append(f'<a href="#note-{n}"{cls}>{n}</a>')
@@ -90,6 +98,112 @@ def count_text(rows: Sequence[CheckEntry]) -> str:
 _HEAD = ["location", "estimate", "limit", "P(exceed) per passage", "verdict", "notes"]
 _CLASSES = ("", "num", "num", "num", "", "notes")
 
+#: the first screen's parts, in reading order, and the words for the shipped limit sets
+PARTS = {"bridge": "Bridge", "vehicle": "Vehicle"}
+SET_WORDS = {"en1990_deck": "deck acceleration and twist", "ride_comfort": "ride comfort",
+             "running_safety": "running safety"}
+
+
+def first_screen_groups(top: Sequence[CheckEntry]) -> list[tuple[str, str, list[CheckEntry]]]:
+    """The first table's rows as (part, limit set, rows): the bridge's first (deck acceleration,
+    twist), then the vehicle's (ride comfort, running safety; the order of
+    :data:`tb_exudyn.results.checks.SET_ORDER`, other sets after them by name); in a set, exceeding
+    first, then undetermined, not evaluated, OK, each in the table's order."""
+    groups: dict[tuple[str, str], list[CheckEntry]] = {}
+    for r in top:
+        groups.setdefault((part_of(r), r.limit_set), []).append(r)
+    rank = {p: i for i, p in enumerate(PARTS)}
+    keys = sorted(groups, key=lambda k: (rank[k[0]], SET_ORDER.index(k[1]) if k[1] in SET_ORDER else len(SET_ORDER), k[1]))
+    return [(p, n, sorted(groups[(p, n)], key=lambda r: _ORDER.get(r.verdict, 1))) for p, n in keys]
+
+
+def reason_of(c: CheckEntry) -> Caveat | None:
+    """Why a NOT EVALUATED row is not evaluated: the model's reason (what the vehicle model cannot give
+    and what to run instead), else the last statistic caveat (no such channel, no limit value)."""
+    model = [cav for cav in c.caveats if cav.kind == "model"]
+    stat = [cav for cav in c.caveats if cav.kind == "statistic"]
+    return model[0] if model else stat[-1] if stat else None
+
+
+def terms_html(verdicts: Verdicts) -> str:
+    """What the target probability and the estimate are, one sentence each."""
+    t = verdicts.target
+    if verdicts.method == "deterministic":
+        return ('<p class="terms" id="verdict-terms"><b>Estimate</b>: one deterministic run, so the estimate is the '
+                "run's own statistic (its largest value) against the limit, with no probability of exceedance.</p>")
+    why = ("one exceedance in a year of 100 train pairs a day; a choice, not a code value"
+           if t is not None and abs(t - DEFAULT_TARGET_PROBABILITY) <= 1e-12 else "a choice, not a code value")
+    target = (f"<b>Target probability</b>{'' if t is None else f' {t:.3g}'} per passage ({esc(why)}): a criterion "
+              "is met (OK) when the probability that its limit is exceeded at least once while the train passes, "
+              "P(exceed) per passage, is at most this.")
+    estimate = ("<b>Estimate</b>: the level exceeded with the target probability in one passage (estimate &le; limit "
+                "exactly when P(exceed) &le; target), not max |mean| + 3 sigma, which a passage exceeds far more "
+                "often; for a Sperling index, its largest window value.")
+    return f'<p class="terms" id="verdict-terms">{target}<br>{estimate}</p>'
+
+
+def notes_fold(notes: _Notes, n_top: int) -> str:
+    """The first table's numbered notes in a <details>: open when one of them could change a verdict,
+    else folded under a line that counts them by kind (the first screen then ends with the table)."""
+    if not n_top:
+        return ""
+    items = notes.items[:n_top]
+    n_turn = sum(c.changes_verdict for c in items)
+    kinds: dict[str, int] = {}
+    for c in items:
+        kinds[c.kind or "other"] = kinds.get(c.kind or "other", 0) + 1
+    what = ", ".join(f"{k.replace('_', ' ')} {n}" for k, n in kinds.items())
+    turn = (f'<b class="conditional">{n_turn} could change the verdict</b>' if n_turn else "none can change a verdict")
+    return (f'<details id="verdict-notes-fold"{" open" if n_turn else ""}><summary>Notes 1-{n_top} on the rows: '
+            f"{turn} <small>({esc(what)})</small></summary>{notes.html(1, 'verdict-notes')}</details>")
+
+
+def _criterion(c: CheckEntry) -> str:
+    return f'<span title="{esc(c.clause)}">{esc(c.criterion)}</span>' if c.clause else esc(c.criterion)
+
+
+def _td(cell, cls: str) -> str:
+    text = cell.html if isinstance(cell, Raw) else esc(str(cell))
+    return f'<td class="{cls}">{text}</td>' if cls else f"<td>{text}</td>"
+
+
+def _top_table(groups: list[tuple[str, str, list[CheckEntry]]], notes: _Notes, figure_ids: set[str],
+               folded: bool) -> str:
+    """The first table: a heading row per part and limit set with its counts, one row per criterion;
+    a NOT EVALUATED row shows its reason in one line in place of location, estimate, limit and
+    probability (one cell for the neighbouring rows with the same reason)."""
+    head = ["criterion", "worst location" if folded else "location"] + _HEAD[1:]
+    out = ['<table id="verdicts-table"><thead><tr>' + "".join(f"<th>{esc(h)}</th>" for h in head) + "</tr></thead>"]
+    for part, set_name, rows in groups:
+        words = SET_WORDS.get(set_name, set_name.replace("_", " "))
+        title = f"{PARTS[part]}: {words}" if words else PARTS[part]
+        named = f" <small><code>{esc(set_name)}</code></small>" if set_name else ""
+        out.append(f'<tbody><tr class="part"><th colspan="{len(head)}">{esc(title)}{named} '
+                   f"<small>\u00b7 {esc(count_text(rows))}</small></th></tr>")
+        i = 0
+        while i < len(rows):
+            c = rows[i]
+            criterion = _criterion(c)
+            reason = reason_of(c) if c.verdict == "NOT EVALUATED" else None
+            if reason is None:
+                cells = _cells(c, notes, figure_ids)
+                out.append(f"<tr><td>{criterion}</td>" + "".join(_td(cell, cls) for cell, cls in zip(cells, _CLASSES)) + "</tr>")
+                i += 1
+                continue
+            same = 1
+            while (i + same < len(rows) and rows[i + same].verdict == "NOT EVALUATED"
+                   and reason_of(rows[i + same]) == reason):
+                same += 1
+            for j, r in enumerate(rows[i:i + same]):
+                crit = _criterion(r)
+                cells = _cells(r, notes, figure_ids, skip=reason)
+                span = f' rowspan="{same}"' if same > 1 else ""
+                why = (f'<td class="reason" colspan="4"{span}>not evaluated: {esc(reason.text)}</td>' if j == 0 else "")
+                out.append(f"<tr><td>{crit}</td>{why}{_td(cells[4], '')}{_td(cells[5], 'notes')}</tr>")
+            i += same
+        out.append("</tbody>")
+    return "".join(out) + "</table>"
+
 
 def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
     """The verdict section's body from the checks (module docstring)."""
@@ -97,22 +211,18 @@ def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
     if not rows:
         return ['<p id="verdicts-table">No criterion of the limit files applies to the channels of this result.</p>'] + [
             f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
-    top = sorted(verdicts.decisive, key=lambda r: _ORDER.get(r.verdict, 1))
+    top = verdicts.decisive
     folded = len(top) < len(rows)  # some locations do not decide their criterion: the per-location tables
     out = [f'<p class="counts" id="verdict-counts"><b>{len(rows)} checks of {len({r.criterion for r in rows})} '
            f"criteria</b>: {esc(count_text(rows))}"
            + (f" \u00b7 worst location per criterion (the table): {esc(count_text(top))}" if folded else "") + "</p>"]
     notes = _Notes()
-    cells = []
-    for c in top:
-        criterion = f'<span title="{esc(c.clause)}">{esc(c.criterion)}</span>' if c.clause else esc(c.criterion)
-        cells.append((Raw(criterion),) + _cells(c, notes, figure_ids))
-    head = ["criterion", "worst location" if folded else "location"] + _HEAD[1:]
-    out.append(html_table("verdicts-table", head, cells, ("",) + _CLASSES))
+    out.append(terms_html(verdicts))
+    out.append(_top_table(first_screen_groups(top), notes, figure_ids, folded))
     if any(c.conditional for c in rows):
         out.append(f'<p class="meta" id="conditional"><span class="conditional">conditional</span>: {esc(CONDITIONAL)}.</p>')
     n_top = len(notes.items)
-    out.append(notes.html(1, "verdict-notes"))
+    out.append(notes_fold(notes, n_top))
     out += [f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
     if folded:
         by_criterion: dict[str, list[CheckEntry]] = {c.criterion: [] for c in top}  # the table's order
@@ -161,4 +271,5 @@ def verdicts_section(verdicts: Verdicts | None, first: Result | None, k: float, 
     return "\n".join([f'<section id="verdicts"><h2>Verdicts{what}</h2>', *body, "</section>"])
 
 
-__all__ = ["CONDITIONAL", "checks_html", "count_text", "screening_html", "verdicts_section"]
+__all__ = ["CONDITIONAL", "PARTS", "SET_WORDS", "checks_html", "count_text", "first_screen_groups", "notes_fold",
+           "reason_of", "screening_html", "terms_html", "verdicts_section"]

@@ -7,6 +7,7 @@ import base64
 import fnmatch
 import html
 import importlib.util
+import io
 import math
 import os
 import re
@@ -93,6 +94,12 @@ def _row(table, first):
     return row
 
 
+def _criterion_rows(table):
+    """The verdict table's rows of criteria: without its head and the one-cell rows heading a part
+    (bridge, vehicle) and limit set."""
+    return [r for r in table[1:] if len(r) > 1]
+
+
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
     d = tmp_path_factory.mktemp("results")
@@ -133,7 +140,8 @@ def test_verdicts_not_computed_show_the_screening(report):
 
 def test_the_checks_slot_in(folder):
     """CheckEntry rows and rows of another type with the same attributes: one row per criterion (its
-    deciding location, exceeding first), numbers in display units (170e3 N -> 170 kN), probabilities
+    deciding location), the bridge's (a bridge.* channel) under a "Bridge" heading before the
+    vehicle's, each heading with its counts; numbers in display units (170e3 N -> 170 kN), probabilities
     by format_probability (1e-9 is not below SMALLEST_SHOWN: shown), the caveat's text in a numbered
     note the row links to, the location linked to its figure; the other locations in the folded
     per-location table. Fails if the rows lose their order, units or links, or a caveat is inlined."""
@@ -160,11 +168,12 @@ def test_the_checks_slot_in(folder):
     text = render_report(found, channels=[CH], checks=checks)
     page = Page(text)
     table = page.tables["verdicts-table"]
-    assert [r[0] for r in table] == ["criterion", "lateral axle force H", "deck vertical acceleration", "Q/P"]
-    first = table[1]
-    assert first == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
-                     "EXCEEDS", "1"]
-    assert table[2][4] == "1e-09" and table[3][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
+    assert [r[0] for r in table] == ["criterion", "Bridge \u00b7 1 OK", "deck vertical acceleration",
+                                     "Vehicle \u00b7 1 OK, 1 EXCEEDS", "lateral axle force H", "Q/P"]
+    rows = _criterion_rows(table)
+    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
+                       "EXCEEDS", "1"]
+    assert rows[0][4] == "1e-09" and rows[2][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
     assert text.count(caveat) == 1 and '<li id="note-1">' + caveat in text and 'href="#note-1"' in text
     assert '<a href="#fig-car1.axle1.force_y">car 1, axle 1</a>' in text
     assert len(page.tables["verdicts-locations-3"]) == 1 + 12  # the Q/P locations, folded
@@ -450,7 +459,7 @@ def test_first_screen_shows_every_criterions_verdict(folder, tmp_path):
     attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', dom.split(">", 2)[1]))
     assert attrs["width"] == "1400"  # the layout's width; heights do not change the layout
     assert 0 < int(attrs["verdict-top"]) < int(attrs["verdict-bottom"]) <= 900, attrs
-    rows = Page(dom).tables["verdicts-table"][1:]
+    rows = _criterion_rows(Page(dom).tables["verdicts-table"])
     titles = [c.title for ls in default_limits() for c in ls.criteria]
     assert len(titles) == len(table.by_criterion()) and sorted(r[0] for r in rows) == sorted(titles)
     shown = {r[0]: r[4] for r in rows}
@@ -488,7 +497,7 @@ def test_verdict_numbers_are_in_display_units():
     values by the unit factors (1e-3 for N, 1e3 for m). Fails if a value is shown in N or m."""
     table = _checks_table()
     text = render_report([(Path("pem"), synthetic.pem_response())], checks=table)
-    shown = {r[0]: r for r in Page(text).tables["verdicts-table"][1:]}
+    shown = {r[0]: r for r in _criterion_rows(Page(text).tables["verdicts-table"])}
     shows = {"N": (1e-3, " kN"), "m": (1e3, " mm"), "m/s^2": (1.0, " m/s^2"), "-": (1.0, "")}
     units = set()
     for r in table.worst():
@@ -498,7 +507,7 @@ def test_verdict_numbers_are_in_display_units():
         assert shown[r.title][2:4] == [estimate, f"{r.limit * factor:.4g}{unit}"], r.title
     assert units == set(shows)  # every kind of unit is among the criteria
     cells = [r[t[0].index(col)] for tid, t in Page(text).tables.items() if tid.startswith("verdicts-")
-             for r in t[1:] for col in ("estimate", "limit")]  # the first table and the per-location ones
+             for r in _criterion_rows(t) for col in ("estimate", "limit")]  # the first table and the per-location ones
     assert len(cells) == 2 * (15 + 45) and not [c for c in cells if re.search(r"\d( N| m)$|e\+0", c)]
 
 
@@ -521,3 +530,226 @@ def test_derived_channels_have_readable_labels():
     assert len(set(every)) == len(every)
     assert labels["car1.axle1.left.derailment"] == "car 1, axle 1, left wheel, derailment quotient Q/P"
     assert labels["bridge.span2.start.twist_3m"] == "span 2, 1.5 m from the span's start, deck twist over 3 m"
+
+
+# ------------------------------------------------------------------------------------------ the first screen (issue 26)
+def _part_rows(table):
+    """The one-cell rows heading a part and limit set, with the criteria under each: [(heading, [titles])]."""
+    out = []
+    for r in table[1:]:
+        if len(r) == 1:
+            out.append((r[0], []))
+        else:
+            out[-1][1].append(r[0])
+    return out
+
+
+def test_first_screen_reads_bridge_then_vehicle():
+    """The checks of every shipped criterion (_checks_table), given in reverse order: the first table
+    heads the bridge's limit set first (deck acceleration and twist, en1990_deck), then the vehicle's
+    (ride comfort, then running safety), each criterion under the heading of its own limit file, the
+    heading with its counts. Fails if the rows follow the order they came in (the vehicle's first
+    here) or a criterion lands under another set's heading."""
+    table = _checks_table()
+    reversed_table = ChecksTable(**{**table.__dict__, "rows": tuple(reversed(table.rows))})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=reversed_table)
+    parts = _part_rows(Page(text).tables["verdicts-table"])
+    assert [h.split(" \u00b7 ")[0] for h, _ in parts] == [
+        "Bridge: deck acceleration and twist en1990_deck", "Vehicle: ride comfort ride_comfort",
+        "Vehicle: running safety running_safety"]
+    for (heading, titles), ls in zip(parts, default_limits()):  # the shipped files, named in this order
+        assert f" {ls.name} \u00b7 " in heading
+        assert sorted(titles) == sorted(c.title for c in ls.criteria), ls.name
+        worst = [r for r in reversed_table.worst() if r.criterion.startswith(ls.name + "/")]
+        n_ok, n_ex = sum(r.verdict == "OK" for r in worst), sum(r.verdict == "EXCEEDS" for r in worst)
+        assert heading.endswith(", ".join(f"{n} {w}" for n, w in ((n_ok, "OK"), (n_ex, "EXCEEDS")) if n)
+                                + f"; {len(worst)} conditional"), heading
+
+
+def test_first_screen_says_what_target_and_estimate_are():
+    """One sentence each, above the table: the target probability (its value, per passage, what OK
+    means in terms of P(exceed)) and the estimate (the level exceeded with that probability, not
+    mean + 3 sigma); a deterministic run says its estimate is the run's own statistic instead."""
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=_checks_table())
+    terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
+    assert text.index('id="verdict-terms"') < text.index('id="verdicts-table"')
+    assert terms.count("<b>Target probability</b>") == terms.count("<b>Estimate</b>") == 1
+    assert "<b>Target probability</b> 2.74e-05 per passage (one exceedance in a year of 100 train pairs a day" in terms
+    assert "is met (OK) when the probability that its limit is exceeded at least once while the train passes" in terms
+    assert "the level exceeded with the target probability in one passage" in terms
+    assert "not max |mean| + 3 sigma" in terms
+    det = ChecksTable(**{**_checks_table().__dict__, "method": "deterministic"})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=det)
+    terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
+    assert "Target probability" not in terms and "the run's own statistic" in terms
+
+
+@pytest.fixture(scope="module")
+def quick_run(tmp_path_factory):
+    """The shipped quick scenario run by the command line (PEM, one ICE motor car, a 15-DOF car15,
+    over one 32 m span; about 20 s), its report written with the default figures (one worker)."""
+    from tb_exudyn.cli import main
+    out = tmp_path_factory.mktemp("quick") / "q"
+    assert main(["run", "quick", "--out", str(out), "--no-figures", "--no-progress"]) == 0
+    report = write_report(out, workers=1)
+    return out, report
+
+
+def test_not_evaluated_rows_carry_their_reason(quick_run):
+    """quick's car is a car15 (wheelsets follow the rail): its running-safety rows are NOT EVALUATED
+    (results.checks). In the first table they read NOT EVALUATED with the checks' own reason in one
+    cell ("not evaluated: " + the model caveat's text, once for the six neighbouring rows) and
+    without a location, estimate or probability; the reason is not repeated as a numbered note of the
+    first table. Fails if the reason moves to a note, repeats per row, or the rows show a location."""
+    out, report = quick_run
+    text = report.read_text(encoding="utf-8")
+    (_, pem), = find_results(out)
+    table = pem.checks()
+    worst = [r for r in table.worst() if r.criterion.startswith("running_safety/")]
+    reasons = {r.caveats[0].text for r in worst}
+    assert {r.verdict for r in worst} == {"NOT EVALUATED"} and {r.caveats[0].kind for r in worst} == {"model"}
+    (reason,) = reasons
+    assert "creep" in reason and "li_zhu_2011_creep" in reason
+    top = text.split('id="verdicts-table"')[1].split("</table>")[0]
+    assert top.count(f'colspan="4" rowspan="{len(worst)}">not evaluated: {html.escape(reason)}</td>') == 1
+    rows = [r for r in _part_rows(Page(text).tables["verdicts-table"]) if r[0].startswith("Vehicle: running safety")]
+    assert len(rows) == 1 and len(rows[0][1]) == len(worst)
+    page_rows = [r for r in _criterion_rows(Page(text).tables["verdicts-table"]) if r[0] in {w.title for w in worst}]
+    assert page_rows[0][2] == "NOT EVALUATED" and all(r[1] == "NOT EVALUATED" for r in page_rows[1:])
+    notes = text.split('id="verdict-notes"')[1].split("</ol>")[0] if 'id="verdict-notes"' in text else ""
+    assert html.escape(reason) not in notes
+
+
+def test_report_of_a_run_is_small_and_keeps_its_pictures(quick_run):
+    """The report of the quick run (36 default figures: 12 channels, bounds + PSD map + PSD slices)
+    is at most 1.5 MB. Embedded as they are, its figure files (about 2.2 MB of PNG) would take about
+    2.9 MB in base64 alone; as 256-colour palette PNGs they take about 1 MB. The reference study's
+    report measured 6.92 MB before and 2.83 MB after (69 figures, 559 channels; the issue's bound:
+    3 MB). Each embedded picture has the size of its file and differs from it by at most 1/255 per
+    channel on average (measured: at most 0.51/255 over the reference study's 69 figures). Fails if
+    the figures are embedded as they are (the page then exceeds 2.9 MB) or lose their picture."""
+    from PIL import Image
+    out, report = quick_run
+    size = report.stat().st_size
+    files = sorted((out / "pem" / "figures").glob("*.png"))
+    images = Page(report.read_text(encoding="utf-8")).images
+    assert len(files) == len(images) == 36
+    assert size <= 1.5e6, size
+    embedded = [base64.b64decode(src.split(",", 1)[1]) for src in images]
+    assert sum(len(b) for b in embedded) <= 0.5 * sum(f.stat().st_size for f in files)
+    by_size = {}
+    for f in files:
+        with Image.open(f) as im:
+            by_size.setdefault(im.size, []).append(np.asarray(im.convert("RGB"), dtype=float))
+    for b in embedded:
+        with Image.open(io.BytesIO(b)) as im:
+            got = np.asarray(im.convert("RGB"), dtype=float)
+            assert im.size in by_size
+        assert min(np.abs(got - ref).mean() for ref in by_size[im.size]) <= 1.0
+
+
+def test_labels_follow_the_runs_own_settings(quick_run):
+    """The quick result re-labelled as run at 300 km/h with a 25 Hz upper band (quick.toml: 250 km/h,
+    30 Hz): the title, the run label under it, the verdicts' heading and the scenario section say
+    300 km/h and 25 Hz; 250 km/h appears only in the scenario file's description, which says so."""
+    out, _ = quick_run
+    (path, pem), = find_results(out)
+    sc = pem.scenario.replace(speed_kmh=300.0, analysis=pem.scenario.analysis.replace(freq_max=25.0))
+    text = render_report([(path, RandomResponse(**{**pem.__dict__, "scenario": sc}))])
+    head = text.split('id="verdicts"')[0]
+    assert "<h1>tb_exudyn report: quick at 300 km/h</h1>" in head
+    assert "1 vehicle (ice_motor) at 300 km/h over single_span_32m (32 m)" in head and "0.6-25 Hz" in head
+    assert "pem, 300 km/h" in text.split('id="verdicts"')[1].split("</h2>")[0]
+    scenario = text.split('id="scenario"')[1]
+    assert "quick</b>: 1 vehicle (ice_motor) at 300 km/h" in scenario
+    assert text.count("250 km/h") == 1 and "The scenario file's description" in text.split("250 km/h")[0][-400:]
+
+
+def test_notes_fold_unless_one_can_change_a_verdict(quick_run):
+    """The first table's numbered notes: open, saying how many could change a verdict, when one can
+    (the quick run: the distinct caveats of its deciding rows that the checks mark as able to turn a
+    verdict, counted here from pem.checks(); _checks_table: the loss-of-contact caveat, on every row,
+    the grid error only at location 2, not a deciding one); folded under a line that counts them by
+    kind when none can (_checks_table without those two caveats: only [check] notes). Fails if the
+    notes fold away a condition, or push the warnings off the page for nothing."""
+    out, report = quick_run
+    (_, pem), = find_results(out)
+    turn = {(c.kind, c.text) for r in pem.checks().worst() for c in r.caveats if c.changes_verdict}
+    fold = report.read_text(encoding="utf-8").split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    assert turn and fold.startswith(" open>") and f"{len(turn)} could change the verdict" in fold
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=_checks_table())
+    fold = text.split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    assert fold.startswith(" open>") and "1 could change the verdict" in fold
+    table = _checks_table()
+    quiet = ChecksTable(**{**table.__dict__, "rows": tuple(
+        CheckRow(**{**r.__dict__, "caveats": tuple(c for c in r.caveats if not c.changes_verdict)}) for r in table.rows)})
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=quiet)
+    fold = text.split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
+    n = len({c.note for ls in default_limits() for c in ls.criteria if c.check})
+    assert fold.startswith(">") and f"none can change a verdict <small>(limit unverified {n})</small>" in fold
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="chromium not installed (apt-get install chromium)")
+def test_first_screen_of_a_run_holds_every_verdict_and_the_notes_line(quick_run, tmp_path):
+    """Headless Chromium at 1400 x 900 on the quick run's report (15 criteria of the shipped limit
+    files, 6 of them NOT EVALUATED on its car15): the verdict table and the line of its notes end
+    above 900 px, the bridge's heading row above the vehicle's. Fails if the table's rows wrap until
+    the notes' line leaves the first screen (the review's finding before the criterion column was
+    widened: the notes' line ended at 941 px)."""
+    _, report = quick_run
+    probe = tmp_path / "probe.html"
+    probe.write_text(report.read_text(encoding="utf-8").replace("</body>", """<script>
+window.addEventListener('load', function () {
+  var h = document.documentElement, y = function (el, edge) { return Math.round(el.getBoundingClientRect()[edge]); };
+  var parts = document.querySelectorAll('#verdicts-table tr.part');
+  h.setAttribute('data-table-bottom', y(document.getElementById('verdicts-table'), 'bottom'));
+  h.setAttribute('data-notes-bottom', y(document.querySelector('#verdict-notes-fold summary'), 'bottom'));
+  h.setAttribute('data-bridge-top', y(parts[0], 'top')); h.setAttribute('data-vehicle-top', y(parts[1], 'top'));
+  h.setAttribute('data-first-part', parts[0].textContent.split(':')[0]);
+});</script></body>"""), encoding="utf-8")
+    dom = _chromium(["--virtual-time-budget=10000", "--dump-dom", probe.resolve().as_uri()])
+    attrs = dict(re.findall(r'data-([a-z-]+)="([^"]*)"', dom.split(">", 2)[1]))
+    assert attrs["first-part"] == "Bridge" and int(attrs["bridge-top"]) < int(attrs["vehicle-top"])
+    assert int(attrs["table-bottom"]) < int(attrs["notes-bottom"]) <= 900, attrs
+
+
+def test_not_evaluated_without_a_channel_gives_the_statistics_reason():
+    """A criterion whose statistic has no channel (EN 14363's 2 m sliding mean: results.checks marks
+    it NOT EVALUATED with a 'statistic' caveat after its [check] note, as on li_zhu_2011_creep) shows
+    that caveat's text as its reason in the first table, its [check] note still numbered; the other
+    criteria of its set keep their numbers. Fails if the reason is taken from the wrong caveat."""
+    table = _checks_table()
+    why = Caveat("statistic", "statistic 'sliding_mean_max_abs' is not evaluated: no such channel (EN 14363's sliding "
+                 "mean of the low-passed force is not formed yet)", False)
+    rows = tuple(CheckRow(**{**r.__dict__, "verdict": "NOT EVALUATED", "estimate": math.nan, "probability": None,
+                             "caveats": r.caveats + (why,)}) if r.criterion.endswith("/lateral_force_en14363") else r
+                 for r in table.rows)
+    text = render_report([(Path("pem"), synthetic.pem_response())], checks=ChecksTable(**{**table.__dict__, "rows": rows}))
+    top = text.split('id="verdicts-table"')[1].split("</table>")[0]
+    assert top.count(f'<td class="reason" colspan="4">not evaluated: {html.escape(why.text)}</td>') == 1
+    row = _row(_criterion_rows(Page(text).tables["verdicts-table"]), next(
+        c.title for ls in default_limits() for c in ls.criteria if c.id == "lateral_force_en14363"))
+    assert row[1].startswith("not evaluated: statistic") and row[2] == "NOT EVALUATED" and row[3]  # its notes
+    assert "0.93" in [r[4] for r in _criterion_rows(Page(text).tables["verdicts-table"]) if len(r) == 7]
+
+
+def test_long_sections_are_folded(quick_run):
+    """The quick run's page: the bridge's figures open and the vehicle's groups folded (each one
+    click away, its heading counting its channels); the modes table (more than MODES_SHOWN = 12
+    modes) folded under a line giving their number, range and how many carry a warning; a short
+    modes table (two modes) stays open. Every figure and every mode is still in the page."""
+    from tb_exudyn.report.sections import MODES_SHOWN
+    out, report = quick_run
+    text = report.read_text(encoding="utf-8")
+    groups = re.findall(r'<details class="figgroup"( open)?><summary>([^<]*)</summary>', text)
+    assert groups[0][0] == " open" and groups[0][1].startswith("Bridge (")
+    assert len(groups) >= 3 and all(not g[0] for g in groups[1:]) and all(g[1].startswith("Car 1") for g in groups[1:])
+    assert len(Page(text).images) == len(list((out / "pem" / "figures").glob("*.png")))
+    (_, pem), = find_results(out)
+    modes = pem.provenance["damped_modes"]
+    warned = sum(bool(m["warning"]) for m in modes)
+    assert len(modes) > MODES_SHOWN and len(Page(text).tables["modes-table"]) == 1 + len(modes)
+    assert re.search(rf'<details id="modes-all"><summary>The table of all {len(modes)} modes, [0-9.]+-[0-9.]+ Hz'
+                     + (rf' \(<span class="exceeds">{warned} with a warning</span>\)' if warned else "</summary>"), text)
+    short = render_report(find_results(out), modes=[ModeEntry(3.33, 0.05, "bridge, lateral 1"), ModeEntry(8.3, 1e-4, "yaw")])
+    assert 'id="modes-all"' not in short and len(Page(short).tables["modes-table"]) == 3
