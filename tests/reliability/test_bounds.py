@@ -19,24 +19,12 @@ from tb_exudyn.scenario.schema import VEHICLE_DAMPING, VEHICLE_STIFFNESS
 
 from .cases import snapshot
 from .cases_bounds import CASES_BOUNDS, run_refused_by_memory_in_new_folder, run_refused_in_new_folder
-from .test_cases import run_case
+from .test_cases import assert_one_clear_error, run_case
 
 
 @pytest.mark.parametrize("case", CASES_BOUNDS, ids=[c.id for c in CASES_BOUNDS])
 def test_bounds_case_is_one_clear_error(case, tmp_path, capsys, monkeypatch):
-    work, cwd = tmp_path / "work", tmp_path / "cwd"
-    work.mkdir()
-    cwd.mkdir()
-    monkeypatch.chdir(cwd)
-    run = case.build(work)
-    before = snapshot(tmp_path)
-    code, err = run_case(run, cwd, capsys, monkeypatch)
-    assert code == 2, f"exit {code}: {err}"
-    assert "Traceback" not in err, err
-    assert len(err.strip().splitlines()) == 1, err
-    for text in run.expect:
-        assert text in err, f"{text!r} not in {err!r}"
-    assert snapshot(tmp_path) == before, "something was written, moved or deleted"
+    assert_one_clear_error(case, tmp_path, capsys, monkeypatch)
 
 
 def test_speed_series_bounds_at_their_edges():

@@ -43,8 +43,11 @@ def run_case(run: Run, cwd: Path, capsys: pytest.CaptureFixture, monkeypatch: py
     return 0, ""
 
 
-@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
-def test_hostile_input_is_one_clear_error(case, tmp_path, capsys, monkeypatch):
+def assert_one_clear_error(case, tmp_path: Path, capsys: pytest.CaptureFixture,
+                           monkeypatch: pytest.MonkeyPatch) -> str:
+    """The contract every hostile case is held to (every cases_<topic>.py list uses it): exit 2, no
+    traceback, one line holding the case's expected texts (the file or option, the key), and nothing
+    under the scratch folder written, moved or deleted. Returns the line."""
     work, cwd = tmp_path / "work", tmp_path / "cwd"
     work.mkdir()
     cwd.mkdir()
@@ -58,3 +61,9 @@ def test_hostile_input_is_one_clear_error(case, tmp_path, capsys, monkeypatch):
     for text in run.expect:
         assert text in err, f"{text!r} not in {err!r}"
     assert snapshot(tmp_path) == before, "something was written, moved or deleted"
+    return err
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
+def test_hostile_input_is_one_clear_error(case, tmp_path, capsys, monkeypatch):
+    assert_one_clear_error(case, tmp_path, capsys, monkeypatch)

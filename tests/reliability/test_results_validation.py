@@ -25,9 +25,8 @@ from tb_exudyn.results import load_results
 from tb_exudyn.results.random_response import band_limit, load_random_response
 from tb_exudyn.results.time_history import load_time_history
 
-from .cases import snapshot
 from .cases_results2 import CASES_RESULTS2
-from .test_cases import run_case
+from .test_cases import assert_one_clear_error
 
 # the plotting tests' small synthetic results on the 'quick' scenario (tests/plotting is not a package)
 _spec = importlib.util.spec_from_file_location(
@@ -39,19 +38,7 @@ pem_response, mc_response, time_history = synthetic.pem_response, synthetic.mc_r
 
 @pytest.mark.parametrize("case", CASES_RESULTS2, ids=[c.id for c in CASES_RESULTS2])
 def test_impossible_result_is_one_clear_error(case, tmp_path, capsys, monkeypatch):
-    work, cwd = tmp_path / "work", tmp_path / "cwd"
-    work.mkdir()
-    cwd.mkdir()
-    monkeypatch.chdir(cwd)
-    run = case.build(work)
-    before = snapshot(tmp_path)
-    code, err = run_case(run, cwd, capsys, monkeypatch)
-    assert code == 2, f"exit {code}: {err}"
-    assert "Traceback" not in err, err
-    assert len(err.strip().splitlines()) == 1, err
-    for text in run.expect:
-        assert text in err, f"{text!r} not in {err!r}"
-    assert snapshot(tmp_path) == before, "something was written, moved or deleted"
+    assert_one_clear_error(case, tmp_path, capsys, monkeypatch)
 
 
 def test_cases_are_in_group_results():
