@@ -212,6 +212,25 @@ def _check_section(name: str, label: str, s: BeamSection) -> None:
         raise _fail(name, f"{label}.shear_area_factor", s.shear_area_factor, "0 <= shear_area_factor <= 1")
 
 
+def _check_pier(name: str, p: Pier) -> None:  # a frame's and a continuous girder's
+    _check_positive(name, "pier.height", p.height)
+    _check_section(name, "pier.section", p.section)
+    if p.footing not in ("fixed", "springs"):
+        raise _fail(name, "pier.footing", p.footing, "'fixed' or 'springs'")
+    _check_stiffness(name, "pier.k_translation", p.k_translation)
+    _check_stiffness(name, "pier.k_rotation", p.k_rotation)
+    if not (math.isfinite(p.cap_mass) and p.cap_mass >= 0.0):
+        raise _fail(name, "pier.cap_mass", p.cap_mass, "a finite number >= 0")
+
+
+def _check_added_mass(name: str, a: AddedMass) -> None:
+    """The added mass on a girder (a frame's and a continuous girder's)."""
+    for key, low in (("mass_per_length", 0.0), ("rot_mass_per_length", 0.0), ("offset", -math.inf), ("height", -math.inf)):
+        v = getattr(a, key)
+        if not (math.isfinite(v) and v >= low):
+            raise _fail(name, f"added_mass.{key}", v, "a finite number" + (" >= 0" if low == 0.0 else ""))
+
+
 def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     """Raise :class:`StructureError` for bridge data no structural model can be built from.
 
@@ -245,28 +264,15 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     if isinstance(bridge, Frame):
         if int(bridge.elements_per_pier) < 1:
             raise _fail(name, "elements_per_pier", bridge.elements_per_pier, ">= 1")
-        p, b, a = bridge.pier, bridge.bearings, bridge.added_mass
-        _check_positive(name, "pier.height", p.height)
-        _check_section(name, "pier.section", p.section)
-        if p.footing not in ("fixed", "springs"):
-            raise _fail(name, "pier.footing", p.footing, "'fixed' or 'springs'")
-        _check_stiffness(name, "pier.k_translation", p.k_translation)
-        _check_stiffness(name, "pier.k_rotation", p.k_rotation)
-        if not (math.isfinite(p.cap_mass) and p.cap_mass >= 0.0):
-            raise _fail(name, "pier.cap_mass", p.cap_mass, "a finite number >= 0")
+        b = bridge.bearings
+        _check_pier(name, bridge.pier)
         for key in ("k_x_fixed", "k_x_sliding", "k_y", "k_z", "k_rx"):
             _check_stiffness(name, f"bearings.{key}", getattr(b, key))
         if b.fixed_end not in ("start", "end"):
             raise _fail(name, "bearings.fixed_end", b.fixed_end, "'start' or 'end'")
         if not (math.isfinite(b.height) and b.height >= 0.0):
             raise _fail(name, "bearings.height", b.height, "a finite number >= 0")
-        for key in ("mass_per_length", "rot_mass_per_length"):
-            v = getattr(a, key)
-            if not (math.isfinite(v) and v >= 0.0):
-                raise _fail(name, f"added_mass.{key}", v, "a finite number >= 0")
-        for key in ("offset", "height"):
-            if not math.isfinite(getattr(a, key)):
-                raise _fail(name, f"added_mass.{key}", getattr(a, key), "a finite number")
+        _check_added_mass(name, bridge.added_mass)
 
 
 #: a Young's or shear modulus below this [N/m^2] is no structural material (timber ~1e10, concrete

@@ -15,31 +15,11 @@ import math
 
 import numpy as np
 
-from ..scenario.model import AddedMass, BeamSection, Continuous, Pier
+from ..scenario.model import BeamSection, Continuous
 from .assembly import (GIRDER, KINDS, BridgeKind, FEModel, GirderMesh, _add_pier, _bearing, _BEARING_OF_DOF, _Builder,
-                       _check_positive, _check_section, _check_stiffness, _fail, _girder_section_mass, _section_key,
+                       _check_added_mass, _check_pier, _check_section, _check_stiffness, _fail, _girder_section_mass,
+                       _section_key,
                        validate_bridge)
-
-
-def _check_pier(name: str, p: Pier) -> None:
-    _check_positive(name, "pier.height", p.height)
-    _check_section(name, "pier.section", p.section)
-    if p.footing not in ("fixed", "springs"):
-        raise _fail(name, "pier.footing", p.footing, "'fixed' or 'springs'")
-    _check_stiffness(name, "pier.k_translation", p.k_translation)
-    _check_stiffness(name, "pier.k_rotation", p.k_rotation)
-    if not (math.isfinite(p.cap_mass) and p.cap_mass >= 0.0):
-        raise _fail(name, "pier.cap_mass", p.cap_mass, "a finite number >= 0")
-
-
-def _check_added_mass(name: str, a: AddedMass) -> None:
-    for key in ("mass_per_length", "rot_mass_per_length"):
-        v = getattr(a, key)
-        if not (math.isfinite(v) and v >= 0.0):
-            raise _fail(name, f"added_mass.{key}", v, "a finite number >= 0")
-    for key in ("offset", "height"):
-        if not math.isfinite(getattr(a, key)):
-            raise _fail(name, f"added_mass.{key}", getattr(a, key), "a finite number")
 
 
 def validate_continuous(bridge: Continuous) -> None:
