@@ -103,7 +103,6 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
             checks = run_checks(first, limits) if first is not None else None
         except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
             report_warnings.append(f"code checks not computed: {exc}")
-    verdicts = verdicts_of(checks)
     if modes is None:  # the modal table a random result carries (its analysis set-up)
         carried = [r.provenance["damped_modes"] for _, r in found if r.provenance.get("damped_modes")]
         modes = [ModeEntry(**m) for m in carried[0]] if carried else None
@@ -115,6 +114,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     scenarios = [r.scenario for _, r in found if r.scenario is not None]
     sc = scenarios[0] if scenarios else None
     first = _first_random(found)
+    verdicts = verdicts_of(checks, sc)
     title = title or f"tb_exudyn report: {sc.name if sc else found[0][0].name}" + (f" at {sc.speed_kmh:g} km/h" if sc else "")
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     what = []

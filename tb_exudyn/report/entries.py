@@ -66,13 +66,16 @@ class Verdicts:
     """The report's verdict section: ``rows`` (every criterion and location, :class:`CheckEntry`),
     ``heading`` (what was checked: method, speed, passage, target probability; "" if unknown), the
     table's ``notes`` (remarks on the whole table), the ``target`` probability per passage (None if
-    unknown) and the result's ``method`` ("pem", "monte_carlo...", "deterministic"; "" if unknown)."""
+    unknown), the result's ``method`` ("pem", "monte_carlo...", "deterministic"; "" if unknown), the train
+    speed and the bridge's name (the scope the bridge's verdict holds for; None / "" if unknown)."""
 
     rows: tuple[CheckEntry, ...]
     heading: str = ""
     notes: tuple[str, ...] = ()
     target: float | None = None
     method: str = ""
+    speed_kmh: float | None = None
+    bridge: str = ""
 
     @property
     def decisive(self) -> list[CheckEntry]:
@@ -140,17 +143,28 @@ def part_of(row: CheckEntry) -> str:
     return "bridge" if row.limit_set in BRIDGE_SETS or row.channel.startswith("bridge.") else "vehicle"
 
 
-def verdicts_of(checks: Any) -> Verdicts | None:
+#: the PEM first-passage methods in words
+FIRST_PASSAGE_WORDS = {"poisson": "Poisson up-crossings at Rice's rate", "vanmarcke": "Vanmarcke's first passage"}
+
+
+def verdicts_of(checks: Any, scenario: Scenario | None = None) -> Verdicts | None:
     """The verdict section's data: from a checks table (an object with ``rows`` and ``worst()``, e.g.
     :class:`tb_exudyn.results.checks_table.ChecksTable`) or from a sequence of rows (each a
-    :class:`CheckEntry` or an object with its attributes); None stays None ("not computed")."""
+    :class:`CheckEntry` or an object with its attributes); None stays None ("not computed").
+    ``scenario``: the run's, for the heading's bridge crossing times and the bridge's name."""
     if checks is None:
         return None
+    crossed, bridge = "", ""
+    if scenario is not None:
+        c = pdata.crossing_times(scenario)
+        crossed, bridge = f" (the train on the bridge {c.first_on:.3g}-{c.last_off:.3g} s)", scenario.bridge.name
     if hasattr(checks, "rows") and hasattr(checks, "worst"):
-        heading = (f"{checks.method}, {checks.speed_kmh:g} km/h, passage {checks.window[0]:.3g}-{checks.window[1]:.4g} s, "
-                   f"target P <= {checks.target:.3g} per passage"
-                   + (f" ({checks.first_passage} first passage)" if checks.method == "pem" else ""))
-        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes), float(checks.target), checks.method)
+        heading = (f"{checks.method}, {checks.speed_kmh:g} km/h, passage: the run {checks.window[0]:.3g}-"
+                   f"{checks.window[1]:.4g} s{crossed}, target P <= {checks.target:.3g} per passage"
+                   + (f" ({FIRST_PASSAGE_WORDS.get(checks.first_passage, checks.first_passage)})"
+                      if checks.method == "pem" else ""))
+        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes), float(checks.target), checks.method,
+                        float(checks.speed_kmh), bridge)
     return Verdicts(tuple(as_check_entries(checks)))
 
 

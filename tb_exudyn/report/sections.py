@@ -116,7 +116,7 @@ details{margin:.2rem 0} summary{cursor:pointer;font-weight:600}
 p.counts{margin:.2rem 0 .3rem;font-size:.92rem} .conditional{color:#a60;font-weight:600}
 #verdicts td.notes{font-size:.78rem;white-space:nowrap}
 #verdicts-table td{padding:.08rem .4rem;line-height:1.22} #verdicts-table tr.part th{background:#e6edf5;font-weight:600}
-#verdicts-table .not-evaluated{white-space:nowrap} #verdicts-table td:first-child{min-width:26rem} #verdicts-table td.reason{color:#444}
+#verdicts-table .not-evaluated{white-space:nowrap} #verdicts-table td:first-child{min-width:20rem} #verdicts-table td.reason{color:#444}
 p.terms{font-size:.8rem;margin:.1rem 0 .35rem;color:#333;max-width:80rem} h2 small{font-weight:normal;font-size:.8rem;color:#555} ol.notes{font-size:.78rem;margin:.1rem 0 .5rem;padding-left:2.4rem}
 ol.notes li{margin:.05rem 0} #verdicts-all table{width:100%;table-layout:fixed}
 #verdicts-all th:nth-child(1){width:46%} #verdicts-all th:nth-child(5){width:18%} #verdicts-all th:nth-child(6){width:9%}
@@ -186,7 +186,7 @@ def _flatten(d: Any, prefix: str = "") -> list[tuple[str, str]]:
 
 def result_name(path: Path, result: Result) -> str:
     kind = result.method if isinstance(result, RandomResponse) else "time history"
-    return f"{path.name} ({kind})"
+    return kind if path.name == kind else f"{path.name} ({kind})"
 
 
 def anchor(prefix: str, name: str) -> str:

@@ -14,6 +14,7 @@ m/s^2), the same as the terminal's. Without checks: the interim screening, label
 from __future__ import annotations
 
 import html
+import math
 from typing import Sequence
 
 from ..plotting.data import channel_label
@@ -82,8 +83,8 @@ def _cells(c: CheckEntry, notes: _Notes, figure_ids: set[str], mark_worst: bool 
     if c.grade:
         verdict += f" <small>{esc(c.grade)}</small>"
     where = _where(c.channel, c.location, figure_ids) + (" <b>(worst)</b>" if mark_worst and c.decisive else "")
-    return (Raw(where), format_value(c.estimate, c.unit),
-            format_value(c.limit, c.unit), format_probability(c), Raw(verdict), Raw(",".join(marks)))
+    return (Raw(where), format_value(c.estimate, c.unit), format_value(c.limit, c.unit), _utilisation_text(c),
+            format_probability(c), Raw(verdict), Raw(",".join(marks)))
 
 
 def count_text(rows: Sequence[CheckEntry]) -> str:
@@ -95,8 +96,20 @@ def count_text(rows: Sequence[CheckEntry]) -> str:
     return ", ".join(f"{counts[w]} {w}" for w in words if counts[w]) + (f"; {n_cond} conditional" if n_cond else "")
 
 
-_HEAD = ["location", "estimate", "limit", "P(exceed) per passage", "verdict", "notes"]
-_CLASSES = ("", "num", "num", "num", "", "notes")
+_HEAD = ["location", "estimate", "limit", "est. / limit", "P(exceed) per passage", "verdict", "notes"]
+_CLASSES = ("", "num", "num", "num", "num", "", "notes")
+
+
+def utilisation(c: CheckEntry) -> float | None:
+    """|estimate| / |limit| of a row with both numbers finite and the limit not 0 (None otherwise)."""
+    if not (math.isfinite(c.estimate) and math.isfinite(c.limit)) or c.limit == 0:
+        return None
+    return abs(c.estimate) / abs(c.limit)
+
+
+def _utilisation_text(c: CheckEntry) -> str:
+    u = utilisation(c)
+    return "-" if u is None else f"{u:.2f}"
 
 #: the first screen's parts, in reading order, and the words for the shipped limit sets
 PARTS = {"bridge": "Bridge", "vehicle": "Vehicle"}
@@ -125,20 +138,56 @@ def reason_of(c: CheckEntry) -> Caveat | None:
     return model[0] if model else stat[-1] if stat else None
 
 
+def _part_verdict(rows: Sequence[CheckEntry]) -> str:
+    """The verdict of a part: EXCEEDS if a row exceeds, else UNDETERMINED, else OK if a row is OK, else NOT
+    EVALUATED; "conditional" when a row of that verdict is."""
+    for word in ("EXCEEDS", "UNDETERMINED", "OK", "NOT EVALUATED"):
+        same = [r for r in rows if r.verdict == word]
+        if same:
+            return word + (" (conditional)" if any(r.conditional for r in same) else "")
+    return rows[0].verdict if rows else ""
+
+
+def decision_html(verdicts: Verdicts, top: Sequence[CheckEntry]) -> str:
+    """One line per part of the first screen: each limit set's verdict with its largest estimate / limit
+    (the table's first row of the set shows where); the bridge's with the scope its verdict holds for (this train at this speed over the
+    random irregularities; the code's speed series and trains are ``tb-exudyn check``'s)."""
+    lines = []
+    groups = first_screen_groups(top)
+    for part in dict.fromkeys(p for p, _, _ in groups):
+        sets = []
+        for _, set_name, rows in (g for g in groups if g[0] == part):
+            words = SET_WORDS.get(set_name, set_name.replace("_", " ")) or "criteria"
+            worst = max((r for r in rows if utilisation(r) is not None), key=utilisation, default=None)
+            text = f"{esc(words)} <b>{esc(_part_verdict(rows))}</b>"
+            if worst is not None:
+                text += f" (up to {utilisation(worst):.2f} of its limit)"
+            elif rows and all(r.verdict == "NOT EVALUATED" for r in rows):
+                text += f" ({len(rows)} criteria)"
+            sets.append(text)
+        line = f"<b>{esc(PARTS[part])}</b>: " + "; ".join(sets)
+        if part == "bridge" and verdicts.method != "deterministic":
+            speed = f" at {verdicts.speed_kmh:g} km/h" if verdicts.speed_kmh else ""
+            check = f"tb-exudyn check {verdicts.bridge or 'BRIDGE'} --line-speed-kmh V"
+            line += (f"; this train{speed} over random track irregularities only (code trains and speeds, EN 1991-2: "
+                     f"<code>{esc(check)}</code>)")
+        lines.append(line)
+    return '<p class="counts" id="verdict-decision">' + "<br>".join(lines) + "</p>"
+
+
 def terms_html(verdicts: Verdicts) -> str:
     """What the target probability and the estimate are, one sentence each."""
     t = verdicts.target
     if verdicts.method == "deterministic":
         return ('<p class="terms" id="verdict-terms"><b>Estimate</b>: one deterministic run, so the estimate is the '
                 "run's own statistic (its largest value) against the limit, with no probability of exceedance.</p>")
-    why = ("one exceedance in a year of 100 train pairs a day; a choice, not a code value"
+    why = ("once a year at 100 passages a day; not a code value"
            if t is not None and abs(t - DEFAULT_TARGET_PROBABILITY) <= 1e-12 else "a choice, not a code value")
     target = (f"<b>Target probability</b>{'' if t is None else f' {t:.3g}'} per passage ({esc(why)}): a criterion "
-              "is met (OK) when the probability that its limit is exceeded at least once while the train passes, "
-              "P(exceed) per passage, is at most this.")
-    estimate = ("<b>Estimate</b>: the level exceeded with the target probability in one passage (estimate &le; limit "
-                "exactly when P(exceed) &le; target), not max |mean| + 3 sigma, which a passage exceeds far more "
-                "often; for a Sperling index, its largest window value.")
+              "is met (OK) when the probability that its limit is exceeded at least once while the train passes is "
+              "at most this.")
+    estimate = ("<b>Estimate</b>: the level exceeded with the target probability in one passage (&le; limit exactly "
+                "when OK), not max |mean| + 3 sigma; a Sperling index: its largest window value.")
     return f'<p class="terms" id="verdict-terms">{target}<br>{estimate}</p>'
 
 
@@ -198,8 +247,8 @@ def _top_table(groups: list[tuple[str, str, list[CheckEntry]]], notes: _Notes, f
                 crit = _criterion(r)
                 cells = _cells(r, notes, figure_ids, skip=reason)
                 span = f' rowspan="{same}"' if same > 1 else ""
-                why = (f'<td class="reason" colspan="4"{span}>not evaluated: {esc(reason.text)}</td>' if j == 0 else "")
-                out.append(f"<tr><td>{crit}</td>{why}{_td(cells[4], '')}{_td(cells[5], 'notes')}</tr>")
+                why = (f'<td class="reason" colspan="5"{span}>not evaluated: {esc(reason.text)}</td>' if j == 0 else "")
+                out.append(f"<tr><td>{crit}</td>{why}{_td(cells[5], '')}{_td(cells[6], 'notes')}</tr>")
             i += same
         out.append("</tbody>")
     return "".join(out) + "</table>"
@@ -213,9 +262,10 @@ def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
             f'<p class="meta">note: {esc(n)}</p>' for n in verdicts.notes]
     top = verdicts.decisive
     folded = len(top) < len(rows)  # some locations do not decide their criterion: the per-location tables
-    out = [f'<p class="counts" id="verdict-counts"><b>{len(rows)} checks of {len({r.criterion for r in rows})} '
-           f"criteria</b>: {esc(count_text(rows))}"
-           + (f" \u00b7 worst location per criterion (the table): {esc(count_text(top))}" if folded else "") + "</p>"]
+    counts = f"{len(rows)} checks of {len({r.criterion for r in rows})} criteria: {esc(count_text(rows))}"
+    # the decision lines first; the counts of every location with the folded per-location tables
+    out = [decision_html(verdicts, top)] if folded else [
+        f'<p class="counts" id="verdict-counts"><b>{counts}</b></p>', decision_html(verdicts, top)]
     notes = _Notes()
     out.append(terms_html(verdicts))
     out.append(_top_table(first_screen_groups(top), notes, figure_ids, folded))
@@ -234,7 +284,8 @@ def checks_html(verdicts: Verdicts, figure_ids: set[str]) -> list[str]:
             parts.append(f"<h4>{esc(criterion)}{clause}</h4>" + html_table(
                 f"verdicts-locations-{i + 1}", _HEAD,
                 [_cells(c, notes, figure_ids, mark_worst=True) for c in group], _CLASSES))
-        out.append(f'<details id="verdicts-all"><summary>Every location: {len(rows)} checks, by criterion</summary>'
+        out.append(f'<details id="verdicts-all"><summary id="verdict-counts">Every location: {counts}; the worst '
+                   f"location per criterion (the table): {esc(count_text(top))}</summary>"
                    + "".join(parts) + notes.html(n_top + 1, "verdict-notes-more") + "</details>")
     return out
 
@@ -271,5 +322,5 @@ def verdicts_section(verdicts: Verdicts | None, first: Result | None, k: float, 
     return "\n".join([f'<section id="verdicts"><h2>Verdicts{what}</h2>', *body, "</section>"])
 
 
-__all__ = ["CONDITIONAL", "PARTS", "SET_WORDS", "checks_html", "count_text", "first_screen_groups", "notes_fold",
-           "reason_of", "screening_html", "terms_html", "verdicts_section"]
+__all__ = ["CONDITIONAL", "PARTS", "SET_WORDS", "checks_html", "count_text", "decision_html", "first_screen_groups",
+           "notes_fold", "reason_of", "screening_html", "terms_html", "utilisation", "verdicts_section"]

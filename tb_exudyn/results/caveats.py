@@ -43,7 +43,7 @@ class ModelRequirement:
 MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
     ModelRequirement(
         ("derailment_coefficient", "wheel_unloading", "axle_force_y"), ("creep_car",),
-        "running safety needs creep-guided wheelsets; {kind}'s follow the rail",
+        "running safety needs creep-guided wheelsets; the {kind} cars hold theirs to the rail, bogie yaw undamped",
         "use creep cars (ice_motor_creep, ice_trailer_creep), e.g. scenario li_zhu_2011_creep"),
 )
 
@@ -64,28 +64,38 @@ def unmet_requirement(result: Any, quantity_name: str, channel: str) -> str | No
 
 
 # ============================================================================================ conditional or a note
-def can_turn(estimate: float, limit: float, effect: float) -> bool | None:
+def can_turn(estimate: float, limit: float, effect: float, raises_only: bool = False) -> bool | None:
     """Whether a relative change ``effect`` of the estimate (a grid error of sigma, a response still
-    growing) could carry it across the limit: |estimate| x effect >= |limit - estimate|. None when
-    either number is not finite (the caveat then keeps its own judgement)."""
+    growing) could carry it across the limit: |estimate| x effect >= |limit - estimate|. With
+    ``raises_only`` (a caveat that can only raise |estimate|, e.g. a ratio's second order) it can turn
+    only an estimate below the limit. None when either number is not finite (the caveat then keeps its
+    own judgement)."""
     if not (math.isfinite(estimate) and math.isfinite(limit) and math.isfinite(effect)):
         return None
+    if raises_only and abs(estimate) >= abs(limit):
+        return False
     return abs(estimate) * abs(effect) >= abs(limit - estimate)
 
 
-def judged(c: Caveat, effect: float | None, estimate: float, limit: float) -> Caveat:
+def judged(c: Caveat, effect: float | None, estimate: float, limit: float, raises_only: bool = False) -> Caveat:
     """A caveat whose effect on the estimate is known, made conditional only where that effect could
-    turn the verdict, with the margin it is compared with in its text."""
+    turn the verdict, with the margin it is compared with in its text (``raises_only``: the caveat can
+    only raise |estimate|, so it cannot turn an estimate already beyond the limit)."""
     if effect is None:
         return c
-    turn = can_turn(estimate, limit, effect)
+    turn = can_turn(estimate, limit, effect, raises_only)
     if turn is None:
         return c
     margin = abs(limit - estimate) / abs(estimate) if estimate else math.inf
-    tail = (f"; it moves the estimate by up to {100 * abs(effect):.2g} %, more than the {100 * margin:.2g} % "
-            "between the estimate and the limit" if turn else
-            f"; it moves the estimate by up to {100 * abs(effect):.2g} %, less than the {100 * margin:.2g} % between "
-            "the estimate and the limit: it cannot turn the verdict")
+    if raises_only and not turn and abs(estimate) >= abs(limit):
+        tail = (f"; it can only raise the estimate (by up to {100 * abs(effect):.2g} %), which is already beyond the "
+                "limit: it cannot turn the verdict")
+    elif turn:
+        tail = (f"; it moves the estimate by up to {100 * abs(effect):.2g} %, more than the {100 * margin:.2g} % "
+                "between the estimate and the limit")
+    else:
+        tail = (f"; it moves the estimate by up to {100 * abs(effect):.2g} %, less than the {100 * margin:.2g} % "
+                "between the estimate and the limit: it cannot turn the verdict")
     return Caveat(c.kind, c.text + tail, turn)
 
 

@@ -344,8 +344,9 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
         verdict = "OK" if estimate <= limit else "EXCEEDS"
         win = _channel_window(result, channel)
         if win is not None and c.window and win + 1e-9 < c.window:
-            caveats.append(Caveat("window", f"the index is over windows of {win:.3g} s (the run is shorter than the "
-                                  f"criterion's {c.window:g} s): the index depends on the window length", True))
+            cav = Caveat("window", f"the index is over windows of {win:.3g} s (the run is shorter than the "
+                         f"criterion's {c.window:g} s): the index depends on the window length", True)
+            caveats.append(judged(*_window_effect(cav, result, channel), estimate, limit))
         if isinstance(c.limit, GradedLimit):
             grade = c.limit.grade(estimate) or "beyond the last grade"
         kept = [judged(e, effect_on_estimate(c.quantity, eff), estimate, limit) for e, eff in effects] \
@@ -387,11 +388,31 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     rc = _ratio_caveat(result, channel) if quantity(c.quantity).derived and c.quantity in (
         "derailment_coefficient", "wheel_unloading") else None
     if rc is not None:
-        kept.append(judged(rc[0], rc[1], estimate, limit))
+        kept.append(judged(rc[0], rc[1], estimate, limit, raises_only=True))  # the second order only raises it
     if isinstance(c.limit, GradedLimit):
         grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
     return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
                     probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(kept))
+
+
+def _window_effect(c: Caveat, result: Any, channel: str) -> tuple[Caveat, float | None]:
+    """A Sperling index over a window shorter than the criterion's, with a bound of its effect: a
+    longer window averages the same car's acceleration power over more of a run like this one, so the
+    index (the power's 0.15 power, the acceleration's 0.3) moves by at most (max sigma^2 / mean
+    sigma^2)^0.15 - 1 of the acceleration (``car<k>.body.acc_<d>``) over the run. No bound (None) when
+    the acceleration is not in the result."""
+    m = re.match(r"(car\d+\.body)\.sperling_([yz])\Z", channel)
+    acc = f"{m.group(1)}.acc_{m.group(2)}" if m else ""
+    if acc not in result.channels:
+        return c, None
+    power = np.asarray(result.std[result.index(acc)], dtype=float) ** 2
+    mean = float(np.mean(power))
+    if not (mean > 0 and np.all(np.isfinite(power))):
+        return c, None
+    rise = math.sqrt(float(np.max(power)) / mean) - 1.0  # of sigma: effect_on_estimate's 0.3 power makes it the index's
+    text = (c.text + f"; the acceleration's power over the run peaks at {float(np.max(power)) / mean:.3g} x its mean"
+            f" (unweighted), which bounds the window's effect")
+    return Caveat(c.kind, text, c.changes_verdict), effect_on_estimate("sperling", rise)
 
 
 def _channel_window(result: Any, channel: str) -> float | None:
@@ -486,8 +507,9 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
     contact_caveats = {} if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
-             + (" (the default: the literature's 100 train pairs a day over a 1-year return period, docs/references.md "
-                "[abstract]; not a code value: the clauses give no probability)" if probability == DEFAULT_TARGET_PROBABILITY
+             + (" (the default: 1 / (365 x 100), one exceedance in a year at 100 passages a day, a target used in the "
+                "literature, docs/references.md [abstract]; not a code value: the clauses give no probability)"
+                if probability == DEFAULT_TARGET_PROBABILITY
                 else " (chosen by the caller)")]
     if getattr(result, "method", "") == "pem":
         notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "

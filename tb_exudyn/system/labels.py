@@ -21,7 +21,7 @@ _BOGIE = {"1": "leading bogie", "2": "trailing bogie"}
 
 _MOTION = re.compile(r"(disp|vel|acc)_(y|z|rx|ry|rz)")
 #: the derived channels of tb_exudyn.system.derived (what follows the station, body or axle)
-_BRIDGE_DERIVED = {"acc_z_en1990": "EN 1990 vertical acceleration (modes up to the cut-off)", "twist_3m": "deck twist over 3 m"}
+_BRIDGE_DERIVED = {"acc_z_en1990": "EN 1990 acceleration at the track", "twist_3m": "deck twist over 3 m"}
 _BODY_DERIVED = {"acc_z_wb": "Wb-weighted vertical acceleration", "acc_y_wd": "Wd-weighted lateral acceleration",
                  "sperling_z": "vertical Sperling index", "sperling_y": "lateral Sperling index"}
 _BRIDGE = re.compile(r"bridge\.(span|pier)(\d+)\.(\w+)\.(.+)")

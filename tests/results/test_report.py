@@ -171,13 +171,13 @@ def test_the_checks_slot_in(folder):
     assert [r[0] for r in table] == ["criterion", "Bridge \u00b7 1 OK", "deck vertical acceleration",
                                      "Vehicle \u00b7 1 OK, 1 EXCEEDS", "lateral axle force H", "Q/P"]
     rows = _criterion_rows(table)
-    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "0.93",
-                       "EXCEEDS", "1"]
-    assert rows[0][4] == "1e-09" and rows[2][1:4] == ["car 1, wheel 11", "0.21", "0.8"]  # a ratio: no unit
+    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "3.46",
+                       "0.93", "EXCEEDS", "1"]  # est. / limit = 170 / 49.08
+    assert rows[0][5] == "1e-09" and rows[2][1:5] == ["car 1, wheel 11", "0.21", "0.8", "0.26"]  # a ratio: no unit
     assert text.count(caveat) == 1 and '<li id="note-1">' + caveat in text and 'href="#note-1"' in text
     assert '<a href="#fig-car1.axle1.force_y">car 1, axle 1</a>' in text
     assert len(page.tables["verdicts-locations-3"]) == 1 + 12  # the Q/P locations, folded
-    assert "14 checks of 3 criteria</b>: 13 OK, 1 EXCEEDS" in text
+    assert "Every location: 14 checks of 3 criteria: 13 OK, 1 EXCEEDS" in text
     assert "not computed" not in text.split('id="warnings"')[0]
     with pytest.raises(TypeError, match="has no attribute 'criterion'"):
         render_report(found, checks=[object()])
@@ -200,7 +200,7 @@ def test_modes_slot_in(folder, report):
 def test_warnings_come_first(report):
     text = report.read_text(encoding="utf-8")
     assert text.index("damping ratio 9.8e-05") < text.index('id="figures"')
-    assert "(pem (pem))" in text
+    assert "(pem)" in text and "pem (pem)" not in text  # the warning names its result once (folder = method)
 
 
 def test_figures_sit_next_to_their_numbers(report):
@@ -462,7 +462,7 @@ def test_first_screen_shows_every_criterions_verdict(folder, tmp_path):
     rows = _criterion_rows(Page(dom).tables["verdicts-table"])
     titles = [c.title for ls in default_limits() for c in ls.criteria]
     assert len(titles) == len(table.by_criterion()) and sorted(r[0] for r in rows) == sorted(titles)
-    shown = {r[0]: r[4] for r in rows}
+    shown = {r[0]: r[5] for r in rows}  # criterion, location, estimate, limit, est. / limit, P
     for r in table.worst():  # the display rule, written out: "-" without, "< 1e-09" below 1e-9, else 3 digits
         p = r.probability
         assert shown[r.title] == ("-" if p is None else "< 1e-09" if p < 1e-9 else f"{p:.3g}"), r.title
@@ -488,7 +488,7 @@ def test_each_caveat_text_appears_once():
     assert loss and top.count(f'href="#note-{loss.group(1)}"') == len(table.by_criterion())  # on every row
     assert text.count("a caveat that could change the verdict applies to the row") == 1
     assert top.count('href="#conditional">conditional</a>') == len(table.by_criterion())
-    assert "45 checks of 15 criteria</b>: 38 OK, 7 EXCEEDS; 45 conditional" in text
+    assert "Every location: 45 checks of 15 criteria: 38 OK, 7 EXCEEDS; 45 conditional" in text
 
 
 def test_verdict_numbers_are_in_display_units():
@@ -574,7 +574,7 @@ def test_first_screen_says_what_target_and_estimate_are():
     terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
     assert text.index('id="verdict-terms"') < text.index('id="verdicts-table"')
     assert terms.count("<b>Target probability</b>") == terms.count("<b>Estimate</b>") == 1
-    assert "<b>Target probability</b> 2.74e-05 per passage (one exceedance in a year of 100 train pairs a day" in terms
+    assert "<b>Target probability</b> 2.74e-05 per passage (once a year at 100 passages a day" in terms
     assert "is met (OK) when the probability that its limit is exceeded at least once while the train passes" in terms
     assert "the level exceeded with the target probability in one passage" in terms
     assert "not max |mean| + 3 sigma" in terms
@@ -611,7 +611,7 @@ def test_not_evaluated_rows_carry_their_reason(quick_run):
     (reason,) = reasons
     assert "creep" in reason and "li_zhu_2011_creep" in reason
     top = text.split('id="verdicts-table"')[1].split("</table>")[0]
-    assert top.count(f'colspan="4" rowspan="{len(worst)}">not evaluated: {html.escape(reason)}</td>') == 1
+    assert top.count(f'colspan="5" rowspan="{len(worst)}">not evaluated: {html.escape(reason)}</td>') == 1
     rows = [r for r in _part_rows(Page(text).tables["verdicts-table"]) if r[0].startswith("Vehicle: running safety")]
     assert len(rows) == 1 and len(rows[0][1]) == len(worst)
     page_rows = [r for r in _criterion_rows(Page(text).tables["verdicts-table"]) if r[0] in {w.title for w in worst}]
@@ -676,7 +676,10 @@ def test_notes_fold_unless_one_can_change_a_verdict(quick_run):
     (_, pem), = find_results(out)
     turn = {(c.kind, c.text) for r in pem.checks().worst() for c in r.caveats if c.changes_verdict}
     fold = report.read_text(encoding="utf-8").split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
-    assert turn and fold.startswith(" open>") and f"{len(turn)} could change the verdict" in fold
+    if turn:  # (since the Sperling window's effect is bounded, none of quick's caveats can: the folded case)
+        assert fold.startswith(" open>") and f"{len(turn)} could change the verdict" in fold
+    else:
+        assert fold.startswith(">") and "none can change a verdict" in fold
     text = render_report([(Path("pem"), synthetic.pem_response())], checks=_checks_table())
     fold = text.split('<details id="verdict-notes-fold"')[1].split("</summary>")[0]
     assert fold.startswith(" open>") and "1 could change the verdict" in fold
@@ -726,11 +729,11 @@ def test_not_evaluated_without_a_channel_gives_the_statistics_reason():
                  for r in table.rows)
     text = render_report([(Path("pem"), synthetic.pem_response())], checks=ChecksTable(**{**table.__dict__, "rows": rows}))
     top = text.split('id="verdicts-table"')[1].split("</table>")[0]
-    assert top.count(f'<td class="reason" colspan="4">not evaluated: {html.escape(why.text)}</td>') == 1
+    assert top.count(f'<td class="reason" colspan="5">not evaluated: {html.escape(why.text)}</td>') == 1
     row = _row(_criterion_rows(Page(text).tables["verdicts-table"]), next(
         c.title for ls in default_limits() for c in ls.criteria if c.id == "lateral_force_en14363"))
     assert row[1].startswith("not evaluated: statistic") and row[2] == "NOT EVALUATED" and row[3]  # its notes
-    assert "0.93" in [r[4] for r in _criterion_rows(Page(text).tables["verdicts-table"]) if len(r) == 7]
+    assert "0.93" in [r[5] for r in _criterion_rows(Page(text).tables["verdicts-table"]) if len(r) == 8]
 
 
 def test_long_sections_are_folded(quick_run):
