@@ -29,7 +29,7 @@ from .results.checks import default_limits
 from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
-from .results.storage import check_writable
+from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
 from .scenario.show import run_label, scenario_table

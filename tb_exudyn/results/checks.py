@@ -16,7 +16,7 @@ What is compared, per statistic of the criterion (tb_exudyn.scenario.limits.STAT
   the first passage; Monte Carlo: the empirical quantile of the per-sample extremes).
 - ``window_max`` (Sperling): the index's largest window value against the limit (no probability: a
   windowed index is not a Gaussian process). PEM: the index of the expected energy of each window
-  (tb_exudyn.results.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
+  (tb_exudyn.system.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
   largest window value of the sample mean, and the fraction of samples whose largest window exceeds.
 - ``sliding_mean_max_abs`` (EN 14363's 2 m sliding mean) and ``rms_window``: NOT EVALUATED (no such
   channel yet).
@@ -55,7 +55,7 @@ from ..errors import ScenarioError, SettingError
 from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
 from ..scenario.registry import model_files, models_dir
 from ..scenario.schema import source_file
-from . import statistics as st
+from ..system import statistics as st
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
                       unmet_requirement)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value

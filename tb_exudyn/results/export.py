@@ -54,7 +54,7 @@ from ..files import MIB, Content, output_targets, write_output
 from ..scenario import scenario_to_toml
 from ..system.labels import channel_label
 from .random_response import OPTIONAL_ARRAYS, RandomResponse
-from .storage import json_default
+from ..storage import json_default
 from .time_history import TimeHistory
 
 Result = Union[RandomResponse, TimeHistory]

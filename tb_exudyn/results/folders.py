@@ -11,7 +11,7 @@ from ..errors import ResultsError
 from .random_response import READABLE_FORMATS as RANDOM_RESPONSE_FORMATS
 from .random_response import RandomResponse, load_random_response
 from .metadata import meta_str, open_result_folder
-from .storage import load_json
+from ..storage import load_json
 from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 

@@ -11,7 +11,7 @@ deviation of the time derivative and the correlation of the channel with its der
 pseudo-responses of both, tb_exudyn.methods.reduction) and Vanmarcke's bandwidth; a Monte Carlo
 result holds every sample's minimum and maximum of every channel over the record.
 :meth:`RandomResponse.exceedance_probability` and :meth:`RandomResponse.exceedance_level` answer from
-them (PEM: Rice's rate, tb_exudyn.results.statistics; Monte Carlo: empirically, with a Clopper-Pearson
+them (PEM: Rice's rate, tb_exudyn.system.statistics; Monte Carlo: empirically, with a Clopper-Pearson
 interval), :meth:`RandomResponse.checks` compares the channels with the code limits.
 """
 
@@ -27,12 +27,12 @@ from ..errors import ResultsError, SettingError
 from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
 from . import empirical
-from . import statistics as st
+from ..system import statistics as st
 from .base import ChannelResult, ChannelStatistics, check_k
 from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
-from .storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
+from ..storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
                       check_output_times, check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.random_response/2"
@@ -230,7 +230,7 @@ class RandomResponse(ChannelResult):
 
         PEM: Rice's non-stationary up-crossing rate from the channel's and its derivative's statistics,
         first passage by ``method`` 'poisson' (out-crossings independent: errs high, on the safe side, for
-        narrow-band responses) or 'vanmarcke' (tb_exudyn.results.statistics gives the formulas and the
+        narrow-band responses) or 'vanmarcke' (tb_exudyn.system.statistics gives the formulas and the
         measured errors). Monte Carlo: the fraction of samples that left the bounds, with its
         Clopper-Pearson interval at ``confidence`` (``method`` is ignored: 'empirical')."""
         if self.is_pem:

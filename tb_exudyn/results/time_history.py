@@ -18,7 +18,7 @@ from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
 from .base import ChannelResult
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
-from .storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
+from ..storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
                       check_values, freeze, load_json, save_result_folder)
 
 FORMAT = "tb_exudyn.time_history/1"
