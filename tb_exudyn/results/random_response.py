@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
@@ -32,39 +32,21 @@ from .base import ChannelResult, ChannelStatistics, check_k
 from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
-from ..storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
-                      check_output_times, check_values, freeze, load_json, save_result_folder)
+from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values, freeze,
+                       load_json, save_result_folder)
+from .schema import RANDOM_RESPONSE, members, optional_names, to_xarray
 
 FORMAT = "tb_exudyn.random_response/2"
 #: formats this version reads (1: before the exceedance arrays)
 READABLE_FORMATS = ("tb_exudyn.random_response/1", FORMAT)
 METHODS = ("pem", "monte_carlo", "monte_carlo_linear")
-#: the optional arrays, in file order
-OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples", "mean_rate", "std_rate",
-                   "rho", "bandwidth", "sample_min", "sample_max")
+#: the optional arrays, in file order (the schema's arrays a result may lack)
+OPTIONAL_ARRAYS = optional_names(RANDOM_RESPONSE)
 #: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
 INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
-#: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples;
-#: standard deviations, PSDs, variances, frequencies and widths are >= 0; values at most MAX_VALUE in
-#: magnitude, PSDs and variances (squares) at most MAX_SQUARE
-_V, _S = MAX_VALUE, MAX_SQUARE
-ARRAYS = {
-    "time": Member(("nt",), max_abs=_V), "mean": Member(("nc", "nt"), max_abs=_V),
-    "std": Member(("nc", "nt"), nonnegative=True, max_abs=_V),
-    "freq": Member(("nf",), nonnegative=True, max_abs=_V), "df": Member(("nf",), nonnegative=True, max_abs=_V),
-    "psd": Member(("npsd", "nf", "nt"), required=False, nonnegative=True, max_abs=_S),
-    "var_by_type": Member(("ntypes", "nc", "nt"), required=False, nonnegative=True, max_abs=_S),
-    "std_ci": Member((2, "nc", "nt"), required=False, nonnegative=True, max_abs=_V),
-    "mean_ci": Member((2, "nc", "nt"), required=False, max_abs=_V),
-    "min_wheel_force": Member(("ns",), required=False, finite=False, max_abs=_V),  # NaN: a sample without wheel forces
-    "samples": Member(("ns", "nc", "nt"), required=False, finite=False, max_abs=_V),
-    "mean_rate": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "std_rate": Member(("nc", "nt"), required=False, nonnegative=True, max_abs=_V),
-    "rho": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "bandwidth": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "sample_min": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
-    "sample_max": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
-}
+#: the members of arrays.npz, from the schema (:data:`.schema.RANDOM_RESPONSE`: dims, >= 0, finite,
+#: magnitudes); nc channels and ntypes spectra come from meta.json, ns = its n_samples
+ARRAYS = members(RANDOM_RESPONSE)
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
             "npsd": "the number of psd_channels in meta.json (or of channels)",
             "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
@@ -146,8 +128,20 @@ class RandomResponse(ChannelResult):
     sample_min: np.ndarray | None = None
     sample_max: np.ndarray | None = None
     psd_channels: tuple[str, ...] | None = None
+    #: every array this type holds, declared once (:mod:`.schema`): npz, NetCDF and checks
+    schema: ClassVar = RANDOM_RESPONSE
 
     # ---------------------------------------------------------------- access
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every array of the result by its schema name (:data:`.schema.RANDOM_RESPONSE`), those it
+        holds (an optional one that is None is left out): what ``arrays.npz`` stores."""
+        return {v.name: getattr(self, v.name) for v in self.schema if getattr(self, v.name) is not None}
+
+    def to_xarray(self) -> Any:
+        """The result as an :class:`xarray.Dataset`: every array under its schema, channel names,
+        units and labels as coordinates, provenance as attributes (:func:`.schema.to_xarray`)."""
+        return to_xarray(self)
+
     @property
     def channel_names(self) -> tuple[str, ...]:
         return tuple(self.channels)
@@ -265,11 +259,7 @@ class RandomResponse(ChannelResult):
 
         What :func:`load_random_response` would refuse is refused first, nothing written: a
         ResultsError naming the file and the key (e.g. a negative ``std`` set in Python)."""
-        arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
-        for name in OPTIONAL_ARRAYS:
-            value = getattr(self, name)
-            if value is not None:
-                arrays[name] = value
+        arrays = self.arrays()
         meta = {
             "format": FORMAT,
             "method": self.method,
@@ -355,7 +345,4 @@ def load_random_response(folder: str | Path) -> RandomResponse:
         arrays = npz.read_all()
     _check_arrays(npz.path, arrays, fields)
     freeze(arrays)
-    return RandomResponse(
-        time=arrays["time"], mean=arrays["mean"], std=arrays["std"], freq=arrays["freq"], df=arrays["df"],
-        **fields, **{name: arrays.get(name) for name in OPTIONAL_ARRAYS},
-    )
+    return RandomResponse(**fields, **{v.name: arrays.get(v.name) for v in RANDOM_RESPONSE})

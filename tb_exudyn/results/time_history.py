@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,13 +18,14 @@ from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
 from .base import ChannelResult
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
-from ..storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
-                      check_values, freeze, load_json, save_result_folder)
+from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values,
+                       freeze, load_json, save_result_folder)
+from .schema import TIME_HISTORY, members, to_xarray
 
 FORMAT = "tb_exudyn.time_history/1"
-#: the arrays of arrays.npz: nt output times (at least 2), nc channels (the channels of meta.json, at least one);
-#: values finite and at most MAX_VALUE in magnitude
-ARRAYS = {"time": Member(("nt",), max_abs=MAX_VALUE), "values": Member(("nc", "nt"), max_abs=MAX_VALUE)}
+#: the arrays of arrays.npz, from the schema (:data:`.schema.TIME_HISTORY`): nt output times (at least 2),
+#: nc channels (the channels of meta.json, at least one); values finite and at most MAX_VALUE in magnitude
+ARRAYS = members(TIME_HISTORY)
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json"}
 
 
@@ -56,6 +57,8 @@ class TimeHistory(ChannelResult):
                 raise ValueError(f"channel {name!r} has no unit")
 
     default_plot = "history"
+    #: every array this type holds, declared once (:mod:`.schema`): npz and NetCDF
+    schema: ClassVar = TIME_HISTORY
 
     # ---------------------------------------------------------------- access
     @property
@@ -83,6 +86,18 @@ class TimeHistory(ChannelResult):
         i = int(np.argmax(np.abs(values)))
         return float(values[i]), float(self.time[i])
 
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every array of the run by its schema name (:data:`.schema.TIME_HISTORY`): ``time`` and
+        ``values``, the channels' values stacked in channel order (what ``arrays.npz`` stores)."""
+        names, n = list(self.channels), np.size(self.time)
+        return {"time": np.asarray(self.time, dtype=float),
+                "values": np.array([self.channels[c] for c in names], dtype=float).reshape(len(names), n)}
+
+    def to_xarray(self) -> Any:
+        """The run as an :class:`xarray.Dataset` (:func:`.schema.to_xarray`): ``value`` over channel
+        and time, channel names, units and labels as coordinates, provenance as attributes."""
+        return to_xarray(self)
+
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
@@ -97,7 +112,6 @@ class TimeHistory(ChannelResult):
                 raise ResultsError(f"{Path(folder) / 'arrays.npz'}: array 'values': channel {name!r} has shape "
                                    f"{np.shape(self.channels[name])}, not ({n},) as 'time' (allowed: one value per "
                                    "output time) [not saved: the folder would not load]")
-        values = np.array([self.channels[n] for n in names], dtype=float).reshape(len(names), n)
         meta = {
             "format": FORMAT,
             "channels": names,
@@ -105,8 +119,7 @@ class TimeHistory(ChannelResult):
             "provenance": self.provenance,
             "scenario_toml": None if self.scenario is None else scenario_to_toml(self.scenario),
         }
-        return save_result_folder(folder, {"time": np.asarray(self.time, dtype=float), "values": values}, meta,
-                                  check=check_folder)
+        return save_result_folder(folder, self.arrays(), meta, check=check_folder)
 
 
 def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
