@@ -52,7 +52,7 @@ from ..plotting import data as pdata
 from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
-from ..results.checks import checks as run_checks, default_limits
+from ..results.checks import default_limits
 from ..scenario.show import run_label
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
 from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, Verdicts, as_check_entries,
@@ -100,7 +100,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
         first = _first_random(found)
         limits = default_limits() if first is not None else None  # a broken limit file: its error, not "not computed"
         try:
-            checks = run_checks(first, limits) if first is not None else None
+            checks = first.checks(limits) if first is not None else None
         except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
             report_warnings.append(f"code checks not computed: {exc}")
     verdicts = verdicts_of(checks)

@@ -17,6 +17,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from ..errors import SettingError
+from .checks import cached_checks
 
 #: kind of figure -> the plotting function drawing it for one channel
 PLOTS = {"bounds": "plot_bounds", "psd_map": "plot_psd_map", "psd_slices": "plot_psd_slices",
@@ -73,6 +74,13 @@ class ChannelResult:
         """Channel names matching glob pattern(s), in stored order."""
         pats = [patterns] if isinstance(patterns, str) else list(patterns)
         return [c for c in self.channel_names if any(fnmatch.fnmatchcase(c, p) for p in pats)]
+
+    def checks(self, limits: Any = None, **options: Any) -> Any:
+        """The code checks of this result, a :class:`~tb_exudyn.results.checks_table.ChecksTable`
+        (:func:`tb_exudyn.results.checks.checks` for ``limits`` and the options: probability,
+        method, confidence), computed once per result and arguments and cached
+        (:func:`~tb_exudyn.results.checks.cached_checks`)."""
+        return cached_checks(self, limits, **options)
 
     def plot(self, channel: str, kind: str | None = None, **options: Any) -> Any:
         """A figure of one channel (a :class:`matplotlib.figure.Figure`): ``kind`` "bounds" (mean

@@ -12,7 +12,7 @@ pseudo-responses of both, tb_exudyn.methods.reduction) and Vanmarcke's bandwidth
 result holds every sample's minimum and maximum of every channel over the record.
 :meth:`RandomResponse.exceedance_probability` and :meth:`RandomResponse.exceedance_level` answer from
 them (PEM: Rice's rate, tb_exudyn.system.statistics; Monte Carlo: empirically, with a Clopper-Pearson
-interval), :meth:`RandomResponse.checks` compares the channels with the code limits.
+interval), :meth:`RandomResponse.checks` (:class:`.base.ChannelResult`) compares the channels with the code limits.
 """
 
 from __future__ import annotations
@@ -29,7 +29,6 @@ from ..system.channels import is_channel_name
 from . import empirical
 from ..system import statistics as st
 from .base import ChannelResult, ChannelStatistics, check_k
-from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
 from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values, freeze,
@@ -246,11 +245,6 @@ class RandomResponse(ChannelResult):
         lo, hi, span = self._extremes(channel, "RandomResponse.exceedance_level", window)
         return empirical.empirical_level_from_extremes(lo, hi, span, probability, kind=kind, confidence=confidence,  # type: ignore[arg-type]
                                                 channel=channel)
-
-    def checks(self, limits: Any = None, **options: Any) -> Any:
-        """The code checks of this result: a :class:`~tb_exudyn.results.checks.ChecksTable` (see
-        :func:`tb_exudyn.results.checks.checks` for ``limits`` and the options)."""
-        return _checks(self, limits, **options)
 
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
