@@ -35,7 +35,10 @@ each), the vehicle's figure groups and a long modes table are folded (the refere
 about 11 screens at 1400 px, 36 before). Values are shown in engineering units (:func:`tb_exudyn.plotting.data.display_unit`).
 When the checks cannot be computed, the verdict section shows a screening of max |mean| + 3 sigma
 against the limits of :func:`code_limit` (all [check]), clearly labelled as not being a verdict.
-matplotlib is imported only when figures are drawn (through :mod:`tb_exudyn.plotting`).
+Importing this package imports matplotlib (:mod:`tb_exudyn.plotting.files`, whose figures the page
+embeds): the command line loads it only for the commands that draw figures or write a page, and
+reading results (:mod:`tb_exudyn.results`) never imports it. The checks are the result's own cached
+table (``result.checks()``), the one the terminal's verdict lines read.
 """
 
 from __future__ import annotations
