@@ -17,7 +17,7 @@ Read top-down, like the report of one run:
 - the warnings: each distinct message once, with the speeds it was raised at;
 - the base scenario.
 
-The sweep is taken as a :class:`tb_exudyn.methods.sweep.SweepResult` (its rows, summaries,
+The sweep is taken as a :class:`tb_exudyn.results.sweep.SweepResult` (its rows, summaries,
 quantities, resonances, base scenario and provenance); no module of :mod:`tb_exudyn.methods` is
 imported. Every piece of text is escaped; the figure is embedded as base64 PNG.
 """
