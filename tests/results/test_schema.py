@@ -127,3 +127,21 @@ def test_the_npz_folder_holds_every_array(tmp_path, which):
         assert np.array_equal(got[key], a, equal_nan=True), key
     with np.load(tmp_path / "r" / "arrays.npz") as npz:
         assert set(npz.files) <= set(members(type(r).schema)) and set(npz.files) == set(r.arrays())
+
+
+def test_a_channel_subset_slices_every_array_over_channels():
+    """plotting.data.channel_subset (what a figure worker receives): every array with a channel dim
+    has the chosen rows, in the chosen order (found from the fields: an array left unsliced keeps the
+    full channel count and fails here); the kept PSD rows follow."""
+    from tb_exudyn.plotting import data
+
+    r = _full_pem()
+    chosen = [r.channels[3], r.channels[1]]
+    sub = data.channel_subset(r, chosen)
+    rows = [r.index(c) for c in chosen]
+    schema = _schema_of(RandomResponse)
+    for name, a in _held(r).items():
+        if "channel" in schema[name].dims:
+            axis = schema[name].dims.index("channel")
+            assert np.array_equal(getattr(sub, name), np.take(a, rows, axis=axis)), name
+    assert sub.psd_channels == tuple(chosen) and np.array_equal(sub.psd, r.psd[[1, 0]])
