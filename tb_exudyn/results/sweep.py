@@ -113,9 +113,8 @@ class SweepResult:
         return sweep_rows(self)
 
     def criteria(self) -> list[str]:
-        """The code criteria of the table, in the order first met (those of any speed)."""
-        return list(dict.fromkeys(k[: -len(_CRITERION_SUFFIX)] for s in self.summaries
-                                  for k in json.loads(str(s["checks"])) if k.endswith(_CRITERION_SUFFIX)))
+        """The code criteria of the table, in the order first met (those of any speed): :func:`criteria_of`."""
+        return criteria_of(self.rows())
 
     def to_xarray(self) -> Any:
         """The table as an :class:`xarray.Dataset` over ``speed``, ``quantity`` and ``criterion``
@@ -168,6 +167,12 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
         row["seconds"] = float(s["seconds"])
         rows.append(row)
     return rows
+
+
+def criteria_of(rows: Sequence[dict[str, Any]]) -> list[str]:
+    """The code criteria of a table's check columns (``<criterion>_utilisation``, the first criterion
+    variable of :data:`SWEEP_SCHEMA`), in the order they first appear."""
+    return list(dict.fromkeys(k[: -len(_CRITERION_SUFFIX)] for row in rows for k in row if k.endswith(_CRITERION_SUFFIX)))
 
 
 def _column(values: list[Any]) -> np.ndarray:
@@ -284,5 +289,5 @@ def write_sweep(result: SweepResult, folder: str | Path) -> Path:
     return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
 
 
-__all__ = ["SWEEP_SCHEMA", "SWEEP_TABLE", "Resonance", "SweepResult", "grouped_warnings", "speeds_text", "sweep_dataset",
+__all__ = ["SWEEP_SCHEMA", "SWEEP_TABLE", "Resonance", "SweepResult", "criteria_of", "grouped_warnings", "speeds_text", "sweep_dataset",
            "sweep_rows", "write_sweep"]
