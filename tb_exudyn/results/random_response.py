@@ -4,7 +4,7 @@ Mean (the deterministic response to gravity), standard deviation sigma(t), and f
 time-dependent one-sided PSD S(f, t) per Hz on the analysed band, with
 sigma^2(t) = sum_k S(f_k, t) df_k. For Monte Carlo: sample mean and standard deviation with their
 confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder, written whole or not at
-all and read defensively (:mod:`.storage`).
+all and read defensively (:mod:`tb_exudyn.storage`).
 
 Exceedance (format 2): a PEM result also holds, per channel and time, the mean's rate, the standard
 deviation of the time derivative and the correlation of the channel with its derivative (from the
@@ -249,7 +249,7 @@ class RandomResponse(ChannelResult):
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+        (an older result there is replaced; see :func:`tb_exudyn.storage.save_result_folder`).
 
         What :func:`load_random_response` would refuse is refused first, nothing written: a
         ResultsError naming the file and the key (e.g. a negative ``std`` set in Python)."""
@@ -324,7 +324,7 @@ def load_random_response(folder: str | Path) -> RandomResponse:
     """Read a RandomResponse written by :meth:`RandomResponse.save`, checking everything before use.
 
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
-    folder: see :mod:`.storage`; channel names must follow the naming rule, the arrays' shapes match
+    folder: see :mod:`tb_exudyn.storage`; channel names must follow the naming rule, the arrays' shapes match
     the channels, types and n_samples of meta.json and each other (:data:`ARRAYS`), checked before
     any array is read; time increasing and values finite; standard deviations, PSDs, variances,
     frequencies and widths >= 0; the band 0 <= f_low < f_high <= :func:`band_limit` of the result's

@@ -2,7 +2,7 @@
 
 Saved as a folder holding ``arrays.npz`` (time and a (n_channels, n_t) value matrix, never
 unpickled) and ``meta.json`` (channel names and units, provenance, the scenario as TOML), the folder
-written whole or not at all and read defensively (:mod:`.storage`).
+written whole or not at all and read defensively (:mod:`tb_exudyn.storage`).
 """
 
 from __future__ import annotations
@@ -101,7 +101,7 @@ class TimeHistory(ChannelResult):
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+        (an older result there is replaced; see :func:`tb_exudyn.storage.save_result_folder`).
 
         What :func:`load_time_history` would refuse is refused first, nothing written: a ResultsError
         naming the file and the key (e.g. a NaN set in Python, a channel of another length)."""
@@ -148,7 +148,7 @@ def load_time_history(folder: str | Path) -> TimeHistory:
     """Read a TimeHistory written by :meth:`TimeHistory.save`, checking everything before use.
 
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
-    folder: see :mod:`.storage`; channel names must follow the naming rule and be all different,
+    folder: see :mod:`tb_exudyn.storage`; channel names must follow the naming rule and be all different,
     one unit per channel, the arrays' shapes must match the channels and each other, values finite;
     the provenance fields the code reads of the types it writes (:data:`.metadata.PROVENANCE_FIELDS`).
     The arrays are read-only.
