@@ -1,15 +1,16 @@
 """The one labelled schema of every result: each array a result holds, declared once.
 
 A :class:`Variable` says of one array its name (the result's attribute and the npz member), its
-dims (``channel``, ``time``, ``frequency``, ``sample``, ``type``, ``bound``, ``psd_channel``,
-``speed``), its unit (fixed, e.g. "s", or per channel: the ``unit`` coordinate), what it is, and
-what its stored values must be (finite, >= 0, largest magnitude). The tuple of a result type
+dims (``channel``, ``time``, ``frequency``, ``sample``, ``type``, ``bound``, ``psd_channel``; a
+sweep's ``speed``, ``quantity``, ``criterion``: :data:`tb_exudyn.results.sweep.SWEEP_SCHEMA`), its
+unit (fixed, e.g. "s", or per channel: the ``unit`` coordinate), what it is, and what its stored
+values must be (finite, >= 0, largest magnitude). The tuple of a result type
 (:data:`RANDOM_RESPONSE`, :data:`TIME_HISTORY`) drives
 
 - its npz members and their load-time checks (:func:`members`: :class:`tb_exudyn.storage.Member`
   per array, dims as the size names ``nt``, ``nc``, ... of the files);
 - its labelled form (:func:`to_xarray`, ``result.to_xarray()``, the NetCDF export): every array of
-  :meth:`arrays` becomes a variable or coordinate with its dims, the channel names, units and
+  ``result.arrays()`` becomes a variable or coordinate with its dims, the channel names, units and
   readable labels are coordinates, the band, method, sample count, provenance (JSON text) and
   scenario (TOML text) attributes. So an array added to a result type and its schema is stored,
   loaded and exported alike; an array added to the type alone is refused by the test of the schema
@@ -49,7 +50,8 @@ class Variable:
     units: a fixed SI unit, or units_coordinate: the coordinate holding each channel's unit;
     coordinate: the array is the coordinate of ``label`` (``time``, ``frequency``);
     label: its name in the labelled dataset (default: ``name``); required, finite, nonnegative,
-    max_abs: what a stored array must be (:class:`tb_exudyn.storage.Member`)."""
+    max_abs: what a stored array must be (:class:`tb_exudyn.storage.Member`; a sweep's variables, over
+    ``speed``, ``quantity`` and ``criterion``, are CSV columns and have no npz member)."""
 
     name: str
     dims: tuple[str, ...]
