@@ -11,6 +11,7 @@ from ._version import __version__
 from .errors import TbExudynError, UserError
 from .execution import Execution
 from .results import RandomResponse, TimeHistory, load_results
+from .results.base import set_figure_loader
 from .results.compare import compare
 from .scenario import (
     Scenario,
@@ -31,6 +32,16 @@ _LAZY = {
     "simulate": "tb_exudyn.methods",
     "BatchedOptions": "tb_exudyn.methods",
 }
+
+
+def _plotting():
+    """The plotting package (matplotlib): what ``result.plot`` draws with, loaded on the first figure."""
+    import importlib
+
+    return importlib.import_module("tb_exudyn.plotting")
+
+
+set_figure_loader(_plotting)
 
 
 def __getattr__(name: str):

@@ -29,7 +29,7 @@ from .results.checks import default_limits
 from .results.compare import compare_folders
 from .results.export import FORMATS as EXPORT_FORMATS
 from .results.export import export
-from .results.storage import check_writable
+from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
 from .scenario.show import run_label, scenario_table
@@ -157,7 +157,8 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         print(cli_text.short_summary(result, table))
     if not args.no_figures:
         reporting = _figures()
-        found = find_results(out)
+        folder = {"pem": "pem", "monte_carlo": "mc", "monte_carlo_linear": "mc_linear"}.get(getattr(result, "method", ""), "det")
+        found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
         report = reporting.write_report(out, found=found)
         print(f"{len(figures)} figures and the report: {report}")

@@ -61,7 +61,7 @@ def verdict_lines(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
     at how many speeds it EXCEEDS and its largest utilisation with the speed, or why it was not
     evaluated; one line each, at most ``width`` characters."""
     rows = result.rows()
-    criteria = list(dict.fromkeys(k[: -len("_utilisation")] for r in rows for k in r if k.endswith("_utilisation")))
+    criteria = result.criteria()
     if not criteria:
         return ["code checks: none applies to the key quantities of this sweep"]
     n = f"{len(rows)} speed{'s' if len(rows) != 1 else ''}"

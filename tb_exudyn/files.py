@@ -131,7 +131,7 @@ def read_text(path: str | Path, *, max_bytes: int, follow_symlinks: bool = True)
 
 
 # ============================================================================================ writing
-#: the entries by which a result folder (tb_exudyn.results.storage.RESULT_FILES) and a checkpoint
+#: the entries by which a result folder (tb_exudyn.storage.RESULT_FILES) and a checkpoint
 #: folder (tb_exudyn.execution.checkpoint) are recognised; such folders own everything inside them
 RESULT_FOLDER_FILES = ("arrays.npz", "meta.json")
 CHECKPOINT_FOLDER_FILES = ("manifest.json", "tasks")

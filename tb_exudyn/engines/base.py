@@ -27,8 +27,8 @@ import numpy as np
 from ..builder import build_model, linear_system
 from ..scenario.model import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
-from ..results.derived_values import derived_values
-from ..results.storage import json_default
+from ..system.derived_values import derived_values
+from ..storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
 from ..system.conventions import scenario_steps
 from ..system.linear import LINEARIZATIONS
@@ -139,7 +139,7 @@ class Engine(ABC):
     def linear_mean_arrays(self, outputs: np.ndarray, provenance: dict[str, Any], start: float) -> dict[str, np.ndarray]:
         """The arrays of :meth:`mean` from a linear engine's own mean run: ``outputs`` every engine
         output (``outputs.names`` order, (n_outputs, n_t)); the selected channels, then the derived
-        channels evaluated on them as on Exudyn's run (:func:`~tb_exudyn.results.derived_values.derived_values`),
+        channels evaluated on them as on Exudyn's run (:func:`~tb_exudyn.system.derived_values.derived_values`),
         the vertical wheel forces (in the model's channel order, as :meth:`mean` gives them); cached
         as :meth:`mean`'s."""
         model, om = self.model, self.outputs

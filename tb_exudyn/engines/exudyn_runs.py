@@ -38,7 +38,7 @@ from .._version import __version__
 from ..builder.model import TrainBridgeModel
 from ..errors import SettingError, SimulationIncomplete
 from ..execution.threads import single_threaded_blas
-from ..results.derived_values import derived_values
+from ..system.derived_values import derived_values
 from ..results.time_history import TimeHistory
 from ..system.channels import Recording, evaluate
 from ..system.conventions import run_steps
@@ -197,7 +197,7 @@ def versions() -> dict[str, str]:
 
 def model_values(model: TrainBridgeModel, rec: Any) -> tuple[dict[str, np.ndarray], dict[str, str]]:
     """(values, units) of the model's selected channels, then its selected derived channels
-    (:mod:`tb_exudyn.system.derived`; real time histories: :mod:`tb_exudyn.results.derived_values`), from
+    (:mod:`tb_exudyn.system.derived`; real time histories: :mod:`tb_exudyn.system.derived_values`), from
     a recording of a run."""
     outputs = model.output_channels()
     raw = evaluate(outputs, rec, model.output_shapes)

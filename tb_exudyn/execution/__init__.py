@@ -20,7 +20,7 @@ from typing import Any, Callable, Iterator, Mapping, Sequence
 import numpy as np
 
 from ..errors import SettingError
-from ..results.storage import check_writable
+from ..storage import check_writable
 from .checkpoint import Checkpoint, fingerprint
 from .lock import folder_lock
 from .notices import RunNotice, notice

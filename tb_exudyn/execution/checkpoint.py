@@ -40,7 +40,7 @@ import numpy as np
 from ..atomic import write_atomic
 from ..errors import CheckpointError
 from ..files import FileRefused, open_regular
-from ..results.storage import check_writable, save_json_atomic
+from ..storage import check_writable, save_json_atomic
 from .notices import notice
 
 #: the format of a task file (its ``__checkpoint__.json``) and of the manifest

@@ -137,7 +137,7 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
 def removed_if_left_empty(folder: str | Path) -> Iterator[None]:
     """On an exception in the block, remove ``folder`` and the parents of it that did not exist when the
     block began, as far as they are left unused: a command refused (or interrupted) after its output
-    folder was created (e.g. by :func:`tb_exudyn.results.storage.check_writable`) leaves no new empty
+    folder was created (e.g. by :func:`tb_exudyn.storage.check_writable`) leaves no new empty
     folder. After a refusal (a :class:`~tb_exudyn.errors.UserError`) a new folder that holds only
     checkpoints without a finished task (``manifest.json`` beside an empty ``tasks/``: a run refused
     when its tasks were set up, e.g. by the memory estimate) is unused too, and so is such a checkpoint

@@ -24,7 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from ..results.comfort import sperling_power_weights, weighting_response
+from ..system.comfort import sperling_power_weights, weighting_response
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]

@@ -21,7 +21,7 @@ columns k; sums over columns are over frequencies and irregularity types):
 - the time derivative z'_k of every result row and ratio part, for the Rice rate: the recorded
   derivative where the model records one (a ``disp`` channel: the ``vel`` channel of the same
   coordinate; a ``vel`` channel: its ``acc``; a twist: the same combination of the rails' velocities:
-  exact), otherwise :func:`tb_exudyn.results.statistics.pseudo_derivative` done incrementally
+  exact), otherwise :func:`tb_exudyn.system.statistics.pseudo_derivative` done incrementally
   (accelerations, forces, weighted and truncated-mode channels): demodulated by exp(-i 2 pi f_k t),
   differenced to second order, modulated back. That is exact for the forced part of z_k at f_k and
   errs by about (2 pi (nu - f_k) dt)^2 / 6 on a part oscillating at another frequency nu (free
@@ -39,7 +39,7 @@ is known (the mean task is reduced first).
 
 Monte Carlo (:class:`SampleReduction`, on the real samples): linear rows directly; weighted rows and
 Sperling inputs stored over the task's times and filtered in time at the end
-(:func:`tb_exudyn.results.comfort.apply_weighting`: EN 12299 filters from rest) or turned into
+(:func:`tb_exudyn.system.comfort.apply_weighting`: EN 12299 filters from rest) or turned into
 Sperling indices per window (each sample's periodogram); ratios exactly, sample by sample, on the
 totals (the deterministic mean plus the sample's response). Every channel's per-sample minimum and
 maximum over the record are kept (:func:`tb_exudyn.results.empirical.sample_extremes`: what the
@@ -58,10 +58,10 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
-from ..results.comfort import apply_weighting, sperling_index, sperling_power_weights, sperling_window_energy, \
+from ..system.comfort import apply_weighting, sperling_index, sperling_power_weights, sperling_window_energy, \
     weighting_response
-from ..results.derived_values import window_series
-from ..results.statistics import bandwidth_from_moments
+from ..system.derived_values import window_series
+from ..system.statistics import bandwidth_from_moments
 from ..system.derived import DerivedChannel, derivative_name
 from .pseudo_reduction import PSD_TRANSPORT, PseudoReduction
 

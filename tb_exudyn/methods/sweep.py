@@ -49,11 +49,9 @@ EN 1991-2 (6.4.6.2) analyses a series of speeds up to 1.2 x the maximum line spe
 from __future__ import annotations
 
 import fnmatch
-import importlib
 import itertools
 import json
 import math
-import re
 import time as _time
 import typing
 import warnings
@@ -70,8 +68,8 @@ from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
 from ..execution.resources import MAX_STEPS, check_run_length
 from ..results.checks import default_limits, grid_error_of
-from ..results.export import write_table_csv
 from ..results.random_response import RandomResponse
+from ..results.sweep import SWEEP_TABLE, Resonance, SweepResult, grouped_warnings, write_sweep
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.model import KMH, Analysis
 from ..scenario.speed_rule import RULE, at_speed, capped
@@ -99,8 +97,6 @@ KEY_QUANTITIES: tuple[tuple[str, str, str], ...] = (
 K_SIGMA = 3.0
 #: the grid spacings a sweep may ask for: those of ``Analysis.freq_spacing`` (read from the schema)
 FREQ_SPACINGS: tuple[str, ...] = typing.get_args(typing.get_type_hints(Analysis)["freq_spacing"])
-#: the sweep's table in its output folder
-SWEEP_TABLE = "speed_sweep.csv"
 
 
 # ------------------------------------------------------------------------------------- scenario
@@ -185,19 +181,6 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
 
 
 # ------------------------------------------------------------------------------------- resonances
-@dataclass(frozen=True)
-class Resonance:
-    """A resonance speed v = f_n d / i: the loads spaced d apart passing a bridge mode of frequency
-    f_n every i-th period."""
-
-    direction: str
-    frequency: float  # [Hz]
-    distance_name: str  # "car length" or "bogie spacing"
-    distance: float  # [m]
-    order: int
-    speed_kmh: float
-
-
 def train_distances(scenario: Scenario) -> dict[str, float]:
     """The train's characteristic load spacings [m]: the (first) car length and bogie spacing."""
     out = {}
@@ -315,69 +298,6 @@ def check_columns(result: RandomResponse) -> dict[str, Any]:
     return out
 
 
-@dataclass(frozen=True)
-class SweepResult:
-    """A speed sweep: per speed the summary of its PEM (:func:`speed_summary`), the key
-    quantities, the resonance speeds and the base scenario."""
-
-    base: Scenario
-    speeds: tuple[float, ...]
-    summaries: tuple[dict[str, np.ndarray], ...]
-    quantities: tuple[tuple[str, str, str], ...]
-    resonances: tuple[Resonance, ...]
-    provenance: dict[str, Any] = field(default_factory=dict)
-
-    def rows(self) -> list[dict[str, Any]]:
-        return sweep_rows(self)
-
-    def quantity_text(self, key: str) -> str:
-        """What key quantity ``key`` is, without the SI unit its description ends with (figures and
-        the report show it in display units)."""
-        what = next(q[2] for q in self.quantities if q[0] == key)
-        return re.sub(r" *\[[^]]*\]$", "", what)
-
-    def quantity_unit(self, key: str) -> str:
-        """The SI unit of key quantity ``key``'s channels ("" when no speed has one)."""
-        pattern = next(q[1] for q in self.quantities if q[0] == key)
-        for s in self.summaries:
-            for name, unit in zip(s["channels"], s["units"]):
-                if fnmatch.fnmatchcase(str(name), pattern):
-                    return str(unit)
-        return ""
-
-    def plot(self, **options: Any) -> Any:
-        """The sweep's figure (:func:`tb_exudyn.plotting.plot_speed_sweep`, a matplotlib Figure)."""
-        return importlib.import_module("tb_exudyn.plotting").plot_speed_sweep(self, **options)  # matplotlib on first use
-
-
-def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
-    """The table: one row per speed (its band, number of frequencies and approach, from the speed
-    rule); per key quantity the largest |mean|, sigma and |mean| + 3
-    sigma over its channels and time, the channel of the largest |mean| + 3 sigma and the largest
-    estimated grid error of its channels (:func:`grid_errors`; NaN: not estimated); the number of
-    channels whose grid error exceeds GRID_ERROR_TOLERANCE; then the check hook's columns."""
-    rows = []
-    for v, s in zip(result.speeds, result.summaries):
-        names = list(s["channels"])
-        row: dict[str, Any] = {"speed_kmh": v, "f_min_hz": float(s["band"][0]), "f_max_hz": float(s["band"][1]),
-                               "n_freq": int(s["n_freq"]), "lead_in_m": float(np.asarray(s.get("lead_in", math.nan)))}
-        for key, pattern, _ in result.quantities:
-            idx = [i for i, n in enumerate(names) if fnmatch.fnmatchcase(n, pattern)]
-            j = idx[int(np.argmax(s["max_design"][idx]))]
-            row[f"{key}_max_abs_mean"] = float(s["max_abs_mean"][idx].max())
-            row[f"{key}_max_sigma"] = float(s["max_sigma"][idx].max())
-            row[f"{key}_max_abs_mean_plus_3sigma"] = float(s["max_design"][j])
-            row[f"{key}_channel"] = names[j]
-            row[f"{key}_grid_error"] = float(np.max(s["grid_error"][idx]))
-        ge = np.asarray(s["grid_error"], dtype=float)
-        row["channels_grid_error_over_tolerance"] = float("nan") if np.all(np.isnan(ge)) else \
-            int(np.sum(ge > GRID_ERROR_TOLERANCE))
-        row.update(json.loads(str(s["checks"])))
-        row["seconds"] = float(s["seconds"])
-        rows.append(row)
-    return rows
-
-
 def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str = "batched",
                 channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
                 freq_spacing: str | None = None) -> tuple[float, ...]:
@@ -478,80 +398,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     return result
 
 
-def speeds_text(speeds: Sequence[float], among: Sequence[float]) -> str:
-    """``speeds`` (a subset of the sweep's ``among``) in few words: "every speed (160-350 km/h)",
-    "160-200, 250 km/h" (runs of neighbours in the sweep's order as first-last)."""
-    if len(among) > 1 and set(speeds) == set(among):
-        return f"every speed ({speed_label(min(among))}-{speed_label(max(among))} km/h)"
-    index = {v: i for i, v in enumerate(among)}
-    order = sorted(set(speeds), key=lambda v: index.get(v, len(among)))
-    runs: list[list[float]] = []
-    for v in order:
-        if runs and index.get(v) is not None and index.get(runs[-1][-1]) == index[v] - 1:
-            runs[-1].append(v)
-        else:
-            runs.append([v])
-    return ", ".join(speed_label(r[0]) if len(r) == 1 else f"{speed_label(r[0])}-{speed_label(r[-1])}"
-                     for r in runs) + " km/h"
-
-
-def _category(name: str) -> type[Warning]:
-    """The warning class of a speed's warning ("module:qualname"; UserWarning when it cannot be found)."""
-    module, _, qualname = name.partition(":")
-    try:
-        obj: Any = importlib.import_module(module)
-        for part in qualname.split("."):
-            obj = getattr(obj, part)
-    except (ImportError, AttributeError, ValueError):
-        return UserWarning
-    return obj if isinstance(obj, type) and issubclass(obj, Warning) else UserWarning
-
-
-def _kind_words(category: type[Warning]) -> str:
-    """'LightlyDampedModeWarning' -> 'lightly damped mode'; UserWarning -> 'note'."""
-    words = re.sub(r"(?<!^)(?=[A-Z])", " ", category.__name__.removesuffix("Warning")).lower().strip()
-    return words if words and category is not UserWarning else "note"
-
-
-def grouped_warnings(result: SweepResult) -> list[tuple[type[Warning], str]]:
-    """The sweep's warnings once per kind (the warning's class; a note on a scenario key: that key), in
-    the order first raised: (class,
-    "<kind> at <speeds>[, N messages]: <the first message, as raised at the first speed>"); a band cut
-    at 0.1 / time_step by the speed rule is one more ("speed rule at ..."). Each speed's messages in
-    full are in its summary (``warnings``) and on the sweep's page."""
-    kinds: dict[str, tuple[list[float], list[str]]] = {}
-    for v, s in zip(result.speeds, result.summaries):
-        messages = [str(m) for m in s.get("warnings", ())]
-        names = [str(k) for k in s.get("warning_kinds", ())] or ["builtins:UserWarning"] * len(messages)
-        for message, kind in zip(messages, names):
-            text = re.sub(r" \(at [0-9.e+-]+ km/h\)$", "", message)
-            key = re.match(r"((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) ", text)  # a note on one key: its kind
-            speeds, texts = kinds.setdefault(kind + (f"|{key.group(1)}" if key else ""), ([], []))
-            if v not in speeds:
-                speeds.append(v)
-            if text not in texts:
-                texts.append(text)
-    out = []
-    cut = result.provenance.get("band_capped_kmh") or []
-    if cut:
-        an = result.base.analysis
-        out.append((UserWarning, f"speed rule at {speeds_text(cut, result.speeds)}: the band is capped at "
-                    f"{0.1 / an.time_step:g} Hz (0.1 / analysis.time_step), so the scenario's shortest wavelengths "
-                    f"are left out there (the grid table of the report)"))
-    for kind, (speeds, texts) in kinds.items():
-        category = _category(kind.partition("|")[0])
-        more = f", {len(texts)} messages" if len(texts) > 1 else ""
-        out.append((category, f"{_kind_words(category)} at {speeds_text(speeds, result.speeds)}{more}: {texts[0]}"))
-    return out
-
-
-def write_sweep(result: SweepResult, folder: str | Path) -> Path:
-    """The table as ``folder/speed_sweep.csv`` (the figure: :func:`tb_exudyn.plotting.plot_speed_sweep`)."""
-    return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
-
-
-__all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK", "SWEEP_TABLE",
-           "Resonance", "SpeedTask", "SweepResult", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
-           "grid_errors", "grouped_warnings", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_summary", "speeds_text", "with_least_count", "sweep_rows", "sweep_scenario", "train_distances",
-           "write_sweep"]
+__all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
+           "SpeedTask", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
+           "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
+           "speed_label", "speed_range", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]

@@ -187,11 +187,9 @@ def channel_subset(result: Result, channels: Sequence[str]) -> Result:
     psd = None
     if result.psd is not None and all(has_psd(result, c) for c in channels):
         psd = np.take(result.psd, [psd_row(result, c) for c in channels], axis=0)
-    out = replace(
-        result, channels=tuple(channels), units=tuple(result.units[i] for i in rows), mean=cut(result.mean, 0),
-        std=cut(result.std, 0), psd=psd, var_by_type=cut(result.var_by_type, 1),
-        std_ci=cut(result.std_ci, 1), mean_ci=cut(result.mean_ci, 1), samples=cut(result.samples, 1),
-    )
+    by_channel = {v.name: cut(getattr(result, v.name), v.dims.index("channel"))  # every array over channels (schema)
+                  for v in result.schema if "channel" in v.dims}
+    out = replace(result, channels=tuple(channels), units=tuple(result.units[i] for i in rows), psd=psd, **by_channel)
     if getattr(out, "psd_channels", None) is not None:
         out = replace(out, psd_channels=None if psd is None else tuple(channels))
     return out

@@ -270,7 +270,7 @@ def plot_time_history(th: TimeHistory, channels: str | Sequence[str], *, fig: Fi
 __all__ = ["mark_crossing", "plot_bounds", "plot_pem_vs_mc", "plot_psd_map", "plot_psd_slices", "plot_time_history"]
 
 
-def plot_speed_sweep(sweep, *, fig: Figure | None = None, grid_tolerance: float = GRID_ERROR_TOLERANCE) -> Figure:  # noqa: ANN001 - a methods.sweep.SweepResult
+def plot_speed_sweep(sweep, *, fig: Figure | None = None, grid_tolerance: float = GRID_ERROR_TOLERANCE) -> Figure:  # noqa: ANN001 - a results.sweep.SweepResult
     """Each key quantity of a speed sweep against speed, in display units: the largest |mean| + 3
     sigma, sigma and |mean| over its channels and time, with the resonance speeds v = f_n d / i of
     the bridge's first modes marked (solid: d the car length, dotted: the bogie spacing; gid

@@ -35,7 +35,10 @@ each), the vehicle's figure groups and a long modes table are folded (the refere
 about 11 screens at 1400 px, 36 before). Values are shown in engineering units (:func:`tb_exudyn.plotting.data.display_unit`).
 When the checks cannot be computed, the verdict section shows a screening of max |mean| + 3 sigma
 against the limits of :func:`code_limit` (all [check]), clearly labelled as not being a verdict.
-matplotlib is imported only when figures are drawn (through :mod:`tb_exudyn.plotting`).
+Importing this package imports matplotlib (:mod:`tb_exudyn.plotting.files`, whose figures the page
+embeds): the command line loads it only for the commands that draw figures or write a page, and
+reading results (:mod:`tb_exudyn.results`) never imports it. The checks are the result's own cached
+table (``result.checks()``), the one the terminal's verdict lines read.
 """
 
 from __future__ import annotations
@@ -52,7 +55,7 @@ from ..plotting import data as pdata
 from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
-from ..results.checks import checks as run_checks, default_limits
+from ..results.checks import default_limits
 from ..scenario.show import run_label
 from ..scenario.studies import Study, StudyFinding, StudyQuantity, load_study, studies_for
 from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, SummaryRow, Verdicts, as_check_entries,
@@ -100,7 +103,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
         first = _first_random(found)
         limits = default_limits() if first is not None else None  # a broken limit file: its error, not "not computed"
         try:
-            checks = run_checks(first, limits) if first is not None else None
+            checks = first.checks(limits) if first is not None else None
         except UserError as exc:  # e.g. a result saved before the exceedance statistics existed
             report_warnings.append(f"code checks not computed: {exc}")
     if modes is None:  # the modal table a random result carries (its analysis set-up)

@@ -17,7 +17,7 @@ Read top-down, like the report of one run:
 - the warnings: each distinct message once, with the speeds it was raised at;
 - the base scenario.
 
-The sweep is taken as a :class:`tb_exudyn.methods.sweep.SweepResult` (its rows, summaries,
+The sweep is taken as a :class:`tb_exudyn.results.sweep.SweepResult` (its rows, summaries,
 quantities, resonances, base scenario and provenance); no module of :mod:`tb_exudyn.methods` is
 imported. Every piece of text is escaped; the figure is embedded as base64 PNG.
 """
@@ -39,6 +39,7 @@ from ..execution.output import SWEEP_PAGE
 from ..system.labels import display_unit, format_number
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..results.checks_table import SMALLEST_SHOWN
+from ..results.sweep import criteria_of
 from ..scenario.speed_rule import RULE
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
@@ -54,18 +55,6 @@ _AT_SPEED = re.compile(r"^(?P<text>.*) \(at (?P<speed>[0-9.]+) km/h\)$", re.S)
 
 def _percent(x: float) -> str:
     return "not estimated" if x is None or not math.isfinite(x) else f"{100.0 * x:.2g} %"
-
-
-def _criteria(rows: list[dict[str, Any]]) -> list[str]:
-    """The code criteria of the check columns, in the order they first appear."""
-    out: list[str] = []
-    for row in rows:
-        for key in row:
-            if key.endswith("_utilisation"):
-                name = key[: -len("_utilisation")]
-                if name not in out:
-                    out.append(name)
-    return out
 
 
 def _probability(p: float) -> str:
@@ -91,7 +80,7 @@ def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
     """Per speed: the number of criteria that EXCEED, then per criterion the utilisation (estimate
     over limit; above 1 exceeds) with the probability of exceeding in one passage below it; per
     criterion a folded table of the estimate, the limit, the deciding channel and the caveats."""
-    criteria = _criteria(rows)
+    criteria = criteria_of(rows)
     out = ['<section id="verdicts"><h2>Verdicts by speed</h2>']
     if not criteria:
         out.append("<p>No code check applies to the key quantities of this sweep.</p></section>")

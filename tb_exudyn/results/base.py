@@ -1,26 +1,78 @@
-"""What every result shares: channels by name, selection by pattern, and ``plot()``.
+"""What every result shares: channels by name, selection by pattern, ``checks()`` and the ``plot`` accessor.
 
-``plot()`` hands off to :mod:`tb_exudyn.plotting` (matplotlib), which is loaded on first use by
-name (``importlib``), so that reading results in a worker or a script without figures never imports
-matplotlib; plotting imports the result types, not the other way round.
+``result.plot`` (:class:`PlotAccessor`): ``result.plot.bounds(channel)``, ``.psd_map(channel)``,
+``.psd_slices(channel)``, ``.history(channels)``, or ``result.plot(channel, kind)``; each hands off to
+a function of :mod:`tb_exudyn.plotting` (matplotlib). Results import no plotting (plotting imports
+the result types): the package root gives the loader of the plotting package
+(:func:`set_figure_loader`, in tb_exudyn/__init__.py), which runs on the first figure, so that
+reading results in a worker or a script without figures never imports matplotlib.
 """
 
 from __future__ import annotations
 
 import fnmatch
-import importlib
 import math
 import numbers
 from dataclasses import dataclass
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from ..errors import SettingError
+from .checks import cached_checks
 
 #: kind of figure -> the plotting function drawing it for one channel
 PLOTS = {"bounds": "plot_bounds", "psd_map": "plot_psd_map", "psd_slices": "plot_psd_slices",
          "history": "plot_time_history"}
+_figure_loader: list[Callable[[], Any]] = []
+
+
+def set_figure_loader(loader: Callable[[], Any]) -> None:
+    """Say how the plotting package is loaded (the package root does, once): ``loader()`` returns
+    the module whose ``plot_*`` functions the accessors call."""
+    _figure_loader[:] = [loader]
+
+
+def figures() -> Any:
+    """The plotting package (matplotlib loaded now, on the first figure)."""
+    if not _figure_loader:  # a bug: tb_exudyn/__init__.py sets it before any result exists
+        raise RuntimeError("no figure loader set (tb_exudyn/__init__.py sets it)")
+    return _figure_loader[0]()
+
+
+class PlotAccessor:
+    """``result.plot``: the figures of one result (each a :class:`matplotlib.figure.Figure`, made by
+    :mod:`tb_exudyn.plotting`; ``options`` go to the plotting function)."""
+
+    def __init__(self, result: "ChannelResult") -> None:
+        self._result = result
+
+    def __call__(self, channel: str, kind: str | None = None, **options: Any) -> Any:
+        """A figure of one channel: ``kind`` "bounds" (mean +- k sigma, the default of a random
+        response), "psd_map", "psd_slices" or "history" (a time history's default)."""
+        kind = kind or self._result.default_plot
+        if kind not in PLOTS:
+            raise SettingError("plot", "kind", kind, " or ".join(map(repr, PLOTS)))
+        self._result.index(channel)
+        return getattr(figures(), PLOTS[kind])(self._result, channel, **options)
+
+    def bounds(self, channel: str, k: float = 3.0, **options: Any) -> Any:
+        """mean +- k sigma of ``channel`` over time (:func:`tb_exudyn.plotting.plot_bounds`)."""
+        return self(channel, "bounds", k=k, **options)
+
+    def psd_map(self, channel: str, **options: Any) -> Any:
+        """The time-dependent PSD map of ``channel`` (:func:`tb_exudyn.plotting.plot_psd_map`)."""
+        return self(channel, "psd_map", **options)
+
+    def psd_slices(self, channel: str, **options: Any) -> Any:
+        """The PSD of ``channel`` at a few times (:func:`tb_exudyn.plotting.plot_psd_slices`)."""
+        return self(channel, "psd_slices", **options)
+
+    def history(self, channels: str | Sequence[str], **options: Any) -> Any:
+        """The values of one channel or several over time (:func:`tb_exudyn.plotting.plot_time_history`)."""
+        for channel in [channels] if isinstance(channels, str) else channels:
+            self._result.index(channel)
+        return figures().plot_time_history(self._result, channels, **options)
 
 
 def check_k(k: Any, where: str) -> float:
@@ -74,16 +126,18 @@ class ChannelResult:
         pats = [patterns] if isinstance(patterns, str) else list(patterns)
         return [c for c in self.channel_names if any(fnmatch.fnmatchcase(c, p) for p in pats)]
 
-    def plot(self, channel: str, kind: str | None = None, **options: Any) -> Any:
-        """A figure of one channel (a :class:`matplotlib.figure.Figure`): ``kind`` "bounds" (mean
-        +- k sigma, the default of a random response), "psd_map", "psd_slices" or "history" (a time
-        history's default); ``options`` go to the plotting function (:mod:`tb_exudyn.plotting`)."""
-        kind = kind or self.default_plot
-        if kind not in PLOTS:
-            raise SettingError("plot", "kind", kind, " or ".join(map(repr, PLOTS)))
-        self.index(channel)
-        plotting = importlib.import_module("tb_exudyn.plotting")  # matplotlib on first use
-        return getattr(plotting, PLOTS[kind])(self, channel, **options)
+    def checks(self, limits: Any = None, **options: Any) -> Any:
+        """The code checks of this result, a :class:`~tb_exudyn.results.checks_table.ChecksTable`
+        (:func:`tb_exudyn.results.checks.checks` for ``limits`` and the options: probability,
+        method, confidence), computed once per result and arguments and cached
+        (:func:`~tb_exudyn.results.checks.cached_checks`)."""
+        return cached_checks(self, limits, **options)
+
+    @property
+    def plot(self) -> PlotAccessor:
+        """The figures of this result: ``result.plot.bounds(channel)``, ``.psd_map``, ``.psd_slices``,
+        ``.history``, or ``result.plot(channel, kind)`` (:class:`PlotAccessor`)."""
+        return PlotAccessor(self)
 
 
-__all__ = ["ChannelResult", "ChannelStatistics", "PLOTS"]
+__all__ = ["ChannelResult", "ChannelStatistics", "PLOTS", "PlotAccessor", "figures", "set_figure_loader"]

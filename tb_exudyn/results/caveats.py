@@ -100,7 +100,7 @@ def judged(c: Caveat, effect: float | None, estimate: float, limit: float, raise
 
 
 #: the Sperling index grows as the acceleration's 0.3 power (W = 0.896 (a^3 F(f) / f)^(1/10),
-#: tb_exudyn.results.comfort): a relative change e of sigma changes the index by (1 + e)^0.3 - 1
+#: tb_exudyn.system.comfort): a relative change e of sigma changes the index by (1 + e)^0.3 - 1
 SPERLING_EXPONENT = 0.3
 
 

@@ -16,7 +16,7 @@ What is compared, per statistic of the criterion (tb_exudyn.scenario.limits.STAT
   the first passage; Monte Carlo: the empirical quantile of the per-sample extremes).
 - ``window_max`` (Sperling): the index's largest window value against the limit (no probability: a
   windowed index is not a Gaussian process). PEM: the index of the expected energy of each window
-  (tb_exudyn.results.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
+  (tb_exudyn.system.comfort: about 0.5 % above the mean of per-window indices); Monte Carlo: the
   largest window value of the sample mean, and the fraction of samples whose largest window exceeds.
 - ``sliding_mean_max_abs`` (EN 14363's 2 m sliding mean) and ``rms_window``: NOT EVALUATED (no such
   channel yet).
@@ -46,6 +46,7 @@ import fnmatch
 import math
 import os
 import re
+import weakref
 from dataclasses import dataclass
 from typing import Any
 
@@ -55,7 +56,7 @@ from ..errors import ScenarioError, SettingError
 from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
 from ..scenario.registry import model_files, models_dir
 from ..scenario.schema import source_file
-from . import statistics as st
+from ..system import statistics as st
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
                       unmet_requirement)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
@@ -538,11 +539,32 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
 SET_ORDER = ("en1990_deck", "ride_comfort", "running_safety")
 
 
+#: the checks tables computed, per result (by identity: results are frozen and compared by identity) and per
+#: (limit sets, target probability, first-passage method, confidence): :func:`cached_checks`
+_TABLES: "weakref.WeakKeyDictionary[Any, dict[tuple[Any, ...], ChecksTable]]" = weakref.WeakKeyDictionary()
+
+
+def cached_checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARGET_PROBABILITY,
+                  method: str = "poisson", confidence: float = 0.99) -> ChecksTable:
+    """:func:`checks` of ``result``, computed once per result and per limits, target probability,
+    first-passage method and confidence, then kept as long as the result lives (``result.checks()``):
+    the terminal, the report and the sweep's table read the same table. The limits are resolved first
+    (a file named twice is read twice, compared by its values), so ``None`` and
+    :func:`default_limits` are one key. A result is frozen; its arrays, when changed in place after a
+    check, are not seen (change a copy: ``dataclasses.replace``)."""
+    sets = _limit_sets(limits)
+    key = (repr(sets), probability, method, confidence)
+    tables = _TABLES.setdefault(result, {})
+    if key not in tables:
+        tables[key] = checks(result, sets, probability=probability, method=method, confidence=confidence)
+    return tables[key]
+
+
 def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     """Lines for a terminal summary (the CLI), each under about 100 characters: the counts, then per
     limit set (the bridge's first) one line per criterion with its deciding location, estimate, limit
     and probability, and once per set why its rows are not evaluated or conditional."""
-    table = checks(result, limits, **options)
+    table = cached_checks(result, limits, **options)
     counts = table.counts()
     n_cond = sum(r.conditional for r in table.rows)
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
@@ -582,5 +604,5 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
 
 
 __all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "MODEL_REQUIREMENTS",
-           "ModelRequirement", "VERDICTS", "can_turn", "checks", "damping_caveats", "default_limits", "grid_error_of",
+           "ModelRequirement", "VERDICTS", "can_turn", "cached_checks", "checks", "damping_caveats", "default_limits", "grid_error_of",
            "SET_ORDER", "static_axle_load", "unmet_requirement", "verdict_lines"]

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ..errors import SettingError
-from .statistics import LEVEL_KINDS, Exceedance, ExceedanceLevel, LevelKind, _check_bounds, _check_probability, _shape, _window_mask
+from ..system.statistics import LEVEL_KINDS, Exceedance, ExceedanceLevel, LevelKind, _check_bounds, _check_probability, _shape, _window_mask
 
 
 def binomial_interval(k: int, n: int, confidence: float = 0.99) -> tuple[float, float]:

@@ -7,12 +7,13 @@ folder, one that is not a regular file (FIFO, device, folder) and an existing fi
 ``overwrite`` (the CSV's sidecar likewise); NetCDF is made in memory and then written by Python, so
 that a full disk is one clear error and leaves no temporary file (:func:`netcdf_content`).
 
-Labelled arrays: :func:`to_xarray` gives an :class:`xarray.Dataset` with dims ``channel``, ``time``,
-``frequency`` (PEM), ``type`` (irregularity spectra of ``var_by_type``), ``bound`` (lower/upper of
-Monte Carlo confidence intervals) and ``sample``; per channel the coordinates ``unit`` (SI) and
-``label`` (readable description); variable attributes say what each array is and its unit; the
-dataset attributes hold the band, the method, the sample count, the provenance (JSON text) and the
-scenario (TOML text).
+Labelled arrays: ``result.to_xarray()`` (:func:`tb_exudyn.results.schema.to_xarray`, the result's
+schema) gives an :class:`xarray.Dataset` of every array of the result, with dims ``channel``,
+``time``, ``frequency`` (PEM), ``type`` (irregularity spectra of ``var_by_type``), ``bound``
+(lower/upper of Monte Carlo confidence intervals) and ``sample``; per channel the coordinates
+``unit`` (SI) and ``label`` (readable description); variable attributes say what each array is and
+its unit; the dataset attributes hold the band, the method, the sample count, the provenance (JSON
+text) and the scenario (TOML text). The NetCDF file is that dataset.
 
 NetCDF backend: **h5netcdf** (NetCDF4 = HDF5 files, through h5py), with zlib level 1 and the
 shuffle filter on the large arrays, one chunk per channel. Measured on the li_zhu_2011 PEM result
@@ -53,8 +54,8 @@ from ..errors import CapabilityError, SettingError
 from ..files import MIB, Content, output_targets, write_output
 from ..scenario import scenario_to_toml
 from ..system.labels import channel_label
-from .random_response import OPTIONAL_ARRAYS, RandomResponse
-from .storage import json_default
+from ..storage import json_default
+from .random_response import RandomResponse
 from .time_history import TimeHistory
 
 Result = Union[RandomResponse, TimeHistory]
@@ -64,7 +65,6 @@ NETCDF_ENGINES: tuple[str, ...] = ("h5netcdf", "netcdf4", "scipy")
 
 #: names of RandomResponse arrays in the .mat file (others keep their attribute name)
 MAT_NAMES = {"mean": "mean_response", "std": "std_response"}
-_OPTIONAL = OPTIONAL_ARRAYS
 
 
 # ============================================================================================ labelled arrays
@@ -72,96 +72,9 @@ def _labels(names: Sequence[str]) -> list[str]:
     return [channel_label(n) for n in names]
 
 
-def _need_xarray(what: str):
-    try:
-        import xarray
-    except ImportError:
-        raise CapabilityError(what, "xarray", "not installed", 'pip install "tb_exudyn[netcdf]" (xarray, h5netcdf, h5py)',
-                              "labelled arrays need the xarray package") from None
-    return xarray
-
-
-def to_xarray(result: Result):
-    """The result as an :class:`xarray.Dataset` (see the module docstring for dims, coordinates
-    and attributes). Values are the stored arrays, unchanged (SI units)."""
-    xr = _need_xarray("to_xarray")
-    scenario = result.scenario
-    attrs: dict[str, Any] = {
-        "title": f"tb_exudyn {'time history' if isinstance(result, TimeHistory) else result.method} result"
-                 + (f", scenario {scenario.name}" if scenario is not None else ""),
-        "source": f"tb_exudyn {__version__}",
-        "scenario": "" if scenario is None else scenario.name,
-        "scenario_toml": "" if scenario is None else scenario_to_toml(scenario),
-        "provenance_json": json.dumps(result.provenance, sort_keys=True, default=json_default),
-        "time_origin": "t = 0 s when the train's first axle is at x = -lead_in (lead_in m before the bridge)",
-    }
-    if isinstance(result, TimeHistory):
-        names = list(result.names)
-        values = np.array([result[n] for n in names], dtype=float).reshape(len(names), np.size(result.time))
-        coords = {"channel": ("channel", names), "time": ("time", np.asarray(result.time, dtype=float), {"units": "s"}),
-                  "unit": ("channel", [result.unit(n) for n in names]), "label": ("channel", _labels(names))}
-        attrs["kind"] = "time_history"
-        data = {"value": (("channel", "time"), values,
-                          {"long_name": "channel value of one run", "units_coordinate": "unit"})}
-        return xr.Dataset(data, coords=coords, attrs=attrs)
-
-    r = result
-    names = list(r.channels)
-    coords: dict[str, Any] = {
-        "channel": ("channel", names), "time": ("time", np.asarray(r.time, dtype=float), {"units": "s"}),
-        "unit": ("channel", list(r.units), {"long_name": "SI unit of the channel"}),
-        "label": ("channel", _labels(names), {"long_name": "what the channel measures"}),
-        "psd_unit": ("channel", [f"({u})^2/Hz" for u in r.units]),
-    }
-    per_channel = {"units_coordinate": "unit"}
-    band = f"{r.band[0]:.6g}-{r.band[1]:.6g} Hz"
-    data: dict[str, Any] = {
-        "mean": (("channel", "time"), r.mean, {"long_name": "mean response" + (
-            " (the deterministic run with gravity, no irregularity)" if r.method == "pem" else " (sample mean)"),
-            **per_channel}),
-        "std": (("channel", "time"), r.std, {"long_name": f"standard deviation sigma(t) over {band}", **per_channel}),
-    }
-    if r.freq.size:
-        coords["frequency"] = ("frequency", np.asarray(r.freq, dtype=float), {"units": "Hz"})
-        data["df"] = (("frequency",), np.asarray(r.df, dtype=float),
-                      {"long_name": "quadrature width of each frequency", "units": "Hz"})
-    if r.psd is not None:
-        kept = getattr(r, "psd_channels", None)
-        dim = "channel"
-        if kept is not None:  # PSD maps kept for some channels only
-            dim = "psd_channel"
-            coords["psd_channel"] = ("psd_channel", list(kept))
-        data["psd"] = ((dim, "frequency", "time"), r.psd,
-                       {"long_name": "one-sided PSD per Hz, sigma^2(t) = sum_f psd df", "units_coordinate": "psd_unit"})
-    if r.var_by_type is not None:
-        coords["type"] = ("type", list(r.types), {"long_name": "irregularity spectrum"})
-        data["var_by_type"] = (("type", "channel", "time"), r.var_by_type,
-                               {"long_name": "variance contributed by each irregularity type",
-                                "units_coordinate": "unit (squared)"})
-    if r.mean_ci is not None or r.std_ci is not None:
-        coords["bound"] = ("bound", ["lower", "upper"])
-    if r.mean_ci is not None:
-        data["mean_ci"] = (("bound", "channel", "time"), r.mean_ci,
-                           {"long_name": "95 % confidence interval of the mean", **per_channel})
-    if r.std_ci is not None:
-        data["std_ci"] = (("bound", "channel", "time"), r.std_ci,
-                          {"long_name": "95 % confidence interval of sigma", **per_channel})
-    if r.samples is not None:
-        coords["sample"] = ("sample", np.arange(r.samples.shape[0]))
-        data["samples"] = (("sample", "channel", "time"), r.samples, {"long_name": "Monte Carlo samples", **per_channel})
-    if r.min_wheel_force is not None:
-        if "sample" not in coords:
-            coords["sample"] = ("sample", np.arange(np.size(r.min_wheel_force)))
-        data["min_wheel_force"] = (("sample",), np.asarray(r.min_wheel_force),
-                                   {"long_name": "minimum vertical wheel-rail force per sample", "units": "N"})
-    attrs.update({"kind": "random_response", "method": r.method, "band_hz": np.asarray(r.band, dtype=float),
-                  "n_samples": int(r.n_samples), "types": ", ".join(r.types)})
-    return xr.Dataset(data, coords=coords, attrs=attrs)
-
-
 def netcdf_content(result: Result, engine: str = "h5netcdf", complevel: int = 1,
                    where: str = "export_netcdf") -> tuple[Content, int]:
-    """The NetCDF file of :func:`to_xarray` of the result: (its bytes, their size) for "h5netcdf"
+    """The NetCDF file of the result's labelled form (``result.to_xarray()``): (its bytes, their size) for "h5netcdf"
     and "scipy", which write it in memory; (a writer of a file name, an upper bound of its size:
     the uncompressed arrays and attributes plus 5 % and 1 MiB) for "netcdf4", which writes files
     only, and for "h5netcdf" with an xarray that returns bytes from the scipy engine only (before
@@ -175,7 +88,7 @@ def netcdf_content(result: Result, engine: str = "h5netcdf", complevel: int = 1,
     """
     if engine not in NETCDF_ENGINES:
         raise SettingError(where, "engine", engine, ", ".join(NETCDF_ENGINES))
-    ds = to_xarray(result)
+    ds = result.to_xarray()
     module = {"h5netcdf": "h5netcdf", "netcdf4": "netCDF4", "scipy": "scipy"}[engine]
     try:
         __import__(module)
@@ -205,7 +118,7 @@ def netcdf_content(result: Result, engine: str = "h5netcdf", complevel: int = 1,
 
 
 def export_netcdf(result: Result, path: str | Path, engine: str = "h5netcdf", complevel: int = 1) -> Path:
-    """Write :func:`to_xarray` of the result as NetCDF (see the module docstring for the backend),
+    """Write the result's labelled form (``result.to_xarray()``) as NetCDF (see the module docstring for the backend),
     atomically (:func:`netcdf_content`: in memory, then to the file). ``engine``: "h5netcdf"
     (NetCDF4, compressed), "netcdf4" (the same, through Unidata's library) or "scipy" (NetCDF3,
     uncompressed). Replaces ``path``; :func:`export` checks the target first."""
@@ -328,18 +241,14 @@ def mat_dict(result: Result) -> dict[str, Any]:
     if isinstance(result, TimeHistory):
         names = list(result.names)
         out["kind"] = "time_history"
-        out["time"] = np.asarray(result.time, dtype=float)
-        out["values"] = np.array([result[n] for n in names], dtype=float).reshape(len(names), np.size(result.time))
+        out.update(result.arrays())
         units = [result.unit(n) for n in names]
     else:
         names, units = list(result.channels), list(result.units)
         out["kind"] = "random_response"
         out["method"] = result.method
-        for attr in ("time", "mean", "std", "freq", "df"):
-            out[MAT_NAMES.get(attr, attr)] = np.asarray(getattr(result, attr), dtype=float)
-        for attr in _OPTIONAL:
-            if getattr(result, attr) is not None:
-                out[attr] = np.asarray(getattr(result, attr))
+        for attr, a in result.arrays().items():  # every array of the schema the result holds
+            out[MAT_NAMES.get(attr, attr)] = np.asarray(a)
         out["band"] = np.asarray(result.band, dtype=float)
         out["types"] = np.array(list(result.types), dtype=object)
         out["n_samples"] = result.n_samples
@@ -400,4 +309,4 @@ def export(result: Result, format: str, path: str | Path, *, overwrite: bool = F
 
 __all__ = ["FORMATS", "MAT_NAMES", "NETCDF_ENGINES", "csv_columns", "csv_content", "export", "export_csv",
            "export_csv_file", "export_mat", "export_netcdf", "mat_content", "mat_dict", "netcdf_content", "read_csv",
-           "sidecar_path", "to_xarray", "write_csv", "write_table_csv"]
+           "sidecar_path", "write_csv", "write_table_csv"]

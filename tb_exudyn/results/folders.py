@@ -1,5 +1,5 @@
 """Result folders: load any saved result, find the results in a folder (read defensively:
-:mod:`.storage`)."""
+:mod:`tb_exudyn.storage`)."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from ..errors import ResultsError
 from .random_response import READABLE_FORMATS as RANDOM_RESPONSE_FORMATS
 from .random_response import RandomResponse, load_random_response
 from .metadata import meta_str, open_result_folder
-from .storage import load_json
+from ..storage import load_json
 from .time_history import FORMAT as TIME_HISTORY_FORMAT
 from .time_history import TimeHistory, load_time_history
 
@@ -23,7 +23,7 @@ def load_results(folder: str | Path) -> Union[TimeHistory, RandomResponse]:
     """Load a saved result folder of any kind (time history or random response).
 
     Raises ResultsError (one line, naming the file) when the folder is missing, of an unknown
-    format, damaged or hostile (see :mod:`.storage`).
+    format, damaged or hostile (see :mod:`tb_exudyn.storage`).
     """
     folder = open_result_folder(folder)
     path = folder / "meta.json"

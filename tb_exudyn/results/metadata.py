@@ -13,7 +13,7 @@ from typing import Any, Callable, Mapping, Sequence
 from ..errors import ResultsError, format_message
 from ..scenario import ScenarioError, scenario_from_dict
 from ..system.channels import CHANNEL_NAME_RULE, is_channel_name
-from .storage import _error, recover_folder
+from ..storage import _error, recover_folder
 
 
 def open_result_folder(folder: str | Path) -> Path:

@@ -4,22 +4,22 @@ Mean (the deterministic response to gravity), standard deviation sigma(t), and f
 time-dependent one-sided PSD S(f, t) per Hz on the analysed band, with
 sigma^2(t) = sum_k S(f_k, t) df_k. For Monte Carlo: sample mean and standard deviation with their
 confidence intervals. Saved as ``arrays.npz`` + ``meta.json`` in a folder, written whole or not at
-all and read defensively (:mod:`.storage`).
+all and read defensively (:mod:`tb_exudyn.storage`).
 
 Exceedance (format 2): a PEM result also holds, per channel and time, the mean's rate, the standard
 deviation of the time derivative and the correlation of the channel with its derivative (from the
 pseudo-responses of both, tb_exudyn.methods.reduction) and Vanmarcke's bandwidth; a Monte Carlo
 result holds every sample's minimum and maximum of every channel over the record.
 :meth:`RandomResponse.exceedance_probability` and :meth:`RandomResponse.exceedance_level` answer from
-them (PEM: Rice's rate, tb_exudyn.results.statistics; Monte Carlo: empirically, with a Clopper-Pearson
-interval), :meth:`RandomResponse.checks` compares the channels with the code limits.
+them (PEM: Rice's rate, tb_exudyn.system.statistics; Monte Carlo: empirically, with a Clopper-Pearson
+interval), :meth:`RandomResponse.checks` (:class:`.base.ChannelResult`) compares the channels with the code limits.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 import numpy as np
 
@@ -27,44 +27,25 @@ from ..errors import ResultsError, SettingError
 from ..scenario import Scenario, scenario_to_toml
 from ..system.channels import is_channel_name
 from . import empirical
-from . import statistics as st
+from ..system import statistics as st
 from .base import ChannelResult, ChannelStatistics, check_k
-from .checks import checks as _checks
 from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta_scenario, meta_str, meta_str_list,
                        open_result_folder)
-from .storage import (MAX_SQUARE, MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members,
-                      check_output_times, check_values, freeze, load_json, save_result_folder)
+from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values, freeze,
+                       load_json, save_result_folder)
+from .schema import RANDOM_RESPONSE, members, optional_names, to_xarray
 
 FORMAT = "tb_exudyn.random_response/2"
 #: formats this version reads (1: before the exceedance arrays)
 READABLE_FORMATS = ("tb_exudyn.random_response/1", FORMAT)
 METHODS = ("pem", "monte_carlo", "monte_carlo_linear")
-#: the optional arrays, in file order
-OPTIONAL_ARRAYS = ("psd", "var_by_type", "std_ci", "mean_ci", "min_wheel_force", "samples", "mean_rate", "std_rate",
-                   "rho", "bandwidth", "sample_min", "sample_max")
+#: the optional arrays, in file order (the schema's arrays a result may lack)
+OPTIONAL_ARRAYS = optional_names(RANDOM_RESPONSE)
 #: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
 INDEX_SUFFIXES = (".sperling_z", ".sperling_y")
-#: the arrays of arrays.npz; nc channels and ntypes spectra come from meta.json, ns = its n_samples;
-#: standard deviations, PSDs, variances, frequencies and widths are >= 0; values at most MAX_VALUE in
-#: magnitude, PSDs and variances (squares) at most MAX_SQUARE
-_V, _S = MAX_VALUE, MAX_SQUARE
-ARRAYS = {
-    "time": Member(("nt",), max_abs=_V), "mean": Member(("nc", "nt"), max_abs=_V),
-    "std": Member(("nc", "nt"), nonnegative=True, max_abs=_V),
-    "freq": Member(("nf",), nonnegative=True, max_abs=_V), "df": Member(("nf",), nonnegative=True, max_abs=_V),
-    "psd": Member(("npsd", "nf", "nt"), required=False, nonnegative=True, max_abs=_S),
-    "var_by_type": Member(("ntypes", "nc", "nt"), required=False, nonnegative=True, max_abs=_S),
-    "std_ci": Member((2, "nc", "nt"), required=False, nonnegative=True, max_abs=_V),
-    "mean_ci": Member((2, "nc", "nt"), required=False, max_abs=_V),
-    "min_wheel_force": Member(("ns",), required=False, finite=False, max_abs=_V),  # NaN: a sample without wheel forces
-    "samples": Member(("ns", "nc", "nt"), required=False, finite=False, max_abs=_V),
-    "mean_rate": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "std_rate": Member(("nc", "nt"), required=False, nonnegative=True, max_abs=_V),
-    "rho": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "bandwidth": Member(("nc", "nt"), required=False, finite=False, max_abs=_V),
-    "sample_min": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
-    "sample_max": Member(("ns", "nc"), required=False, finite=False, max_abs=_V),
-}
+#: the members of arrays.npz, from the schema (:data:`.schema.RANDOM_RESPONSE`: dims, >= 0, finite,
+#: magnitudes); nc channels and ntypes spectra come from meta.json, ns = its n_samples
+ARRAYS = members(RANDOM_RESPONSE)
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json", "nf": "the length of 'freq'",
             "npsd": "the number of psd_channels in meta.json (or of channels)",
             "ntypes": "the number of types in meta.json", "ns": "n_samples in meta.json"}
@@ -146,8 +127,20 @@ class RandomResponse(ChannelResult):
     sample_min: np.ndarray | None = None
     sample_max: np.ndarray | None = None
     psd_channels: tuple[str, ...] | None = None
+    #: every array this type holds, declared once (:mod:`.schema`): npz, NetCDF and checks
+    schema: ClassVar = RANDOM_RESPONSE
 
     # ---------------------------------------------------------------- access
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every array of the result by its schema name (:data:`.schema.RANDOM_RESPONSE`), those it
+        holds (an optional one that is None is left out): what ``arrays.npz`` stores."""
+        return {v.name: getattr(self, v.name) for v in self.schema if getattr(self, v.name) is not None}
+
+    def to_xarray(self) -> Any:
+        """The result as an :class:`xarray.Dataset`: every array under its schema, channel names,
+        units and labels as coordinates, provenance as attributes (:func:`.schema.to_xarray`)."""
+        return to_xarray(self)
+
     @property
     def channel_names(self) -> tuple[str, ...]:
         return tuple(self.channels)
@@ -230,7 +223,7 @@ class RandomResponse(ChannelResult):
 
         PEM: Rice's non-stationary up-crossing rate from the channel's and its derivative's statistics,
         first passage by ``method`` 'poisson' (out-crossings independent: errs high, on the safe side, for
-        narrow-band responses) or 'vanmarcke' (tb_exudyn.results.statistics gives the formulas and the
+        narrow-band responses) or 'vanmarcke' (tb_exudyn.system.statistics gives the formulas and the
         measured errors). Monte Carlo: the fraction of samples that left the bounds, with its
         Clopper-Pearson interval at ``confidence`` (``method`` is ignored: 'empirical')."""
         if self.is_pem:
@@ -253,23 +246,14 @@ class RandomResponse(ChannelResult):
         return empirical.empirical_level_from_extremes(lo, hi, span, probability, kind=kind, confidence=confidence,  # type: ignore[arg-type]
                                                 channel=channel)
 
-    def checks(self, limits: Any = None, **options: Any) -> Any:
-        """The code checks of this result: a :class:`~tb_exudyn.results.checks.ChecksTable` (see
-        :func:`tb_exudyn.results.checks.checks` for ``limits`` and the options)."""
-        return _checks(self, limits, **options)
-
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+        (an older result there is replaced; see :func:`tb_exudyn.storage.save_result_folder`).
 
         What :func:`load_random_response` would refuse is refused first, nothing written: a
         ResultsError naming the file and the key (e.g. a negative ``std`` set in Python)."""
-        arrays = {"time": self.time, "mean": self.mean, "std": self.std, "freq": self.freq, "df": self.df}
-        for name in OPTIONAL_ARRAYS:
-            value = getattr(self, name)
-            if value is not None:
-                arrays[name] = value
+        arrays = self.arrays()
         meta = {
             "format": FORMAT,
             "method": self.method,
@@ -340,7 +324,7 @@ def load_random_response(folder: str | Path) -> RandomResponse:
     """Read a RandomResponse written by :meth:`RandomResponse.save`, checking everything before use.
 
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
-    folder: see :mod:`.storage`; channel names must follow the naming rule, the arrays' shapes match
+    folder: see :mod:`tb_exudyn.storage`; channel names must follow the naming rule, the arrays' shapes match
     the channels, types and n_samples of meta.json and each other (:data:`ARRAYS`), checked before
     any array is read; time increasing and values finite; standard deviations, PSDs, variances,
     frequencies and widths >= 0; the band 0 <= f_low < f_high <= :func:`band_limit` of the result's
@@ -355,7 +339,4 @@ def load_random_response(folder: str | Path) -> RandomResponse:
         arrays = npz.read_all()
     _check_arrays(npz.path, arrays, fields)
     freeze(arrays)
-    return RandomResponse(
-        time=arrays["time"], mean=arrays["mean"], std=arrays["std"], freq=arrays["freq"], df=arrays["df"],
-        **fields, **{name: arrays.get(name) for name in OPTIONAL_ARRAYS},
-    )
+    return RandomResponse(**fields, **{v.name: arrays.get(v.name) for v in RANDOM_RESPONSE})

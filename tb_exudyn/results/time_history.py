@@ -2,14 +2,14 @@
 
 Saved as a folder holding ``arrays.npz`` (time and a (n_channels, n_t) value matrix, never
 unpickled) and ``meta.json`` (channel names and units, provenance, the scenario as TOML), the folder
-written whole or not at all and read defensively (:mod:`.storage`).
+written whole or not at all and read defensively (:mod:`tb_exudyn.storage`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, ClassVar, Mapping
 
 import numpy as np
 from numpy.typing import NDArray
@@ -18,13 +18,14 @@ from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
 from .base import ChannelResult
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
-from .storage import (MAX_VALUE, ArraysInMemory, Member, NpzFile, check_increasing, check_members, check_output_times,
-                      check_values, freeze, load_json, save_result_folder)
+from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values,
+                       freeze, load_json, save_result_folder)
+from .schema import TIME_HISTORY, members, to_xarray
 
 FORMAT = "tb_exudyn.time_history/1"
-#: the arrays of arrays.npz: nt output times (at least 2), nc channels (the channels of meta.json, at least one);
-#: values finite and at most MAX_VALUE in magnitude
-ARRAYS = {"time": Member(("nt",), max_abs=MAX_VALUE), "values": Member(("nc", "nt"), max_abs=MAX_VALUE)}
+#: the arrays of arrays.npz, from the schema (:data:`.schema.TIME_HISTORY`): nt output times (at least 2),
+#: nc channels (the channels of meta.json, at least one); values finite and at most MAX_VALUE in magnitude
+ARRAYS = members(TIME_HISTORY)
 _MEANING = {"nt": "the length of 'time'", "nc": "the number of channels in meta.json"}
 
 
@@ -56,6 +57,8 @@ class TimeHistory(ChannelResult):
                 raise ValueError(f"channel {name!r} has no unit")
 
     default_plot = "history"
+    #: every array this type holds, declared once (:mod:`.schema`): npz and NetCDF
+    schema: ClassVar = TIME_HISTORY
 
     # ---------------------------------------------------------------- access
     @property
@@ -83,10 +86,22 @@ class TimeHistory(ChannelResult):
         i = int(np.argmax(np.abs(values)))
         return float(values[i]), float(self.time[i])
 
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every array of the run by its schema name (:data:`.schema.TIME_HISTORY`): ``time`` and
+        ``values``, the channels' values stacked in channel order (what ``arrays.npz`` stores)."""
+        names, n = list(self.channels), np.size(self.time)
+        return {"time": np.asarray(self.time, dtype=float),
+                "values": np.array([self.channels[c] for c in names], dtype=float).reshape(len(names), n)}
+
+    def to_xarray(self) -> Any:
+        """The run as an :class:`xarray.Dataset` (:func:`.schema.to_xarray`): ``value`` over channel
+        and time, channel names, units and labels as coordinates, provenance as attributes."""
+        return to_xarray(self)
+
     # ---------------------------------------------------------------- files
     def save(self, folder: str | Path) -> Path:
         """Write ``arrays.npz`` and ``meta.json`` as the folder ``folder``, whole or not at all
-        (an older result there is replaced; see :func:`.storage.save_result_folder`).
+        (an older result there is replaced; see :func:`tb_exudyn.storage.save_result_folder`).
 
         What :func:`load_time_history` would refuse is refused first, nothing written: a ResultsError
         naming the file and the key (e.g. a NaN set in Python, a channel of another length)."""
@@ -97,7 +112,6 @@ class TimeHistory(ChannelResult):
                 raise ResultsError(f"{Path(folder) / 'arrays.npz'}: array 'values': channel {name!r} has shape "
                                    f"{np.shape(self.channels[name])}, not ({n},) as 'time' (allowed: one value per "
                                    "output time) [not saved: the folder would not load]")
-        values = np.array([self.channels[n] for n in names], dtype=float).reshape(len(names), n)
         meta = {
             "format": FORMAT,
             "channels": names,
@@ -105,8 +119,7 @@ class TimeHistory(ChannelResult):
             "provenance": self.provenance,
             "scenario_toml": None if self.scenario is None else scenario_to_toml(self.scenario),
         }
-        return save_result_folder(folder, {"time": np.asarray(self.time, dtype=float), "values": values}, meta,
-                                  check=check_folder)
+        return save_result_folder(folder, self.arrays(), meta, check=check_folder)
 
 
 def _read_meta(meta: dict[str, Any], path: Path) -> dict[str, Any]:
@@ -135,7 +148,7 @@ def load_time_history(folder: str | Path) -> TimeHistory:
     """Read a TimeHistory written by :meth:`TimeHistory.save`, checking everything before use.
 
     Raises ResultsError (one line, naming the file) for a missing, foreign, damaged or hostile
-    folder: see :mod:`.storage`; channel names must follow the naming rule and be all different,
+    folder: see :mod:`tb_exudyn.storage`; channel names must follow the naming rule and be all different,
     one unit per channel, the arrays' shapes must match the channels and each other, values finite;
     the provenance fields the code reads of the types it writes (:data:`.metadata.PROVENANCE_FIELDS`).
     The arrays are read-only.

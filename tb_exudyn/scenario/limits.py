@@ -65,10 +65,10 @@ car<k>.body.acc_z_wb                   m/s^2   car-body vertical acceleration, E
 car<k>.body.acc_y_wd                   m/s^2   car-body lateral acceleration, EN 12299 Wd-weighted
 car<k>.body.sperling_z                 -       Sperling Wz of car<k>.body.acc_z per window (PEM: of the
 car<k>.body.sperling_y                         time-dependent PSD averaged over the window; Monte Carlo:
-                                               of each sample's periodogram; tb_exudyn.results.comfort)
+                                               of each sample's periodogram; tb_exudyn.system.comfort)
 =====================================  ======  ===========================================================
 
-The weighted accelerations come from tb_exudyn.results.comfort.apply_weighting applied to the
+The weighted accelerations come from tb_exudyn.system.comfort.apply_weighting applied to the
 pseudo-responses (linear, so PEM stays exact); the Sperling channels are windowed indices, not
 Gaussian processes: their limits use the statistic ``window_max`` (no exceedance probability).
 """

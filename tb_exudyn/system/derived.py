@@ -51,7 +51,7 @@ Kinds, and how each method forms them:
 - ``linear``: sum_j c_j y_j over output channels (``terms``); PEM: on the pseudo-responses, Monte
   Carlo: on the samples; exact for both.
 - ``weighted``: an EN 12299 weighting (``weighting`` = "wb" or "wd") of one output; Monte Carlo
-  filters each sample in time (tb_exudyn.results.comfort.apply_weighting); PEM multiplies each
+  filters each sample in time (tb_exudyn.system.comfort.apply_weighting); PEM multiplies each
   pseudo-response by W(f_k) at its excitation frequency (exact for a response at f_k with a steady
   amplitude; the filter's start-up from rest and the spread of a modulated response around f_k are
   left out: see tb_exudyn.methods.reduction).

@@ -1,7 +1,7 @@
 """The reductions of tb_exudyn.methods.reduction on synthetic pseudo-responses and samples.
 
 Every reference is computed here from the same synthetic inputs by direct formulas (numpy sums over
-columns, tb_exudyn.results.statistics.pseudo_derivative on whole histories, exact sample ratios),
+columns, tb_exudyn.system.statistics.pseudo_derivative on whole histories, exact sample ratios),
 independently of the reducers' incremental, sparse and covariance bookkeeping.
 """
 
@@ -20,8 +20,8 @@ from tb_exudyn.methods.reduction import (
     reduction_plan,
     sample_offsets,
 )
-from tb_exudyn.results.comfort import sperling_weighting
-from tb_exudyn.results.statistics import pseudo_derivative
+from tb_exudyn.system.comfort import sperling_weighting
+from tb_exudyn.system.statistics import pseudo_derivative
 from tb_exudyn.system.derived import DerivedChannel
 
 DT = 0.005
@@ -74,7 +74,7 @@ def test_incremental_pseudo_derivative_equals_statistics_pseudo_derivative():
     """Problem: 10 columns (5 frequencies x 2 types) of pseudo-responses with a modulated forced part
     and a decaying free part at 4.3 Hz; channel car1.body.acc_z (no recorded derivative).
 
-    Reference: tb_exudyn.results.statistics.pseudo_derivative on each column's whole history, then
+    Reference: tb_exudyn.system.statistics.pseudo_derivative on each column's whole history, then
     sum_k |yd_k|^2 and sum_k Re(conj(y_k) yd_k) per time. The reducer differences incrementally (one
     output time late, first and last times one-sided): the same arithmetic in another order, so
     agreement to 1e-12 relative; and the recorded derivative of disp_z is the vel_z channel exactly.

@@ -316,7 +316,7 @@ def test_warnings_are_grouped_by_kind_with_their_speeds():
     first raised, with the speeds as runs of the sweep's neighbours, the first message, and the count
     of distinct messages of that kind; compared as exact strings."""
     from tb_exudyn.methods.common import LightlyDampedModeWarning
-    from tb_exudyn.methods.sweep import SweepResult, grouped_warnings, speeds_text
+    from tb_exudyn.results.sweep import SweepResult, grouped_warnings, speeds_text
 
     speeds = (160.0, 170.0, 180.0, 250.0)
     assert speeds_text((160.0, 170.0, 180.0, 250.0), speeds) == "every speed (160-250 km/h)"

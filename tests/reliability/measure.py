@@ -27,7 +27,7 @@ RAISE_BETWEEN = """
 import sys
 import numpy as np
 from tb_exudyn.results import TimeHistory
-import tb_exudyn.results.storage as storage
+import tb_exudyn.storage as storage
 names = ["bridge.a.disp_z", "bridge.b.disp_z"]
 def th(tag, value):
     return TimeHistory(time=np.arange(51) * 0.01, channels={n: np.full(51, value) for n in names},

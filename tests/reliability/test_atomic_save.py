@@ -14,8 +14,8 @@ import pytest
 
 from tb_exudyn.errors import OutputFolderError
 from tb_exudyn.results import RandomResponse, TimeHistory, load_results
-from tb_exudyn.results import storage
-from tb_exudyn.results.storage import _host_tag, iter_leftovers
+from tb_exudyn import storage
+from tb_exudyn.storage import _host_tag, iter_leftovers
 
 from .cases import rr_arrays, rr_meta
 from .kill import outcome, save_in_child

@@ -20,7 +20,7 @@ import sys
 import numpy as np
 import pytest
 
-from tb_exudyn.results import storage
+from tb_exudyn import storage
 
 from .execution_helpers import ROOT, cli, env, run_args, std_of, write_scenario
 
@@ -118,7 +118,7 @@ def test_sigkill_during_the_sweep_leaves_the_old_result_and_resume_completes_the
 
 @pytest.mark.xfail(not hasattr(storage, "save_result_folder"), strict=True,
                    reason="result folders are written file by file until the reliability branch's whole-folder "
-                          "writes (results/storage.py save_result_folder) are merged")
+                          "writes (storage.py save_result_folder) are merged")
 def test_sigkill_at_every_step_of_the_final_save_never_leaves_a_mix(setup):
     base, new, old, refs = setup
     seen = []

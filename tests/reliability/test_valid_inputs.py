@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from tb_exudyn.results import load_results
-from tb_exudyn.results.storage import load_npz
+from tb_exudyn.storage import load_npz
 from tb_exudyn.scenario import load_scenario, save_scenario, scenario_to_toml
 from tb_exudyn.system.channels import CHANNEL_NAME_RULE, is_channel_name
 
@@ -122,7 +122,7 @@ def test_spectrum_table_rows_in_any_order(tmp_path):
 
 def test_meta_json_written_by_save_is_within_the_limits(tmp_path):
     """What tb_exudyn writes, it reads: a saved result's meta.json passes the loader's own checks."""
-    from tb_exudyn.results.storage import MAX_JSON_DEPTH, json_depth
+    from tb_exudyn.storage import MAX_JSON_DEPTH, json_depth
 
     f = write_result(tmp_path / "pem", rr_arrays(), rr_meta())
     r = load_results(f)

@@ -17,10 +17,10 @@ from scipy import stats
 import tb_exudyn as tbx
 from tb_exudyn.methods import run_monte_carlo, run_pem
 from tb_exudyn.methods.grid import scenario_grid
-from tb_exudyn.results.statistics import upcrossing_rate
+from tb_exudyn.system.statistics import upcrossing_rate
 from tb_exudyn.scenario import load_bridge, load_vehicle
 
-from ..results.test_comfort import pole_zero_response
+from ..system.test_comfort import pole_zero_response
 
 pytestmark = pytest.mark.exudyn
 
@@ -170,7 +170,7 @@ def test_pem_and_monte_carlo_statistics_of_the_derived_channels(case):
     wheel loads vary by 5 % (sigma / mean), so second-order terms are 0.3 % of sigma, inside the
     interval. Measured: see the assertion messages. Also the PEM weighted PSD is |W(f)|^2 times the
     unweighted one at every frequency (W typed here as a product of poles and zeros,
-    tests/results/test_comfort.py), to the PSD's float32 transport (1e-5).
+    tests/system/test_comfort.py), to the PSD's float32 transport (1e-5).
     """
     pem, mc = case
     q = stats.chi2.ppf([0.0005, 0.9995], N_MC - 1)

@@ -102,7 +102,7 @@ xr = pytest.importorskip("xarray")
 
 def test_to_xarray_of_a_pem_result():
     r = synthetic.pem_response()
-    ds = export.to_xarray(r)
+    ds = r.to_xarray()
     assert dict(ds.sizes) == {"channel": 4, "time": r.time.size, "frequency": 6}
     assert list(ds.channel.values) == list(r.channels) and list(ds.unit.values) == list(r.units)
     assert ds.label.sel(channel="car1.axle1.force_y").item() == "car 1, axle 1, lateral wheel-rail force"
@@ -122,13 +122,13 @@ def test_to_xarray_of_a_pem_result():
 
 def test_to_xarray_of_monte_carlo_and_of_a_run():
     mc = synthetic.mc_response()
-    ds = export.to_xarray(mc)
+    ds = mc.to_xarray()
     assert list(ds.bound.values) == ["lower", "upper"] and ds.sizes["sample"] == mc.n_samples
     assert np.array_equal(ds.std_ci.values, mc.std_ci) and np.array_equal(ds.mean_ci.values, mc.mean_ci)
     assert np.array_equal(ds.samples.values, mc.samples) and np.array_equal(ds.min_wheel_force.values, mc.min_wheel_force)
     assert "frequency" not in ds.dims and ds.attrs["n_samples"] == mc.n_samples
     th = synthetic.time_history()
-    ds = export.to_xarray(th)
+    ds = th.to_xarray()
     assert np.array_equal(ds.value.sel(channel="car1.axle1.force_y").values, th["car1.axle1.force_y"])
     assert ds.attrs["kind"] == "time_history"
 
@@ -137,7 +137,7 @@ def test_var_by_type_has_a_type_dimension():
     r = synthetic.pem_response()
     vbt = np.stack([0.25 * r.std ** 2, 0.75 * r.std ** 2])
     r = type(r)(**{**r.__dict__, "var_by_type": vbt, "types": ("german_low.vertical", "german_low.alignment")})
-    ds = export.to_xarray(r)
+    ds = r.to_xarray()
     assert list(ds.type.values) == ["german_low.vertical", "german_low.alignment"]
     assert np.array_equal(ds.var_by_type.sel(type="german_low.alignment").values, vbt[1])
 
@@ -149,7 +149,7 @@ def test_netcdf_reads_back_with_xarray(tmp_path, engine):
         path = export.export_netcdf(r, tmp_path / "r.nc", engine=engine)
         with xr.open_dataset(path, engine=engine) as back:
             back = back.load()
-        want = export.to_xarray(r)
+        want = r.to_xarray()
         for name in want.data_vars:
             assert np.array_equal(back[name].values, want[name].values), name  # the doubles, bit for bit
         assert list(back.channel.values) == list(want.channel.values)
@@ -215,7 +215,7 @@ def test_netcdf_without_bytes_from_xarray_is_a_checked_file(tmp_path, monkeypatc
     (path,) = export.export(r, "netcdf", tmp_path / "r.nc")
     with xr.open_dataset(path, engine="h5netcdf") as back:
         assert np.array_equal(back["std"].values, r.std) and np.array_equal(back["psd"].values, r.psd)
-    bound = export.to_xarray(r).nbytes * 1.05 + (1 << 20)
+    bound = r.to_xarray().nbytes * 1.05 + (1 << 20)
     # the compressed file would fit, the bound does not: refused before HDF5 writes anything
     monkeypatch.setattr(files, "_free_space", lambda folder: (int(bound) - 1, 4096))
     with pytest.raises(OutputFolderError, match=r"r2\.nc'.*needs .* free"):

@@ -15,7 +15,8 @@ import math
 
 import numpy as np
 
-from tb_exudyn.methods.sweep import KEY_QUANTITIES, Resonance, SweepResult
+from tb_exudyn.methods.sweep import KEY_QUANTITIES
+from tb_exudyn.results.sweep import Resonance, SweepResult
 from tb_exudyn.report.sweep import SWEEP_REPORT, render_sweep_report, write_sweep_report
 from tb_exudyn.system.labels import format_number
 

@@ -2,8 +2,8 @@
 
 The definitions are in :mod:`tb_exudyn.system.derived`; this module evaluates them on real signals
 sampled at fs [Hz] from t = 0: linear combinations, EN 12299 weightings filtered in time from rest
-(:func:`tb_exudyn.results.comfort.apply_weighting`), exact ratios, and Sperling indices per window
-(:func:`tb_exudyn.results.comfort.sperling_window_energy`), which become a piecewise-constant series
+(:func:`tb_exudyn.system.comfort.apply_weighting`), exact ratios, and Sperling indices per window
+(:func:`tb_exudyn.system.comfort.sperling_window_energy`), which become a piecewise-constant series
 (:func:`window_series`: each window's value at its samples, the last window's after it).
 """
 
@@ -15,7 +15,7 @@ from typing import Mapping, Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from ..system.derived import DerivedChannel
+from .derived import DerivedChannel
 from .comfort import apply_weighting, sperling_index, sperling_window_energy, window_slices
 
 FloatArray = NDArray[np.float64]
@@ -33,7 +33,7 @@ def combine(terms: Sequence[tuple[str, float]], values: Mapping[str, np.ndarray]
 
 def window_series(values: np.ndarray, n_t: int, fs: float, window: float) -> FloatArray:
     """A per-window index (..., n_w) as a series (..., n_t): window w's value at its samples (the
-    windows of :func:`~tb_exudyn.results.comfort.window_slices`); the samples after the last whole
+    windows of :func:`~tb_exudyn.system.comfort.window_slices`); the samples after the last whole
     window (shorter than a window, so without an index of their own) hold the last window's value, so
     the series is finite and its maximum is the largest window value."""
     slices, _ = window_slices(n_t, fs, window, "window_series")

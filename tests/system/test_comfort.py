@@ -1,4 +1,4 @@
-"""Ride-comfort weightings and the Sperling index (tb_exudyn.results.comfort) against independent forms.
+"""Ride-comfort weightings and the Sperling index (tb_exudyn.system.comfort) against independent forms.
 
 References written here: the EN 12299 weightings as products over their poles and zeros (roots of
 the quadratics of docs/references.md, code limits, computed in the test), steady-state sinusoid
@@ -15,7 +15,7 @@ import pytest
 from scipy import integrate
 
 from tb_exudyn.errors import SettingError
-from tb_exudyn.results.comfort import (
+from tb_exudyn.system.comfort import (
     apply_weighting,
     sperling_from_psd,
     sperling_weighting,

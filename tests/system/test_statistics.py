@@ -1,4 +1,4 @@
-"""Exceedance statistics (tb_exudyn.results.statistics) against closed forms and independent Monte Carlo.
+"""Exceedance statistics (tb_exudyn.system.statistics) against closed forms and independent Monte Carlo.
 
 References used here, all written in this file:
 * Rice's stationary closed form nu+ = sigma_yd/(2 pi sigma_y) exp(-b^2/(2 sigma_y^2));
@@ -32,7 +32,7 @@ from tb_exudyn.results.empirical import (
     empirical_level_from_extremes,
     sample_extremes,
 )
-from tb_exudyn.results.statistics import (
+from tb_exudyn.system.statistics import (
     GaussianResponse,
     bandwidth_from_moments,
     downcrossing_rate,

@@ -55,7 +55,7 @@ first-passage probabilities:
   hazard is infinite (the envelope is above the bound): P = 1.
 
 Measured errors against exact Gaussian Monte Carlo (4e4 samples, levels 2-3.5 sigma, probabilities
-0.02-0.8; tests/results/test_statistics.py), as estimate / Monte Carlo - 1:
+0.02-0.8; tests/system/test_statistics.py), as estimate / Monte Carlo - 1:
 
     process                                          Poisson            Vanmarcke
     stationary SDOF, zeta 0.02 (delta 0.16)          +71 % ... +185 %   +8 % ... +27 %

@@ -24,7 +24,7 @@ of |H| up to 16 Hz but 13 % low at 25 Hz (frequency warping); oversampled to >= 
 the measured steady-state error is <= 0.25 % of |H(f)| in amplitude and <= 0.35 degree in phase up to
 0.7 times the Nyquist frequency (35 Hz at fs = 100 Hz), and about -2 % at 0.8 times (the transition
 band of the interpolation filters), for Wb, Wc and Wd at fs = 100 and 200 Hz
-(tests/results/test_comfort.py). The interpolation filters are
+(tests/system/test_comfort.py). The interpolation filters are
 symmetric (zero phase), so the cascade is causal up to their half-length (about 10 samples of the
 original rate). A signal that does not start at 0 gives a start-up transient of a few seconds (the
 0.4 Hz high-pass).

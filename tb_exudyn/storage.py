@@ -47,9 +47,9 @@ from typing import Any, BinaryIO, Callable, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from ..atomic import write_atomic, write_text_atomic
-from ..errors import OutputFolderError, ResultsError
-from ..files import MIB, FileRefused, decode_utf8, open_regular, read_regular
+from .atomic import write_atomic, write_text_atomic
+from .errors import OutputFolderError, ResultsError
+from .files import MIB, FileRefused, decode_utf8, open_regular, read_regular
 
 #: the files of a result folder, and what a save may replace with them (derived from the old result)
 RESULT_FILES = ("arrays.npz", "meta.json")
