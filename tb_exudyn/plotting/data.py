@@ -153,7 +153,7 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None,
     """Channel names matching ``channels`` (names or glob patterns), in stored order.
 
     None: :func:`default_channels`. A pattern that matches nothing is a SettingError naming ``where``
-    (the caller; "command line": the option ``--channels``), the pattern, the result (``source``, e.g.
+    (the caller) and its argument ``channels``, the pattern, the result (``source``, e.g.
     its folder) and a few of its channels.
     """
     names = channel_names(result)
@@ -165,7 +165,7 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None,
             head = str(p).split(".")[0]
             close = [n for n in names if n.startswith(head)][:5] or list(names[:5])
             more = f" ({len(names)} in all)" if len(names) > len(close) else ""
-            raise SettingError(where, "--channels" if where == "command line" else "channels", p,
+            raise SettingError(where, "channels", p,
                                f"channel names or glob patterns, e.g. {', '.join(close)}{more}" if names else
                                "none: the result has no channel",
                                f"matches no channel of {source}" if source else "matches no channel")
