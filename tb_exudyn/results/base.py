@@ -82,7 +82,7 @@ class ChannelResult:
         if kind not in PLOTS:
             raise SettingError("plot", "kind", kind, " or ".join(map(repr, PLOTS)))
         self.index(channel)
-        plotting = importlib.import_module("tb_exudyn.plotting")  # matplotlib on first use
+        plotting = importlib.import_module("tb_exudyn.plotting.figures")  # matplotlib on first use
         return getattr(plotting, PLOTS[kind])(self, channel, **options)
 
 
