@@ -131,7 +131,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     print(textwrap.fill(f"scenario {scenario.name}: {run_label(scenario)}", cli_text.TERMINAL_WIDTH,
                         subsequent_indent="  ", break_on_hyphens=False))
     common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
-              "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
+              "engine": args.engine, "overwrite": args.overwrite,
               "max_memory": args.max_memory, "keep_checkpoint": args.keep_checkpoint, "where": "command line"}
     if args.method == "det":
         execution = methods.Execution(out=out, overwrite=args.overwrite, max_memory=args.max_memory,
@@ -145,8 +145,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
               f"{result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
     else:
-        result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed,
-                                         keep_samples=args.keep_samples, **common)
+        result = methods.run_monte_carlo(scenario, keep_samples=args.keep_samples, **common)
         p = result.provenance
         what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
             else "Monte Carlo"

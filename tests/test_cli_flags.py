@@ -155,3 +155,24 @@ def test_run_into_an_earlier_result_names_the_flags(tmp_path, capsys):
     line = _error_line(capsys)
     assert re.search(r"command line: output folder '.*' holds the result pem/ of an earlier run: use --overwrite "
                      r"to replace it, or another --out$", line), line
+
+
+def test_run_overrides_go_through_the_scenario():
+    """--samples, --seed and --linearization set analysis.n_samples, seed and linearization by
+    Scenario.replace (their one home), for the methods they concern; a value the schema refuses names
+    the flag (the table's)."""
+    import argparse
+
+    from tb_exudyn import cli_scenario
+    from tb_exudyn.scenario import load_scenario
+
+    base = load_scenario("quick")
+    args = argparse.Namespace(method="mc", samples=7, seed=11, linearization="static", n_freq=None,
+                              freq_spacing=None, channels=None, speed_kmh=None)
+    sc = cli_scenario.with_options(base, args)
+    assert (sc.analysis.n_samples, sc.analysis.seed, sc.analysis.linearization) == (7, 11, "static")
+    pem = cli_scenario.with_options(base, argparse.Namespace(**{**vars(args), "method": "pem"}))
+    assert (pem.analysis.n_samples, pem.analysis.seed) == (base.analysis.n_samples, base.analysis.seed)
+    assert pem.analysis.linearization == "static"
+    with pytest.raises(SettingError, match=r"^command line: key '--samples' = 0\b"):
+        cli_scenario.with_options(base, argparse.Namespace(**{**vars(args), "samples": 0}))
