@@ -18,9 +18,9 @@ from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .engines import ENGINES
-from .errors import OutputFolderError, SettingError, UserError
+from .errors import SettingError, UserError
 from .execution import folder_lock
-from .execution.output import SWEEP_FIGURE, removed_if_left_empty
+from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
 from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text
 from .cli_flags import WHERE, flag
@@ -272,10 +272,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
         raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
                            "not a number") from None
     out = Path(args.out)
-    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE, out / CHECK_PAGE) if p.exists() or p.is_symlink()]
-    if existing and not args.overwrite:
-        raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
-                                "earlier check (allowed: --overwrite to replace it, or another --out)")
+    refuse_earlier_files(out, (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE), "check", overwrite=args.overwrite, where=WHERE)
     options = cli_flags.options("line_speed_kmh", "trains", "track", "construction", "bridge", "stochastic",
                                 "stochastic_speeds", "stochastic_scenario")
     workers = _int_option(args.workers, "--workers", 1)

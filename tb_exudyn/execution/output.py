@@ -23,7 +23,7 @@ import shutil
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator
+from typing import Iterator, Sequence
 
 from ..errors import OutputFolderError, UserError
 
@@ -131,6 +131,18 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
             f"{opt['overwrite']} to replace it, or {opt['out']}", where=where, key="out", value=str(folder),
             allowed=f"{cont}{opt['overwrite']} to replace it, or {opt['out']}")
     clear_run(folder, files)
+
+
+def refuse_earlier_files(folder: str | Path, names: Sequence[str], what: str, *, overwrite: bool, where: str) -> None:
+    """OutputFolderError when ``folder`` holds any of the files ``names`` of an earlier ``what`` (a
+    symbolic link counts) and not ``overwrite``: for a command that writes fixed file names into its
+    folder without a result folder of its own (the EN 1991-2 check)."""
+    folder = Path(folder)
+    held = [n for n in names if os.path.lexists(folder / n)]
+    if held and not overwrite:
+        allowed = f"{_OPTIONS['overwrite']} to replace it, or {_OPTIONS['out']}"
+        raise OutputFolderError(f"output folder {str(folder)!r} holds {', '.join(held)} of an earlier {what} "
+                                f"(allowed: {allowed})", where=where, key="out", value=str(folder), allowed=allowed)
 
 
 @contextmanager
