@@ -41,7 +41,6 @@ FLAGS: dict[str, str] = {
     "resume": "--resume",
     "overwrite": "--overwrite",
     "keep_checkpoint": "--keep-checkpoint",
-    "progress": "--no-progress",
     # results, figures, exports
     "format": "--format",
     "channels": "--channels",
