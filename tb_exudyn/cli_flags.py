@@ -45,6 +45,9 @@ FLAGS: dict[str, str] = {
     "format": "--format",
     "channels": "--channels",
     "formats": "--formats",
+    # structure.imported.export_modes
+    "max_frequency": "--max-frequency",
+    "max_modes": "--max-modes",
     # codes.check (its option_names)
     "trains": "--trains",
     "track": "--track",
