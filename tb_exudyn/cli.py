@@ -18,11 +18,12 @@ from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .engines import ENGINES
-from .errors import OutputFolderError, SettingError, UserError
+from .errors import SettingError, UserError
 from .execution import folder_lock
-from .execution.output import SWEEP_FIGURE, removed_if_left_empty
+from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_modes, cli_scenario, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text
+from .cli_flags import WHERE, flag
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
@@ -130,7 +131,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     print(textwrap.fill(f"scenario {scenario.name}: {run_label(scenario)}", cli_text.TERMINAL_WIDTH,
                         subsequent_indent="  ", break_on_hyphens=False))
     common = {"workers": args.workers, "out": out, "resume": args.resume, "progress": not args.no_progress,
-              "engine": args.engine, "linearization": args.linearization, "overwrite": args.overwrite,
+              "engine": args.engine, "overwrite": args.overwrite,
               "max_memory": args.max_memory, "keep_checkpoint": args.keep_checkpoint, "where": "command line"}
     if args.method == "det":
         execution = methods.Execution(out=out, overwrite=args.overwrite, max_memory=args.max_memory,
@@ -144,8 +145,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
               f"{result.provenance['tasks']} tasks ({result.provenance['tasks_run']} run, "
               f"{result.provenance['tasks_from_checkpoint']} from the checkpoint) in {result.provenance['seconds']:.1f} s")
     else:
-        result = methods.run_monte_carlo(scenario, n_samples=args.samples, seed=args.seed,
-                                         keep_samples=args.keep_samples, **common)
+        result = methods.run_monte_carlo(scenario, keep_samples=args.keep_samples, **common)
         p = result.provenance
         what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
             else "Monte Carlo"
@@ -203,12 +203,13 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     try:
         sweep.check_sweep(scenario, speeds, channels=args.channels, n_freq=args.n_freq, options=options,
                           freq_spacing=args.freq_spacing)
-    except SettingError as exc:
-        typed = {"speeds_kmh": ("--speeds-kmh", args.speeds_kmh) if args.speeds_kmh is not None else
-                 ("--line-speed-kmh", args.line_speed_kmh), "channels": ("--channels", args.channels)}
+    except SettingError as exc:  # run_sweep's speeds came from --speeds-kmh or --line-speed-kmh: the typed one
+        typed = {"speeds_kmh": ("speeds_kmh", args.speeds_kmh) if args.speeds_kmh is not None else
+                 ("line_speed_kmh", args.line_speed_kmh), "channels": ("channels", args.channels)}
         if exc.where != "run_sweep" or exc.key not in typed:
             raise
-        raise SettingError("command line", *typed[exc.key], exc.allowed, exc.reason) from None
+        key, value = typed[exc.key]
+        raise exc.restated(WHERE, flag(key), value) from None
     print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)
@@ -272,13 +273,9 @@ def _cmd_check(args: argparse.Namespace) -> int:
         raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
                            "not a number") from None
     out = Path(args.out)
-    existing = [p for p in (out / CHECK_CSV, out / CHECK_FIGURE, out / CHECK_PAGE) if p.exists() or p.is_symlink()]
-    if existing and not args.overwrite:
-        raise OutputFolderError(f"output folder {str(out)!r} holds {', '.join(p.name for p in existing)} of an "
-                                "earlier check (allowed: --overwrite to replace it, or another --out)")
-    options = {"line_speed_kmh": "--line-speed-kmh", "trains": "--trains", "track": "--track",
-               "construction": "--construction", "bridge": "BRIDGE", "stochastic": "--stochastic",
-               "stochastic_speeds": "--stochastic-speeds", "stochastic_scenario": "--stochastic-scenario"}
+    refuse_earlier_files(out, (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE), "check", overwrite=args.overwrite, where=WHERE)
+    options = cli_flags.options("line_speed_kmh", "trains", "track", "construction", "bridge", "stochastic",
+                                "stochastic_speeds", "stochastic_scenario")
     workers = _int_option(args.workers, "--workers", 1)
     speeds = None
     if args.stochastic_speeds is not None:
@@ -556,7 +553,7 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
 def _one_line_warning(message, category, filename, lineno, file=None, line=None) -> None:  # noqa: ANN001
     """Warnings and notices, each once, in at most two lines of 100 characters (no source line), with
     the --set a change needs; the report has them in full."""
-    text = cli_text.with_set_hint(" ".join(str(message).split()))
+    text = cli_text.with_set_hint(cli_flags.notice_as_flags(" ".join(str(message).split())))
     if text in _SHOWN:  # each warning once (a sweep repeats a speed's)
         return
     _SHOWN.add(text)
@@ -576,7 +573,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.func(check_arguments(args)))
     except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
-        print(f"tb-exudyn: error: {exc}", file=sys.stderr)
+        print(f"tb-exudyn: error: {cli_flags.as_flags(exc)}", file=sys.stderr)  # library keys told as flags
         return EXIT_USER_ERROR
     except OSError as exc:  # a file or folder the user named cannot be read or written
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)

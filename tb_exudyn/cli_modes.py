@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 
+from .cli_flags import flag
 from .errors import SettingError
 from .scenario.io import load_bridge
 from .scenario.model import ModalTable
@@ -29,9 +30,8 @@ def _cmd_export_modes(args: argparse.Namespace) -> int:
         paths = export_modes(bridge, args.out, args.max_frequency, args.max_modes, overwrite=args.overwrite,
                              where="command line", key="--out")
     except StructureError as exc:  # the modes asked for name the option, the bridge's data its file
-        option = {"max_frequency": "--max-frequency", "max_modes": "--max-modes"}.get(exc.key)
-        if option is not None:
-            raise SettingError("command line", option, exc.value, exc.allowed, exc.reason) from None
+        if exc.key in ("max_frequency", "max_modes"):
+            raise SettingError("command line", flag(exc.key), exc.value, exc.allowed, exc.reason) from None
         raise StructureError(source_file(bridge) or exc.file, exc.key, exc.value, exc.allowed,
                              f"{exc.file}: {exc.reason}" if exc.reason else exc.file) from None
     for path in paths.values():

@@ -1,11 +1,13 @@
 """The scenario a command line asks for: the named scenario, its ``--set KEY=VALUE`` settings and
-the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels), each checked by the schema;
-a bad one names the option (used by cli.py)."""
+the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels, --linearization, --samples,
+--seed), each set through ``Scenario.replace`` and checked by the schema; a bad one names the option
+(used by cli.py)."""
 
 from __future__ import annotations
 
 import argparse
 
+from .cli_flags import flag
 from .errors import SettingError
 from .scenario import Scenario, ScenarioError, load_scenario
 from .scenario.io import parse_setting, with_settings
@@ -29,7 +31,9 @@ def load(args: argparse.Namespace) -> Scenario:
 def with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
     """The scenario with the run's overrides: --speed-kmh by the one rule for a run at a speed
     (:func:`tb_exudyn.scenario.speed_rule.at_speed`: the band and the approach scaled by v / v0, as
-    every speed of a sweep), then --n-freq, --freq-spacing, --channels; a bad value names the option."""
+    every speed of a sweep), then the analysis keys of :data:`ANALYSIS_OPTIONS` (--n-freq, --freq-spacing,
+    --channels; --linearization for PEM and Monte Carlo; --samples and --seed for Monte Carlo), each
+    through ``Scenario.replace``; a bad value names the option."""
     sc = scenario
     speed = getattr(args, "speed_kmh", None)
     if speed is not None:
@@ -39,16 +43,26 @@ def with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
             raise SettingError("command line", "--speed-kmh", speed, exc.allowed,
                                exc.reason if exc.key == "speed_kmh" else f"{exc.key} = {_shown(exc.value)}: {exc.reason}"
                                ) from None
-    for attr, option in (("n_freq", "--n-freq"), ("freq_spacing", "--freq-spacing"), ("channels", "--channels")):
+    method = getattr(args, "method", None)
+    for attr, key, methods in ANALYSIS_OPTIONS:
         value = getattr(args, attr, None)
-        if value is None:
+        if value is None or (methods and method not in methods):
             continue
         value = tuple(value) if isinstance(value, list) else value
         try:
-            sc = sc.replace(analysis=sc.analysis.replace(**{attr: value}))
+            sc = sc.replace(analysis=sc.analysis.replace(**{key: value}))
         except ScenarioError as exc:
-            raise SettingError("command line", option, value, exc.allowed, exc.reason) from None
+            raise SettingError("command line", flag(key), value, exc.allowed, exc.reason) from None
     return sc
+
+
+#: (argument of the command line, analysis key, the methods it applies to (empty: every one)): the run's
+#: options that override a scenario key (the key's one home is the scenario; the flag is named by
+#: tb_exudyn.cli_flags.FLAGS)
+ANALYSIS_OPTIONS = (
+    ("n_freq", "n_freq", ()), ("freq_spacing", "freq_spacing", ()), ("channels", "channels", ()),
+    ("linearization", "linearization", ("pem", "mc")), ("samples", "n_samples", ("mc",)), ("seed", "seed", ("mc",)),
+)
 
 
 def _shown(value: object) -> str:

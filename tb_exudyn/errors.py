@@ -29,16 +29,28 @@ class TbExudynError(Exception):
 
 
 class UserError(TbExudynError):
-    """An error the user can fix; its message is one line naming where (a file, ``command line``
-    with the option, or a function argument), the key, the value found and what is allowed.
+    """An error the user can fix; its message is one line naming where (a file, or the function whose
+    argument it is), the key, the value found and what is allowed.
 
-    Construct either from a finished message (``UserError("...")``) or from its parts with
-    :meth:`from_parts`.
+    Construct either from a finished message (``UserError("...")``, parts given as keywords when
+    known) or from its parts with :meth:`from_parts`. Every instance carries its parts as attributes
+    (None when not known): ``where`` (the source: a file, a function), ``key`` (the key path or argument
+    name), ``value``, ``allowed`` and ``reason``; they survive a pickle. A caller that names things
+    otherwise (the command line names arguments as its flags) restates the error with
+    :meth:`restated`, without parsing the message.
     """
 
-    def __init__(self, message: str) -> None:
+    where: str | None = None
+    key: str | None = None
+    value: Any = None
+    allowed: str | None = None
+    reason: str | None = None
+
+    def __init__(self, message: str, *, where: str | None = None, key: str | None = None, value: Any = None,
+                 allowed: str | None = None, reason: str | None = None) -> None:
         super().__init__(message)
         self.message = message
+        self.where, self.key, self.value, self.allowed, self.reason = where, key, value, allowed, reason
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (_rebuild, (type(self), self.message, dict(self.__dict__)))
@@ -48,7 +60,41 @@ class UserError(TbExudynError):
 
     @classmethod
     def from_parts(cls, where: str, key: str, value: Any, allowed: str, reason: str = "") -> "UserError":
-        return cls(format_message(where, key, value, allowed, reason))
+        """The error ``WHERE: key 'KEY' = VALUE: REASON (allowed: ALLOWED)``, keeping its parts.
+
+        Classes whose constructor takes the parts (:class:`ScenarioError`, :class:`SettingError`) are
+        built through it; the others take the formatted message and the parts as keywords."""
+        if issubclass(cls, (ScenarioError, SettingError)):
+            return cls(where, key, value, allowed, reason)  # type: ignore[call-arg]
+        return cls(format_message(where, key, value, allowed, reason), where=where, key=key, value=value,
+                   allowed=allowed, reason=reason)
+
+    @property
+    def source(self) -> str | None:
+        """Where the error comes from (a file, a function): the same as ``where``."""
+        return self.where
+
+    def restated(self, where: str, key: str, value: Any = None, *, text: Any = None) -> "UserError":
+        """The same error (same class, same parts) told by a caller that names things otherwise: ``where``
+        and ``key`` (and ``value``, when given) replace the message's ``WHERE: key 'KEY' = VALUE`` head;
+        ``text`` (a function of a string, e.g. a table of names) respells ``allowed``, ``reason`` and the
+        rest of the message. Without known parts the message is kept (only ``text`` applied)."""
+        spell = text or (lambda t: t)
+        message = self.message
+        parts = {"allowed": None if self.allowed is None else spell(self.allowed),
+                 "reason": None if self.reason is None else spell(self.reason)}
+        head = f"{self.where}: key '{self.key}' = "
+        if self.where is not None and self.key is not None and message.startswith(head):
+            rest = message[len(head):]
+            old = short_repr(self.value)
+            if value is not None and rest.startswith(old):  # the value as the caller typed it
+                rest = short_repr(value) + rest[len(old):]
+                parts["value"] = value
+            message = f"{where}: key '{key}' = " + spell(rest)
+            parts.update(where=where, key=key)
+        else:
+            message = spell(message)
+        return _rebuild(type(self), message, {**self.__dict__, **parts, "message": message})
 
 
 def _rebuild(cls: type, message: str, state: dict[str, Any]) -> "UserError":
@@ -81,23 +127,21 @@ class ScenarioError(UserError, ValueError):
 
     def __init__(self, file: str | None, key: str, value: Any, allowed: str, reason: str = ""):
         self.file = file or "<scenario>"
-        self.key = key or "<top level>"
-        self.value = value
-        self.allowed = allowed
-        self.reason = reason
-        super().__init__(format_message(self.file, self.key, value, allowed, reason))
+        super().__init__(format_message(self.file, key or "<top level>", value, allowed, reason), where=self.file,
+                         key=key or "<top level>", value=value, allowed=allowed, reason=reason)
 
 
 class SettingError(UserError, ValueError):
     """A function argument or a command-line option is not allowed.
 
-    ``where`` is e.g. ``"command line"`` (key: the option, ``--workers``) or ``"run_pem"`` (key: the
-    argument name).
+    ``where`` is the function (``"run_pem"``) or object (``"Execution"``) whose argument ``key`` is; the
+    library names its own arguments, and the command line restates the error with its flag
+    (``--workers``) when it prints it.
     """
 
     def __init__(self, where: str, key: str, value: Any, allowed: str, reason: str = "") -> None:
-        super().__init__(format_message(where, key, value, allowed, reason))
-        self.where, self.key, self.value, self.allowed, self.reason = where, key, value, allowed, reason
+        super().__init__(format_message(where, key, value, allowed, reason), where=where, key=key, value=value,
+                         allowed=allowed, reason=reason)
 
 
 class CapabilityError(SettingError):

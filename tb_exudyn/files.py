@@ -21,7 +21,8 @@ points to is replaced). The same for each sidecar file written beside the target
 :func:`write_output` writes the files atomically (:mod:`tb_exudyn.atomic`) after checking the free
 space for the bytes to write, so a full disk leaves the target as it was and no temporary file.
 Both raise :class:`~tb_exudyn.errors.OutputFolderError`, one line naming the file and the option
-(``where``/``key``: ``command line`` and ``--output``, or a function and its argument).
+(``where``/``key``: the caller and its argument, e.g. ``export`` and ``path``; the parts are kept on
+the error, and a caller that names things otherwise, the command line, restates it).
 """
 
 from __future__ import annotations
@@ -140,13 +141,14 @@ CHECKPOINT_FOLDER_FILES = ("manifest.json", "tasks")
 SPACE_MARGIN_BLOCKS = 2
 
 
-def _overwrite_option(where: str) -> str:
-    return "--overwrite" if where == "command line" else "overwrite=True"
+#: how a message names the argument that replaces an existing file
+OVERWRITE = "overwrite=True"
 
 
 def _refused(where: str, key: str, named: Path, what: str, allowed: str) -> OutputFolderError:
     """``WHERE: key 'KEY' = 'PATH': WHAT (allowed: ALLOWED)``, the path in full."""
-    return OutputFolderError(f"{where}: key '{key}' = {str(named)!r}: {what} (allowed: {allowed})")
+    return OutputFolderError(f"{where}: key '{key}' = {str(named)!r}: {what} (allowed: {allowed})", where=where,
+                             key=key, value=str(named), allowed=allowed, reason=what)
 
 
 def _owner(path: Path) -> str | None:
@@ -163,7 +165,7 @@ def _owner(path: Path) -> str | None:
 
 def _target(path: Path, named: Path, label: str, *, overwrite: bool, derived: bool, where: str, key: str) -> Path:
     """The path to write for one target (see :func:`output_targets`)."""
-    opt = _overwrite_option(where)
+    opt = OVERWRITE
     allowed = f"a new file, or an existing regular file with {opt}"
     try:
         st = os.lstat(path)
@@ -268,7 +270,7 @@ def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, ov
         return write_atomic_group([(p, writer(c)) for p, c in zip(paths, (c for _, c in items))], replace=overwrite)
     except FileExistsError as exc:
         raise _refused(where, key, named, f"{_which(exc, paths)}appeared while it was written: not replaced",
-                       f"a new file name, or {_overwrite_option(where)} to replace the file") from None
+                       f"a new file name, or {OVERWRITE} to replace the file") from None
     except OSError as exc:
         raise _refused(where, key, named, f"{_which(exc, paths)}cannot be written ({exc.strerror or exc})",
                        "a file in a writable folder with room for it") from None

@@ -49,7 +49,8 @@ class Execution:
     slices : relative sizes of the tasks an engine that integrates many columns at once gets (None:
         one per core and a half one); a result depends on them only at round-off, and not on
         ``workers`` or ``executor``; give more for an executor with more workers
-    where : what the settings came from, for messages (a function name, or "command line")
+    where : what the settings came from, for messages (the caller's name; errors name the fields as
+        their keys: ``workers``, ``out``, ``overwrite`` ...)
     keep_checkpoint : keep the checkpoint after the result is saved (default: removed then: the result
         holds everything, and the finished tasks of a large sweep take as much room as its PSD maps)
     """
@@ -67,23 +68,22 @@ class Execution:
 
     def __post_init__(self) -> None:
         w = self.workers
-        option = (lambda name: f"--{name.replace('_', '-')}") if self.where == "command line" else (lambda name: name)
         if w is not None and (isinstance(w, bool) or not isinstance(w, int) or w < 1):
-            raise SettingError(self.where, option("workers"), w, "a whole number >= 1, or None for all cores")
+            raise SettingError(self.where, "workers", w, "a whole number >= 1, or None for all cores")
         if self.slices is not None and (len(self.slices) == 0 or not all(
                 isinstance(x, (int, float)) and np.isfinite(x) and x > 0 for x in self.slices)):
             raise SettingError(self.where, "slices", self.slices, "positive relative sizes, e.g. (1, 1, 0.5)")
         if self.out is not None and not str(self.out).strip():
-            raise SettingError(self.where, option("out"), self.out, "a folder path", "empty")
+            raise SettingError(self.where, "out", self.out, "a folder path", "empty")
         if self.resume and self.out is None:
-            raise SettingError(self.where, option("resume"), True, "resume only together with an output folder",
+            raise SettingError(self.where, "resume", True, "resume only together with an output folder",
                                "nothing to resume from")
         if self.resume and self.overwrite:
-            raise SettingError(self.where, option("overwrite"), True, f"either {option('resume')} or "
-                               f"{option('overwrite')}", "resume continues a run, overwrite replaces it")
+            raise SettingError(self.where, "overwrite", True, "either resume=True or overwrite=True",
+                               "resume continues a run, overwrite replaces it")
         if self.overwrite and self.out is None:
-            raise SettingError(self.where, option("overwrite"), True, "overwrite only together with an output folder")
-        object.__setattr__(self, "max_memory", parse_memory(self.max_memory, self.where, option("max_memory")))
+            raise SettingError(self.where, "overwrite", True, "overwrite only together with an output folder")
+        object.__setattr__(self, "max_memory", parse_memory(self.max_memory, self.where, "max_memory"))
         if self.executor is None:
             object.__setattr__(self, "_pool_workers", cap_workers(self.workers, self.cores, self.where))
 
@@ -123,8 +123,7 @@ class Execution:
         if out is None:
             yield None
             return
-        other = "another --out" if self.where == "command line" else "another out folder"
-        remedy = f"wait for it to end, or use {other}"
+        remedy = "wait for it to end, or use another out folder"
         with folder_lock(out, self.where, remedy):
             prepare_folder(out, files, resume=self.resume, overwrite=self.overwrite, where=self.where)
             yield out
@@ -136,9 +135,7 @@ class Execution:
         out = self.output_folder()
         if out is None:
             return None
-        cli = self.where == "command line"
-        remedy = (f"use {'--overwrite' if cli else 'overwrite=True'} to replace it, "
-                  f"{'another --out' if cli else 'another out folder'}, or the computation it holds")
+        remedy = "use overwrite=True to replace it, another out folder, or the computation it holds"
         return Checkpoint(out / name, fingerprint(identity), self.resume, remedy)
 
     def run(self, tasks: Sequence[Task], *, setup: Callable[..., Any], setup_args: tuple,

@@ -23,7 +23,7 @@ import shutil
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Iterator
+from typing import Iterator, Sequence
 
 from ..errors import OutputFolderError, UserError
 
@@ -50,11 +50,9 @@ class RunFiles:
     drawn: tuple[str, ...] = ()
 
 
-def _options(where: str) -> dict[str, str]:
-    """How to name the options in a message: command-line options, or function arguments."""
-    if where == "command line":
-        return {"overwrite": "--overwrite", "resume": "--resume", "out": "another --out"}
-    return {"overwrite": "overwrite=True", "resume": "resume=True", "out": "another out folder"}
+#: how a message names the options (the function arguments; a caller that names them otherwise, the
+#: command line, respells them when it prints the message)
+_OPTIONS = {"overwrite": "overwrite=True", "resume": "resume=True", "out": "another out folder"}
 
 
 def _has_files(path: Path) -> bool:
@@ -110,7 +108,7 @@ def clear_run(folder: Path, files: RunFiles) -> None:
 def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
     """Refuse (OutputFolderError naming the folder, what it holds and the options) or clear, as the
     module docstring says; call with the folder's lock held."""
-    opt = _options(where)
+    opt = _OPTIONS
     held = holdings(folder, files)
     if resume:
         if files.checkpoint is None:
@@ -121,7 +119,8 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
         if _has_files(folder / files.result) and not has_checkpoint:
             raise OutputFolderError(
                 f"{where}: output folder {str(folder)!r} holds {held[0]} but no checkpoint to resume from: use "
-                f"{opt['overwrite']} to run again, or {opt['out']}")
+                f"{opt['overwrite']} to run again, or {opt['out']}", where=where, key="out", value=str(folder),
+                allowed=f"{opt['overwrite']} to run again, or {opt['out']}")
         return
     if not held:
         return
@@ -129,8 +128,21 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
         cont = f"{opt['resume']} to continue it, " if any(h.startswith("the checkpoint") for h in held) else ""
         raise OutputFolderError(
             f"{where}: output folder {str(folder)!r} holds {' and '.join(held)} of an earlier run: use {cont}"
-            f"{opt['overwrite']} to replace it, or {opt['out']}")
+            f"{opt['overwrite']} to replace it, or {opt['out']}", where=where, key="out", value=str(folder),
+            allowed=f"{cont}{opt['overwrite']} to replace it, or {opt['out']}")
     clear_run(folder, files)
+
+
+def refuse_earlier_files(folder: str | Path, names: Sequence[str], what: str, *, overwrite: bool, where: str) -> None:
+    """OutputFolderError when ``folder`` holds any of the files ``names`` of an earlier ``what`` (a
+    symbolic link counts) and not ``overwrite``: for a command that writes fixed file names into its
+    folder without a result folder of its own (the EN 1991-2 check)."""
+    folder = Path(folder)
+    held = [n for n in names if os.path.lexists(folder / n)]
+    if held and not overwrite:
+        allowed = f"{_OPTIONS['overwrite']} to replace it, or {_OPTIONS['out']}"
+        raise OutputFolderError(f"output folder {str(folder)!r} holds {', '.join(held)} of an earlier {what} "
+                                f"(allowed: {allowed})", where=where, key="out", value=str(folder), allowed=allowed)
 
 
 @contextmanager

@@ -153,8 +153,7 @@ class MemoryLimit:
 def memory_limit(max_memory: int | None, where: str) -> MemoryLimit:
     """``max_memory`` when given, else the memory available now (:func:`available_memory`)."""
     if max_memory is not None:
-        option = "--max-memory" if where == "command line" else "max_memory"
-        return MemoryLimit(max_memory, f"the {option} of {format_bytes(max_memory)}", where, option)
+        return MemoryLimit(max_memory, f"the max_memory of {format_bytes(max_memory)}", where, "max_memory")
     return MemoryLimit(*available_memory())
 
 
@@ -212,20 +211,20 @@ def check_memory(estimate: MemoryEstimate, limit: MemoryLimit, where: str) -> No
     fixed = estimate.total - sum(p.bytes for p in estimate.parent if p.key) \
         - max(1, estimate.workers) * sum(p.bytes for p in estimate.worker if p.key)
     if fixed >= limit.bytes and limit.key:
-        raise ResourceError(format_message(
+        raise ResourceError.from_parts(
             limit.where, limit.key, format_bytes(limit.bytes),
             f"at least {format_bytes(fixed)} (more for the run itself)",
             f"the run needs about {format_bytes(estimate.total)} of memory, {format_bytes(fixed)} of it for the "
-            f"interpreters and models of {max(1, estimate.workers)} process(es) alone, more than {limit.text}"))
+            f"interpreters and models of {max(1, estimate.workers)} process(es) alone, more than {limit.text}")
     part, _, place = estimate.largest()
     share = f"{format_bytes(part.bytes)} {place}"
     workers = (f"; or fewer workers ({estimate.workers} now)"
                if estimate.workers > 1 and any(p is part for p in estimate.worker) else "")
-    raise ResourceError(format_message(
+    raise ResourceError.from_parts(
         where, part.key, part.value,
         f"a run within the limit: {part.remedy or 'a smaller ' + part.key}{workers}",
         f"the run needs about {format_bytes(estimate.total)} of memory, most of it {part.what} ({share}), more "
-        f"than {limit.text}"))
+        f"than {limit.text}")
 
 
 def cap_workers(workers: int | None, cores: int, where: str) -> int:
@@ -234,8 +233,7 @@ def cap_workers(workers: int | None, cores: int, where: str) -> int:
     if workers is None:
         return cores
     if workers > cores:
-        option = "--workers" if where == "command line" else "workers"
-        notice(f"{where}: {option} = {workers} is more than this machine's {cores} cores: {cores} workers run "
+        notice(f"{where}: workers = {workers} is more than this machine's {cores} cores: {cores} workers run "
                "(more would only share the cores)")
         return cores
     return workers

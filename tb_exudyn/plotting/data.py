@@ -17,18 +17,27 @@ from __future__ import annotations
 import fnmatch
 import re
 from dataclasses import dataclass, replace
-from typing import Sequence, Union
+from typing import Any, Sequence, Union
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..errors import SettingError
-from ..results import RandomResponse, TimeHistory
 from ..scenario import Scenario
 from ..system.labels import (DISPLAY_UNITS, DisplayUnit, channel_label, default_patterns, display_unit, format_number,
                              psd_unit)
 
+#: the result types (tb_exudyn.results.RandomResponse and TimeHistory), known here by what plotting reads
+#: of them (:func:`is_time_history`): plotting imports nothing of results, whose ``result.plot()``
+#: loads plotting.figures by name (no import cycle, tests/architecture)
+RandomResponse = Any
+TimeHistory = Any
 Result = Union[RandomResponse, TimeHistory]
+
+
+def is_time_history(result: Any) -> bool:
+    """A time history (channels by name, ``names``, no statistics) rather than a random response."""
+    return hasattr(result, "names") and not hasattr(result, "std")
 
 
 # ============================================================================================ display units
@@ -130,7 +139,7 @@ def channel_crossing(scenario: Scenario, channel: str) -> Crossing:
 
 # ============================================================================================ channels
 def channel_names(result: Result) -> tuple[str, ...]:
-    return tuple(result.channels) if isinstance(result, RandomResponse) else result.names
+    return result.names if is_time_history(result) else tuple(result.channels)
 
 
 def default_channels(result: Result) -> list[str]:
@@ -153,7 +162,7 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None,
     """Channel names matching ``channels`` (names or glob patterns), in stored order.
 
     None: :func:`default_channels`. A pattern that matches nothing is a SettingError naming ``where``
-    (the caller; "command line": the option ``--channels``), the pattern, the result (``source``, e.g.
+    (the caller) and its argument ``channels``, the pattern, the result (``source``, e.g.
     its folder) and a few of its channels.
     """
     names = channel_names(result)
@@ -165,7 +174,7 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None,
             head = str(p).split(".")[0]
             close = [n for n in names if n.startswith(head)][:5] or list(names[:5])
             more = f" ({len(names)} in all)" if len(names) > len(close) else ""
-            raise SettingError(where, "--channels" if where == "command line" else "channels", p,
+            raise SettingError(where, "channels", p,
                                f"channel names or glob patterns, e.g. {', '.join(close)}{more}" if names else
                                "none: the result has no channel",
                                f"matches no channel of {source}" if source else "matches no channel")
@@ -175,8 +184,8 @@ def select_channels(result: Result, channels: str | Sequence[str] | None = None,
 def channel_subset(result: Result, channels: Sequence[str]) -> Result:
     """The same result restricted to ``channels`` (arrays sliced, scenario and provenance kept):
     what a figure worker needs, small enough to send to another process."""
-    if isinstance(result, TimeHistory):
-        return TimeHistory(time=result.time, channels={c: result[c] for c in channels},
+    if is_time_history(result):
+        return type(result)(time=result.time, channels={c: result[c] for c in channels},
                            units={c: result.unit(c) for c in channels}, scenario=result.scenario,
                            provenance=result.provenance)
     rows = [result.index(c) for c in channels]
@@ -213,7 +222,7 @@ def psd_row(resp: RandomResponse, channel: str) -> int | None:
 
 def has_psd(resp: Result, channel: str) -> bool:
     """True when ``resp`` holds a PSD map of ``channel``."""
-    return isinstance(resp, RandomResponse) and psd_row(resp, channel) is not None
+    return not is_time_history(resp) and psd_row(resp, channel) is not None
 
 
 def _psd_of(resp: RandomResponse, channel: str) -> np.ndarray:
@@ -336,7 +345,7 @@ def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | N
         if resp.samples is None:
             raise ValueError("this result stores no samples")
         samples = resp.samples
-    if not isinstance(samples, np.ndarray) and len(samples) and isinstance(samples[0], TimeHistory):
+    if not isinstance(samples, np.ndarray) and len(samples) and is_time_history(samples[0]):
         arr = np.array([np.asarray(th[channel], dtype=float) for th in samples])
     else:
         arr = np.asarray(samples, dtype=float)

@@ -21,11 +21,11 @@ from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
 from matplotlib.ticker import LogFormatter, NullLocator
 
-from ..results import RandomResponse, TimeHistory
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..scenario import Scenario
 from ..system.labels import display_unit
 from . import data
+from .data import RandomResponse, TimeHistory
 
 _EVENT_STYLE = {  # key: (colour, line style)
     "first_on": ("tab:green", "--"), "first_off": ("tab:green", ":"),
@@ -214,7 +214,7 @@ def plot_pem_vs_mc(pem: RandomResponse, mc: RandomResponse | Sequence[RandomResp
     """Mean (top) and sigma (bottom) of ``channel`` by PEM and by one or more Monte Carlo runs, with
     the Monte Carlo 95 % confidence bands (``mean_ci``, ``std_ci``), as the reference study's
     figures 1-2; in the channel's display unit."""
-    runs = [mc] if isinstance(mc, RandomResponse) else list(mc)
+    runs = [mc] if hasattr(mc, "std") else list(mc)  # one result, or a sequence of them
     du = data.display_unit(pem.unit(channel))
     f = du.factor
     fig, (ax_m, ax_s) = _figure(fig, nrows=2, height=2.4, legend_below=False)

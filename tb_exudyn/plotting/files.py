@@ -235,7 +235,7 @@ def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
 
     Raises ResultsError, before drawing anything, when a figure would be written outside ``folder``,
     and SettingError when a pattern of ``channels`` matches no channel of a result (naming ``where``,
-    the caller: "command line" names the option ``--channels``).
+    the caller, and the argument ``channels``).
     """
     folder = Path(folder)
     found = find_results(folder) if found is None else found

@@ -286,9 +286,9 @@ def export(result: Result, format: str, path: str | Path, *, overwrite: bool = F
     is not a regular file (FIFO, device, folder, ...), and when it exists unless ``overwrite``. The
     files are then written whole or not at all, the free space checked first
     (:func:`tb_exudyn.files.write_output`). Every refusal or failure is an OutputFolderError naming
-    the file and ``where``/``key`` (the CLI: ``command line``, ``--output``)."""
+    the file and ``where``/``key`` (the caller and its argument)."""
     if format not in FORMATS:
-        raise SettingError(where, "format" if where != "command line" else "--format", format, ", ".join(FORMATS))
+        raise SettingError(where, "format", format, ", ".join(FORMATS))
     path = Path(path)
     named = [path, sidecar_path(path)] if format == "csv" else [path]
     targets = output_targets(path, sidecars=named[1:], overwrite=overwrite, where=where, key=key)

@@ -6,6 +6,13 @@ modules: ``from . import x`` is an edge to the sub-module ``x`` when it exists, 
 A package's ``__init__`` is a node of its own. The parents that Python initialises before a
 sub-module (``a`` and ``a.b`` before ``a.b.c``) are not edges: they are the package structure, not a
 dependency of the importing module's code.
+
+A load by name is an edge too (``by_name``): ``importlib.import_module("tb_exudyn.x")`` (or
+``import_module``), ``importlib.import_module(".x", __name__)`` / ``(".x", "tb_exudyn.pkg")`` resolved
+against its package; and where the name is not a literal (a registry: ``import_module(module)``),
+every string literal of that module that names one of the package's modules, since any of them may
+be what it loads (an over-count is safe for a test that allows no cycle). Such a dependency is as
+real as an import statement: it only runs later.
 """
 
 from __future__ import annotations
@@ -24,6 +31,7 @@ class Edge:
     target: str
     line: int
     in_function: bool
+    by_name: bool = False
 
 
 def module_name(path: Path) -> str:
@@ -52,6 +60,47 @@ def _resolve(current: str, level: int, module: str | None, mods: dict[str, Path]
     return ".".join(base + ([module] if module else []))
 
 
+def _is_import_module(node: ast.AST) -> bool:
+    """``importlib.import_module(...)`` or ``import_module(...)``."""
+    if not isinstance(node, ast.Call):
+        return False
+    f = node.func
+    return (isinstance(f, ast.Attribute) and f.attr == "import_module" and isinstance(f.value, ast.Name)
+            and f.value.id == "importlib") or (isinstance(f, ast.Name) and f.id == "import_module")
+
+
+def _string(node: ast.AST | None) -> str | None:
+    return node.value if isinstance(node, ast.Constant) and isinstance(node.value, str) else None
+
+
+def by_name(name: str, tree: ast.AST, mods: dict[str, Path]) -> list[tuple[str, int]]:
+    """(target, line) of every load by name in the module ``name`` (see the module docstring)."""
+    out: list[tuple[str, int]] = []
+    dynamic: list[int] = []
+    for node in ast.walk(tree):
+        if not _is_import_module(node) or not node.args:
+            continue
+        target = _string(node.args[0])
+        if target is None:
+            dynamic.append(node.lineno)
+            continue
+        if target.startswith("."):
+            package_arg = node.args[1] if len(node.args) > 1 else next(
+                (k.value for k in node.keywords if k.arg == "package"), None)
+            package = _string(package_arg)
+            if package is None:  # __name__ or __package__: this module's own package context
+                package = name if _is_package(name, mods) else name.rpartition(".")[0]
+            level = len(target) - len(target.lstrip("."))
+            base = package.split(".")
+            base = base[: len(base) - (level - 1)]
+            target = ".".join(base + ([target.lstrip(".")] if target.lstrip(".") else []))
+        out.append((target, node.lineno))
+    if dynamic:
+        names = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+        out += [(n.partition(":")[0], dynamic[0]) for n in sorted(names) if n.partition(":")[0] in mods]
+    return out
+
+
 def edges() -> list[Edge]:
     mods = modules()
     out: list[Edge] = []
@@ -76,6 +125,9 @@ def edges() -> list[Edge]:
             for target in targets:
                 if target in mods and target != name and (target == PACKAGE or target.startswith(PACKAGE + ".")):
                     out.append(Edge(name, target, node.lineno, node.lineno in func_lines))
+        for target, line in by_name(name, tree, mods):
+            if target in mods and target != name:
+                out.append(Edge(name, target, line, True, by_name=True))
     return out
 
 
@@ -127,7 +179,11 @@ if __name__ == "__main__":
     es = edges()
     for c in cycles(es):
         print("cycle:", " <-> ".join(c))
-    fl = [e for e in es if e.in_function]
+    fl = [e for e in es if e.in_function and not e.by_name]
     print(len(fl), "function-level imports of own modules:")
     for e in fl:
+        print(f"  {e.source}:{e.line} -> {e.target}")
+    bn = [e for e in es if e.by_name]
+    print(len(bn), "loads by name of own modules:")
+    for e in bn:
         print(f"  {e.source}:{e.line} -> {e.target}")

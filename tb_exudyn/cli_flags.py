@@ -1,0 +1,107 @@
+"""How the command line names what the library names: ONE table of library keys (function arguments,
+method and execution options) and the command-line flags that set them.
+
+The library raises errors with its own keys (``workers``, ``n_samples``, ``psd_channels``) and the
+caller's name as ``where``; the ``tb-exudyn`` command passes ``where="command line"`` (:data:`WHERE`)
+to what it calls, and when it prints an error of such a call it restates it with the flag as the key
+(:func:`as_flags`): ``command line: key '--samples' = 1 ...``. Mentions of other arguments in the
+message (``overwrite=True``, ``another out folder``) are respelled as the flags the user can type
+(:data:`MENTIONS`), in errors and warnings alike.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .errors import UserError
+
+#: the caller's name the command passes to the library (``where``)
+WHERE = "command line"
+
+#: library key -> command-line flag (the one table; every key a library call raises with for an
+#: argument the command line sets)
+FLAGS: dict[str, str] = {
+    # methods (run_pem, run_monte_carlo, simulate, the sweep)
+    "engine": "--engine",
+    "linearization": "--linearization",
+    "psd_channels": "--psd-channels",
+    "n_samples": "--samples",
+    "seed": "--seed",
+    "keep_samples": "--keep-samples",
+    "speeds_kmh": "--speeds-kmh",
+    "line_speed_kmh": "--line-speed-kmh",
+    "step_kmh": "--speed-step-kmh",
+    "n_freq": "--n-freq",
+    "freq_spacing": "--freq-spacing",
+    "precision": "--precision",
+    # execution (Execution's fields)
+    "workers": "--workers",
+    "max_memory": "--max-memory",
+    "out": "--out",
+    "resume": "--resume",
+    "overwrite": "--overwrite",
+    "keep_checkpoint": "--keep-checkpoint",
+    # results, figures, exports
+    "format": "--format",
+    "channels": "--channels",
+    "formats": "--formats",
+    # structure.imported.export_modes
+    "max_frequency": "--max-frequency",
+    "max_modes": "--max-modes",
+    # codes.check (its option_names)
+    "trains": "--trains",
+    "track": "--track",
+    "construction": "--construction",
+    "bridge": "BRIDGE",
+    "stochastic": "--stochastic",
+    "stochastic_speeds": "--stochastic-speeds",
+    "stochastic_scenario": "--stochastic-scenario",
+}
+
+#: how a library message mentions an argument -> what the command line says instead
+MENTIONS: dict[str, str] = {
+    "overwrite=True": FLAGS["overwrite"],
+    "resume=True": FLAGS["resume"],
+    "keep_checkpoint=True": FLAGS["keep_checkpoint"],
+    "another out folder": f"another {FLAGS['out']}",
+    "the max_memory of": f"the {FLAGS['max_memory']} of",
+}
+_MENTION = re.compile("|".join(re.escape(m) for m in sorted(MENTIONS, key=len, reverse=True)))
+#: the head of a library notice about one of its arguments, ``command line: workers = 8 ...``
+_NOTICE_HEAD = re.compile(rf"^{re.escape(WHERE)}: (\w+) = ")
+
+
+def flag(key: str) -> str:
+    """The flag of a library key (the key itself when no flag sets it)."""
+    return FLAGS.get(key, key)
+
+
+def options(*keys: str) -> dict[str, str]:
+    """``{key: flag}`` of ``keys``, for a library call that takes its option names (codes.check)."""
+    return {k: FLAGS[k] for k in keys}
+
+
+def respelled(text: str) -> str:
+    """``text`` with the library's mentions of its arguments spelled as flags (:data:`MENTIONS`)."""
+    return _MENTION.sub(lambda m: MENTIONS[m.group(0)], text)
+
+
+def as_flags(exc: UserError) -> UserError:
+    """The error as the command line prints it: an error of a call the command made (``where`` is
+    :data:`WHERE`) about a key of :data:`FLAGS` restated with the flag as the key; mentions of
+    arguments respelled as flags. Other errors (a file's) are kept."""
+    if exc.where == WHERE and exc.key in FLAGS:
+        return exc.restated(WHERE, FLAGS[exc.key], text=respelled)
+    return exc.restated(exc.where or "", exc.key or "", text=respelled) if _MENTION.search(str(exc)) else exc
+
+
+def notice_as_flags(text: str) -> str:
+    """A warning's text as the command line prints it: ``command line: KEY = ...`` with the flag, and
+    mentions respelled."""
+    m = _NOTICE_HEAD.match(text)
+    if m and m.group(1) in FLAGS:
+        text = f"{WHERE}: {FLAGS[m.group(1)]} = " + text[m.end():]
+    return respelled(text)
+
+
+__all__ = ["FLAGS", "MENTIONS", "WHERE", "as_flags", "flag", "notice_as_flags", "options", "respelled"]
