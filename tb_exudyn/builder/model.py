@@ -29,6 +29,7 @@ from ..errors import CapabilityError
 from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
+from ..scenario.sections import track_lines
 from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
@@ -69,7 +70,7 @@ def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int =
         bridge.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
         mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
         damping_ratio=bridge.damping_ratio, max_frequency=max_frequency,
-        track_offset=bridge.track_offset, track_height=bridge.track_height, max_modes=max_modes,
+        max_modes=max_modes, tracks=track_lines(bridge),
     )
 
 
@@ -435,7 +436,7 @@ def build_model(
     -------
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
-    bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
+    bridge = (modal_bridge if modal_bridge is not None else bridge_modes(scenario)).on_track(scenario.track.on)
     check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
     model = TrainBridgeModel(scenario, bridge)
     if excitation is not None:

@@ -10,7 +10,7 @@ from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
-from .sections import AddedMass, BeamSection, Pier, _Replaceable
+from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_tracks
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -55,6 +55,10 @@ class Continuous(_Replaceable):
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = param((), doc="every track on the deck, track 1 first (instead of track_offset/"
+                                                  "track_height); the scenario's track.on picks the train's")
+    deck_width: float = param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks "
+                                                 "not checked against it)", check=NONNEGATIVE)
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
@@ -102,3 +106,4 @@ class Continuous(_Replaceable):
                 self.bearings.fixed_support, f"0 ... {n} (0: the start abutment, {n}: the end abutment)",
                 "no such support")
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
+        check_tracks(self, ctx)

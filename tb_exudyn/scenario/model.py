@@ -15,7 +15,7 @@ from typing import ClassVar, Literal, Union
 from ..track import spectrum_names
 from .code_data import CodeData, check_ballast
 from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings
-from .sections import AddedMass, BeamSection, Pier, _Replaceable
+from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_track_choice, check_tracks
 from .modal_table import ModalTable
 from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
@@ -349,6 +349,10 @@ class SimpleBeam(_Replaceable):
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = param((), doc="every track on the deck, track 1 first (instead of track_offset/"
+                                                  "track_height); the scenario's track.on picks the train's")
+    deck_width: float = param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks "
+                                                 "not checked against it)", check=NONNEGATIVE)
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
@@ -364,6 +368,7 @@ class SimpleBeam(_Replaceable):
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
         check_ballast(self.code, self.girder.mass_per_length, "girder.mass_per_length", ctx)
+        check_tracks(self, ctx)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -393,6 +398,10 @@ class Frame(_Replaceable):
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = param((), doc="every track on the deck, track 1 first (instead of track_offset/"
+                                                  "track_height); the scenario's track.on picks the train's")
+    deck_width: float = param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks "
+                                                 "not checked against it)", check=NONNEGATIVE)
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
@@ -409,6 +418,7 @@ class Frame(_Replaceable):
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
+        check_tracks(self, ctx)
 
 
 Bridge = Union[SimpleBeam, Frame, Continuous, ModalTable]
@@ -429,6 +439,8 @@ class Track(_Replaceable):
     lead_in: float = param(100.0, unit="m", doc="track the first axle runs before it reaches the bridge", check=POSITIVE)
     run_out: float = param(50.0, unit="m", doc="track the last axle runs after it leaves the bridge", check=NONNEGATIVE)
     half_gauge: float = param(0.75, unit="m", doc="b: half the distance between the rail centres", check=POSITIVE)
+    on: int = param(1, doc="the track the train runs on: 1, 2, ... of the bridge's tracks (bridge.tracks)",
+                    check=Check(low=1.0, low_inclusive=True, high=100.0))
     taper_length: float = param(
         20.0, unit="m", check=NONNEGATIVE,
         doc="the irregularity rises from 0 (cosine taper) over this length after the first axle's start "
@@ -548,6 +560,7 @@ class Scenario(_Replaceable):
         return distance / self.speed
 
     def _validate(self, ctx: Context) -> None:
+        check_track_choice(self.bridge, self.track, ctx)
         track_length = self.track.lead_in + self.bridge.length + self.track.run_out
         for i, v in enumerate(self.train.vehicles):
             if v.axle_offsets[-1] > track_length:

@@ -53,3 +53,60 @@ class Pier(_Replaceable):
     k_translation: float = param(math.inf, unit="N/m", doc="footing springs, each translation (footing = 'springs')", check=STIFFNESS)
     k_rotation: float = param(math.inf, unit="N m/rad", doc="footing springs, each rotation (footing = 'springs')", check=STIFFNESS)
     cap_mass: float = param(0.0, unit="kg", doc="lumped mass of the pier cap", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TrackLine(_Replaceable):
+    """One track on the deck: its centre line's lateral offset from the girder axis and its rail level
+    above the girder's shear centre (a point there moves by dy = v - h theta, dz = w + e theta)."""
+
+    offset: float = param(unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+
+
+def track_lines(bridge) -> tuple[tuple[float, float], ...]:  # noqa: ANN001
+    """(offset e, height h) [m] of every track of a bridge, track 1 first: its ``tracks`` tables, or the one
+    track of ``track_offset`` / ``track_height``."""
+    tracks = getattr(bridge, "tracks", ())
+    if tracks:
+        return tuple((float(t.offset), float(t.height)) for t in tracks)
+    return ((float(getattr(bridge, "track_offset", 0.0)), float(getattr(bridge, "track_height", 0.0))),)
+
+
+def check_tracks(bridge, ctx) -> None:  # noqa: ANN001
+    """A bridge's tracks: ``tracks`` or ``track_offset``/``track_height``, not both; every track on the
+    deck (|offset| <= deck_width / 2 when the width is given)."""
+    if bridge.tracks and (bridge.track_offset != 0.0 or bridge.track_height != 0.0):
+        raise ctx.child("tracks").error(f"{len(bridge.tracks)} tracks", "either track_offset/track_height (one "
+                                        "track) or [[tracks]] tables (each track), not both", "two track definitions")
+    if bridge.deck_width > 0.0:
+        for i, (e, _h) in enumerate(track_lines(bridge)):
+            if abs(e) > bridge.deck_width / 2:
+                key = ctx.child("tracks").child(i).child("offset") if bridge.tracks else ctx.child("track_offset")
+                raise key.error(e, f"|offset| <= deck_width / 2 = {bridge.deck_width / 2:g} m", "a track off the deck")
+
+
+def check_track_choice(bridge, track, ctx) -> None:  # noqa: ANN001
+    """The scenario's track: ``track.on`` one of the bridge's tracks; both rails of every track on the deck
+    (|offset| + half_gauge <= deck_width / 2 when the width is given); tracks no closer than the gauge."""
+    lines = track_lines(bridge)
+    if track.on > len(lines):
+        raise ctx.child("track").child("on").error(
+            track.on, f"1 ... {len(lines)} (the bridge '{bridge.name}' has {len(lines)} "
+            f"track{'s' if len(lines) > 1 else ''})", "no such track")
+    b = track.half_gauge
+    tracks = getattr(bridge, "tracks", ())
+    bctx = ctx.child("bridge")
+
+    def key(i: int):  # noqa: ANN202
+        return bctx.child("tracks").child(i).child("offset") if tracks else bctx.child("track_offset")
+
+    width = float(getattr(bridge, "deck_width", 0.0))
+    for i, (e, _h) in enumerate(lines):
+        if width > 0.0 and abs(e) + b > width / 2:
+            raise key(i).error(e, f"|offset| + track.half_gauge = {abs(e) + b:g} m <= deck_width / 2 = {width / 2:g} m",
+                               "a rail off the deck")
+        for j in range(i):
+            if abs(e - lines[j][0]) < 2 * b:
+                raise key(i).error(e, f"at least 2 track.half_gauge = {2 * b:g} m from track {j + 1} "
+                                   f"(offset {lines[j][0]:g} m)", "tracks overlap")
