@@ -13,6 +13,7 @@ offset e and height h above the shear centre moves by dy = v - h theta, dz = w +
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
 
@@ -137,6 +138,14 @@ class ModalBridge:
         if not self.tracks or track == self.track:
             return self
         return replace(self, rail_shape_function=self.tracks[track - 1].shapes, track=int(track))
+
+    def track_text(self) -> str:
+        """Which track the train runs on, in words ('' for a bridge of one track)."""
+        if not self.tracks:
+            return ""
+        t = self.tracks[self.track - 1]
+        where = "" if math.isnan(t.offset) else f" (offset {t.offset:g} m, rail level {t.height:g} m)"
+        return f"the train on track {self.track} of {self.n_tracks}{where}"
 
     @property
     def n_modes(self) -> int:

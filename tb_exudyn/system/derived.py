@@ -39,6 +39,11 @@ car<k>.axle<j>.right.derailment                        H / P_R, H = axle<j>.forc
                                                        toward +y: H > 0 loads the right wheel's flange)
 =====================================  ======  ======  =========================================================
 
+On a deck of two tracks or more (``ModalBridge.tracks``) the two bridge rows are made along each track
+instead, at its stations ``span<k>.<st>.track<i>`` (``bridge.span1.mid.track2.acc_z_en1990``, twist at
+``span<k>.start.track<i>`` too) with that track's rail shapes (:func:`station_track`), and the
+girder-axis stations have none.
+
 What the 15-DOF car (``car15``) can and cannot give per wheel: it has one vertical contact per wheel
 (``left.force_z``, ``right.force_z``: P per wheel is defined) but ONE lateral contact per wheelset
 (``force_y`` = H = Q_L + Q_R, at rail level on the track centre line): the lateral force of a wheel
