@@ -76,7 +76,7 @@ def track_lines(bridge) -> tuple[tuple[float, float], ...]:  # noqa: ANN001
 def check_tracks(bridge, ctx) -> None:  # noqa: ANN001
     """A bridge's tracks: ``tracks`` or ``track_offset``/``track_height``, not both; every track on the
     deck (|offset| <= deck_width / 2 when the width is given)."""
-    if bridge.tracks and (bridge.track_offset != 0.0 or bridge.track_height != 0.0):
+    if bridge.tracks and (getattr(bridge, "track_offset", 0.0) != 0.0 or getattr(bridge, "track_height", 0.0) != 0.0):
         raise ctx.child("tracks").error(f"{len(bridge.tracks)} tracks", "either track_offset/track_height (one "
                                         "track) or [[tracks]] tables (each track), not both", "two track definitions")
     if bridge.deck_width > 0.0:

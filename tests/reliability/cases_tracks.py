@@ -89,6 +89,35 @@ def _python_replace_on(d: Path) -> Run:
     return Run(code=code, expect=("Scenario.replace", "'track.on'", "no such track"))
 
 
+def _modal_table(d: Path, extra: str, tracks: tuple[str, ...]) -> Path:
+    """A modal_table bridge (the good tables of cases_modal) with one [[tracks]] table per shapes file name
+    (only shapes.csv exists)."""
+    from .cases_modal import _bridge as modal_bridge
+
+    b = modal_bridge(d)
+    text = b.read_text().replace('shapes = "shapes.csv"\n', extra)
+    for i, name in enumerate(tracks):
+        text += f'\n[[tracks]]\nshapes = "{name}"\noffset = {2.5 - 5.0 * i}\n'
+    b.write_text(text)
+    return b
+
+
+def _modal_both(d: Path) -> Run:
+    b = _modal_table(d, 'shapes = "shapes.csv"\n', ("shapes.csv", "shapes.csv"))
+    return Run(argv=("modes", str(_scenario(d, b.name))), expect=(str(b.resolve()), "'tracks'", "not both"))
+
+
+def _modal_missing_track_file(d: Path) -> Run:
+    b = _modal_table(d, "", ("shapes.csv", "track2.csv"))
+    return Run(argv=("modes", str(_scenario(d, b.name, on=2))), expect=("track2.csv",))
+
+
+def _modal_on_three(d: Path) -> Run:
+    b = _modal_table(d, "", ("shapes.csv", "shapes.csv"))
+    sc = _scenario(d, b.name, on=3)
+    return Run(argv=("show", str(sc)), expect=(str(sc), "'track.on'", "1 ... 2"))
+
+
 CASES_TRACKS: list[Case] = [
     Case("track centre line off the deck", GROUP,
          _bridge_file_case(("'tracks[1].offset'", "off the deck", "deck_width / 2 = 6 m"), offsets=(2.5, -6.5))),
@@ -106,6 +135,9 @@ CASES_TRACKS: list[Case] = [
     Case("--set track.on=5", GROUP, _set_track_on),
     Case("track_offset and tracks", GROUP,
          _bridge_file_case(("'tracks'", "not both"), extra="track_offset = 2.5")),
+    Case("modal_table with shapes and tracks", GROUP, _modal_both),
+    Case("modal_table, a track's shapes file missing", GROUP, _modal_missing_track_file),
+    Case("modal_table, track.on = 3 of 2", GROUP, _modal_on_three),
     Case("SimpleBeam() with a track off the deck", GROUP, _python_off_deck),
     Case("Scenario.replace to track 2 of a one-track bridge", GROUP, _python_replace_on),
 ]
