@@ -65,10 +65,11 @@ def bridge_modes(scenario: Scenario) -> ModalBridge:
 def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int = 0) -> ModalBridge:
     """Closed-form modes of a :class:`SimpleBeam` (EI_vertical = E I_y, EI_lateral = E I_z, GJ = G J):
     the FE model's independent check, and a cheap bridge for benchmarks (``build_model(modal_bridge=...)``)."""
-    gd = bridge.girder
+    gd = bridge.sections  # one per span
     return simply_supported_modes(
-        bridge.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
-        mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
+        bridge.spans, EI_vertical=[g.E * g.I_y for g in gd], EI_lateral=[g.E * g.I_z for g in gd],
+        GJ=[g.G * g.J for g in gd], mass_per_length=[g.mass_per_length for g in gd],
+        rot_mass_per_length=[g.rot_mass_per_length for g in gd],
         damping_ratio=bridge.damping_ratio, max_frequency=max_frequency,
         max_modes=max_modes, tracks=track_lines(bridge),
     )

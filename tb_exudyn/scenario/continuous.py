@@ -10,7 +10,8 @@ from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
-from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_tracks
+from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
+                       check_tracks)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -35,7 +36,7 @@ CONTINUOUS_SUPPORTS = ("pier", "rigid")
 
 
 @dataclass(frozen=True, kw_only=True)
-class Continuous(_Replaceable):
+class Continuous(_SpanSections):
     """One girder continuous over all its spans, on bearings at both abutments (rigid ground) and at
     every intermediate support, each a pier (``supports`` entry 'pier', the bearings on its top) or
     rigid ground ('rigid'). The girder section is one for all spans (``girder``) or one per span
@@ -71,29 +72,12 @@ class Continuous(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    @property
-    def sections(self) -> tuple[BeamSection, ...]:
-        """The girder section of each span."""
-        return self.girders if self.girders else (self.girder,) * len(self.spans)
-
-    def section_key(self, span: int) -> str:
-        """The key of span ``span``'s section in the bridge data: 'girder' or 'girders[i]'."""
-        return f"girders[{span}]" if self.girders else "girder"
-
     def _validate(self, ctx: Context) -> None:
         n = len(self.spans)
         if n < 2:
             raise ctx.child("spans").error(list(self.spans), "at least two span lengths > 0 (one span: kind 'frame' "
                                            "or 'simple_beam')", "a continuous girder of fewer than two spans")
-        if self.girder is None and not self.girders:
-            raise ctx.child("girder").error("<missing>", "a [girder] table (every span) or [[girders]] tables, one "
-                                            "per span", "no girder section")
-        if self.girder is not None and self.girders:
-            raise ctx.child("girders").error(f"{len(self.girders)} sections", "either girder (every span) or girders "
-                                             "(one per span), not both", "two girder sections")
-        if self.girders and len(self.girders) != n:
-            raise ctx.child("girders").error(f"{len(self.girders)} sections", f"{n} sections, one per span",
-                                             "not one section per span")
+        check_sections(self, ctx)
         if len(self.supports) != n - 1:
             entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
             raise ctx.child("supports").error(

@@ -15,7 +15,8 @@ from typing import ClassVar, Literal, Union
 from ..track import spectrum_names
 from .code_data import CodeData, check_ballast
 from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings
-from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_track_choice, check_tracks
+from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
+                       check_track_choice, check_tracks)
 from .modal_table import ModalTable
 from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
@@ -336,7 +337,7 @@ class Train(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class SimpleBeam(_Replaceable):
+class SimpleBeam(_SpanSections):
     """Uniform simply supported spans with ideal supports (for closed-form checks).
 
     Every span is simply supported on its own (vertical, lateral and torsional restraint at both
@@ -345,7 +346,8 @@ class SimpleBeam(_Replaceable):
     kind: ClassVar[str] = "simple_beam"
     name: str = param(doc="identifier")
     spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
-    girder: BeamSection = param(doc="girder section")
+    girder: BeamSection | None = param(None, doc="girder section of every span (or girders: one per span)")
+    girders: tuple[BeamSection, ...] = param((), doc="girder section of each span in running order (instead of girder)")
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
@@ -367,7 +369,9 @@ class SimpleBeam(_Replaceable):
     def _validate(self, ctx: Context) -> None:
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        check_ballast(self.code, self.girder.mass_per_length, "girder.mass_per_length", ctx)
+        check_sections(self, ctx)
+        light = min(range(len(self.spans)), key=lambda i: self.sections[i].mass_per_length)
+        check_ballast(self.code, self.sections[light].mass_per_length, f"{self.section_key(light)}.mass_per_length", ctx)
         check_tracks(self, ctx)
 
 
@@ -385,13 +389,14 @@ class Bearings(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
-class Frame(_Replaceable):
+class Frame(_SpanSections):
     """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
 
     kind: ClassVar[str] = "frame"
     name: str = param(doc="identifier")
     spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
-    girder: BeamSection = param(doc="girder section")
+    girder: BeamSection | None = param(None, doc="girder section of every span (or girders: one per span)")
+    girders: tuple[BeamSection, ...] = param((), doc="girder section of each span in running order (instead of girder)")
     pier: Pier = param(doc="every intermediate pier")
     bearings: Bearings = param(doc="bearings at every girder end")
     added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
@@ -417,6 +422,7 @@ class Frame(_Replaceable):
     def _validate(self, ctx: Context) -> None:
         if not self.spans:
             raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        check_sections(self, ctx)
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
         check_tracks(self, ctx)
 

@@ -33,6 +33,34 @@ class BeamSection(_Replaceable):
     shear_area_factor: float = param(0.0, unit="-", doc="Timoshenko shear area / area; 0 = Euler-Bernoulli", check=Check(low=0.0, high=1.0, low_inclusive=True))
 
 
+class _SpanSections(_Replaceable):
+    """What a bridge of girder spans with one section for all (``girder``) or one per span (``girders``)
+    has: the section of each span and its key (simple_beam, frame, continuous)."""
+
+    @property
+    def sections(self) -> tuple["BeamSection", ...]:
+        """The girder section of each span."""
+        return self.girders if self.girders else (self.girder,) * len(self.spans)
+
+    def section_key(self, span: int) -> str:
+        """The key of span ``span``'s section in the bridge data: 'girder' or 'girders[i]'."""
+        return f"girders[{span}]" if self.girders else "girder"
+
+
+def check_sections(bridge, ctx) -> None:  # noqa: ANN001
+    """``girder`` (every span) or ``girders`` (one per span), not both, not neither."""
+    n = len(bridge.spans)
+    if bridge.girder is None and not bridge.girders:
+        raise ctx.child("girder").error("<missing>", "a [girder] table (every span) or [[girders]] tables, one "
+                                        "per span", "no girder section")
+    if bridge.girder is not None and bridge.girders:
+        raise ctx.child("girders").error(f"{len(bridge.girders)} sections", "either girder (every span) or girders "
+                                         "(one per span), not both", "two girder sections")
+    if bridge.girders and len(bridge.girders) != n:
+        raise ctx.child("girders").error(f"{len(bridge.girders)} sections", f"{n} sections, one per span",
+                                         "not one section per span")
+
+
 @dataclass(frozen=True, kw_only=True)
 class AddedMass(_Replaceable):
     """Non-structural mass carried by the girder (ballast or slab, rails, secondary dead load)."""

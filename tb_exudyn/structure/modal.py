@@ -205,15 +205,19 @@ def simply_supported_modes(
     Vertical and lateral bending: omega_j = (j pi / L)^2 sqrt(EI / m), shape sin(j pi x / L);
     torsion: omega_j = (j pi / L) sqrt(G J / I_p), same shape. Mass-normalised over the span:
     shape amplitude sqrt(2 / (m L)) (bending) and sqrt(2 / (I_p L)) (torsion). Bending and torsion
-    are uncoupled (shear centre = mass centre). Modes up to ``max_frequency`` [Hz] (and at most
+    are uncoupled (shear centre = mass centre). The section values are one for all spans or one per span
+    (sequences in span order: spans of different sections). Modes up to ``max_frequency`` [Hz] (and at most
     ``max_modes`` if > 0), sorted by frequency. ``tracks``: (offset, height) of every track, track 1
     first (instead of ``track_offset``, ``track_height``: one track); the train on track 1.
     """
     spans = tuple(float(s) for s in spans)
     starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
+    per_span = [np.broadcast_to(np.asarray(v, dtype=float), (len(spans),))
+                for v in (EI_vertical, EI_lateral, GJ, mass_per_length, rot_mass_per_length)]
     rows = []  # (freq, span index, j, type, amplitude)
     for s, L in enumerate(spans):
-        for kind, stiff, inertia in (("vertical", EI_vertical, mass_per_length), ("lateral", EI_lateral, mass_per_length)):
+        EI_v, EI_l, GJ_s, m, I_p = (float(v[s]) for v in per_span)
+        for kind, stiff, inertia in (("vertical", EI_v, m), ("lateral", EI_l, m)):
             j = 1
             while True:
                 f = (j * np.pi / L) ** 2 * np.sqrt(stiff / inertia) / (2 * np.pi)
@@ -223,10 +227,10 @@ def simply_supported_modes(
                 j += 1
         j = 1
         while True:
-            f = (j * np.pi / L) * np.sqrt(GJ / rot_mass_per_length) / (2 * np.pi)
+            f = (j * np.pi / L) * np.sqrt(GJ_s / I_p) / (2 * np.pi)
             if f > max_frequency:
                 break
-            rows.append((f, s, j, "torsion", np.sqrt(2.0 / (rot_mass_per_length * L))))
+            rows.append((f, s, j, "torsion", np.sqrt(2.0 / (I_p * L))))
             j += 1
     rows.sort(key=lambda r: r[0])
     if max_modes > 0:
