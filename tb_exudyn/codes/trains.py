@@ -20,7 +20,7 @@ import numpy as np
 from ..errors import ScenarioError, SettingError
 from ..scenario.io import load_vehicle
 from ..scenario.model import MovingForce, SprungMass
-from ..scenario.registry import models_dir
+from ..scenario.registry import model_files, models_dir
 from ..scenario.toml_io import read_toml
 
 #: g for the weight of a vehicle model's masses (as ``Train.mass``) [m/s^2]
@@ -133,6 +133,15 @@ def composition_table(train: ForceTrain) -> str:
     lines.append("  axle loads [kN] at [m]: " + ", ".join(
         f"{q / 1e3:.4g} @ {x:.4g}" for x, q in zip(train.positions, train.loads)))
     return "\n".join(lines)
+
+
+def train_view(name: str) -> str | None:
+    """:func:`composition_table` of the train ``name`` of models/trains, or None when ``name`` is no such
+    train or is also a scenario's name (``tb-exudyn show NAME``: a scenario comes first)."""
+    trains = train_files()
+    if name not in trains or name in model_files("scenarios"):
+        return None
+    return composition_table(load_train(trains[name]))
 
 
 # ---------------------------------------------------------------------------------------- HSLM-A
@@ -436,5 +445,5 @@ def resolve_trains(names, where: str = "check", key: str = "trains") -> list[For
     return unique
 
 
-__all__ = ["CAR_KEYS", "ForceTrain", "GRAVITY", "TrainPart", "composition_table", "HSLM_A_GROUP", "HSLM_A_TABLE", "hslm_a", "hslm_a_positions", "list_trains",
+__all__ = ["CAR_KEYS", "ForceTrain", "GRAVITY", "TrainPart", "composition_table", "train_view", "HSLM_A_GROUP", "HSLM_A_TABLE", "hslm_a", "hslm_a_positions", "list_trains",
            "load_train", "resolve_trains", "train_files", "train_names", "trains_dir"]

@@ -104,3 +104,14 @@ def test_bad_composition_names_file_and_key(tmp_path, car, key, words):
         load_train(p)
     text = str(info.value)
     assert str(p) in text and f"key '{key}'" in text and words in text and "\n" not in text
+
+
+def test_show_a_train(capsys):
+    """`tb-exudyn show thalys_pba` prints the composition and its axle loads; a scenario's name is a scenario."""
+    from tb_exudyn.cli import main
+    from tb_exudyn.codes.trains import train_view
+
+    assert main(["show", "thalys_pba"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("train thalys_pba: 26 axles") and "articulated" in out and "axle loads [kN]" in out
+    assert train_view("quick") is None and train_view("no_such_train") is None
