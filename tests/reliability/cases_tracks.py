@@ -13,19 +13,11 @@ from pathlib import Path
 from typing import Callable
 
 from .cases import Case, Run
+from .cases_cont import SECTION
 
 GROUP = "tracks"
 
-GIRDER = """[girder]
-E = 3.45e10
-G = 1.4375e10
-area = 8.8889
-I_y = 10.947
-I_z = 86.216
-J = 22.650
-mass_per_length = 33900.0
-rot_mass_per_length = 383040.5
-"""
+GIRDER = "[girder]\n" + SECTION.format(E="3.45e10")
 
 
 def _bridge(d: Path, offsets: tuple[float, ...] = (2.5, -2.5), deck_width: float = 12.0, extra: str = "") -> Path:
@@ -74,9 +66,8 @@ def _set_track_on(d: Path) -> Run:
 
 
 def _python_off_deck(d: Path) -> Run:
-    code = ("from tb_exudyn.scenario.model import BeamSection, SimpleBeam, TrackLine\n"
-            "g = BeamSection(E=3.45e10, G=1.4375e10, area=8.8889, I_y=10.947, I_z=86.216, J=22.65, "
-            "mass_per_length=33900.0, rot_mass_per_length=383040.5)\n"
+    code = ("from tb_exudyn.scenario import load_bridge\nfrom tb_exudyn.scenario.model import SimpleBeam, TrackLine\n"
+            "g = load_bridge('single_span_32m').girder\n"
             "SimpleBeam(name='b', spans=(32.0,), girder=g, deck_width=10.0, "
             "tracks=(TrackLine(offset=2.5), TrackLine(offset=-7.0)))\n")
     return Run(code=code, expect=("'tracks[1].offset'", "off the deck", "deck_width / 2 = 5 m"))

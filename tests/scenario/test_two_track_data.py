@@ -16,21 +16,7 @@ from tb_exudyn.scenario.show import run_label, scenario_table
 from tb_exudyn.system.derived import station_positions, station_track
 from tb_exudyn.system.labels import channel_label
 
-BRIDGE = """kind = "simple_beam"
-name = "two_tracks"
-spans = [32.0, 24.0]
-deck_width = 12.0
-
-[girder]
-E = 3.45e10
-G = 1.4375e10
-area = 8.8889
-I_y = 10.947
-I_z = 86.216
-J = 22.650
-mass_per_length = 33900.0
-rot_mass_per_length = 383040.5
-
+TRACKS = """
 [[tracks]]
 offset = 2.25
 height = 1.64
@@ -41,8 +27,17 @@ height = 1.5
 """
 
 
+def _bridge_text() -> str:
+    """single_span_32m given spans 32 + 24 m and two tracks instead of its track_offset / track_height."""
+    from tb_exudyn.scenario import model_files
+
+    text = model_files("bridges")["single_span_32m"].read_text()
+    text = text.replace("spans = [32.0]", "spans = [32.0, 24.0]\ndeck_width = 12.0").replace("track_offset = 2.5\n", "")
+    return text.replace("track_height = 1.64\n", "") + TRACKS
+
+
 def _scenario(tmp_path: Path, on: int):
-    (tmp_path / "b.toml").write_text(BRIDGE)
+    (tmp_path / "b.toml").write_text(_bridge_text())
     p = tmp_path / "sc.toml"
     p.write_text(f'name = "t"\nspeed_kmh = 200.0\nbridge = "b.toml"\n\n[train]\nvehicles = ["ice_motor"]\n\n'
                  f'[track]\non = {on}\n')
