@@ -68,6 +68,10 @@ def channel_label(name: str) -> str:
     if len(parts) == 2 and parts[0].startswith("bogie") and parts[0][5:] in _BOGIE:
         motion = _motion_label(parts[1], _COMPONENT)
         return f"{head}, {_BOGIE[parts[0][5:]]}, {motion}" if motion else name
+    numbered = re.fullmatch(r"(body|bogie)(\d+)", parts[0]) if len(parts) == 2 else None  # an articulated set's
+    if numbered:
+        motion = _motion_label(parts[1], _COMPONENT)
+        return f"{head}, {numbered.group(1)} {numbered.group(2)}, {motion}" if motion else name
     if parts[0].startswith("axle") and parts[0][4:].isdigit():
         axle = f"{head}, axle {parts[0][4:]}"
         if len(parts) == 2 and parts[1] == "force_y":
