@@ -106,3 +106,22 @@ def test_one_girder_is_every_span_section():
     g1, g2 = _sections()
     b = _bridges()["simple_beam"]
     assert b.sections == (g1, g2) and b.section_key(1) == "girders[1]"
+
+
+def test_mass_case_of_a_section_per_span():
+    """EN 1991-2 mass cases (scenario.with_mass_case) of single_span_32m's data with two spans of two
+    sections: the ballast (11 677.75 kg/m at 1800 kg/m^3, upper case 2000 kg/m^3) lies on each span alike,
+    so each section's mass per length gains dm = 11 677.75 (2000 / 1800 - 1) kg/m and its polar mass the
+    same ratio (exact arithmetic of the data: 1e-12)."""
+    from tb_exudyn.scenario import with_mass_case
+
+    base = load_bridge("single_span_32m")
+    g1, g2 = _sections()
+    two = base.replace(spans=SPANS, girder=None, girders=(g1, g2))
+    upper = with_mass_case(two, "upper")
+    dm = 11677.75 * (2000.0 / 1800.0 - 1.0)
+    for before, after in zip(two.girders, upper.girders):
+        assert after.mass_per_length == pytest.approx(before.mass_per_length + dm, rel=1e-12)
+        ratio = after.mass_per_length / before.mass_per_length
+        assert after.rot_mass_per_length == pytest.approx(before.rot_mass_per_length * ratio, rel=1e-12)
+    assert upper.code.ballast_density == pytest.approx(2000.0, rel=1e-12)
