@@ -11,7 +11,7 @@ from typing import ClassVar, Literal
 from .code_data import CodeData, check_ballast
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
 from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
-                       check_tracks)
+                       check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -45,8 +45,8 @@ class Continuous(_SpanSections):
     kind: ClassVar[str] = "continuous"
     name: str = param(doc="identifier")
     spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order (at least two)", check=POSITIVE)
-    girder: BeamSection | None = param(None, doc="girder section of every span (or girders: one per span)")
-    girders: tuple[BeamSection, ...] = param((), doc="girder section of each span in running order (instead of girder)")
+    girder: BeamSection | None = girder_param()
+    girders: tuple[BeamSection, ...] = girders_param()
     supports: tuple[Literal["pier", "rigid"], ...] = param(
         doc="each intermediate support in running order (len(spans) - 1 of them): 'pier' (bearings on the pier top) "
             "or 'rigid' (bearings on rigid ground)")
@@ -56,10 +56,8 @@ class Continuous(_SpanSections):
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
-    tracks: tuple[TrackLine, ...] = param((), doc="every track on the deck, track 1 first (instead of track_offset/"
-                                                  "track_height); the scenario's track.on picks the train's")
-    deck_width: float = param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks "
-                                                 "not checked against it)", check=NONNEGATIVE)
+    tracks: tuple[TrackLine, ...] = tracks_param()
+    deck_width: float = deck_width_param()
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "

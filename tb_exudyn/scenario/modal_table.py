@@ -9,8 +9,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from .schema import ANY, NONNEGATIVE, POSITIVE, Context, Validated, param, replace
-from .sections import check_tracks
+from .schema import ANY, POSITIVE, Context, Validated, param, replace
+from .sections import check_tracks, deck_width_param
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -48,8 +48,7 @@ class ModalTable(Validated):
                                 "[[tracks]], each with its own")
     tracks: tuple[ModalTrack, ...] = param((), doc="every track on the deck, track 1 first, each with its shapes file "
                                                    "(instead of shapes); the scenario's track.on picks the train's")
-    deck_width: float = param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks "
-                                                 "not checked against it)", check=NONNEGATIVE)
+    deck_width: float = deck_width_param()
     stations: str = param("", doc="CSV file: station, x and y<k>, z<k>, rx<k> per output station ('': span "
                                   "quarter points and midspans on the track line)")
     description: str = param("", doc="one line for listings")

@@ -92,6 +92,24 @@ class TrackLine(_Replaceable):
     height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
 
 
+def girder_param():  # noqa: ANN201 - the dataclass field of a bridge's one section for every span
+    return param(None, doc="girder section of every span (or girders: one per span)")
+
+
+def girders_param():  # noqa: ANN201 - the dataclass field of a bridge's sections, one per span
+    return param((), doc="girder section of each span in running order (instead of girder)")
+
+
+def tracks_param():  # noqa: ANN201 - the dataclass field of a bridge's tracks (simple_beam, frame, continuous)
+    return param((), doc="every track on the deck, track 1 first (instead of track_offset/track_height); the "
+                         "scenario's track.on picks the train's")
+
+
+def deck_width_param():  # noqa: ANN201 - the dataclass field of a bridge's deck width
+    return param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks not checked "
+                                    "against it)", check=NONNEGATIVE)
+
+
 def track_lines(bridge) -> tuple[tuple[float, float], ...]:  # noqa: ANN001
     """(offset e, height h) [m] of every track of a bridge, track 1 first: its ``tracks`` tables, or the one
     track of ``track_offset`` / ``track_height``."""
