@@ -81,3 +81,14 @@ def test_labels_of_track_channels():
     assert channel_label("bridge.span2.mid.track2.acc_z") == "span 2, mid-span, track 2, vertical acceleration"
     assert channel_label("bridge.span1.q1.track1.acc_z_en1990").startswith("span 1, first quarter point, track 1, EN 1990")
     assert channel_label("bridge.span2.mid.acc_z") == "span 2, mid-span, vertical acceleration"
+
+
+def test_deck_limits_see_every_track():
+    """The EN 1990 deck quantities of the limit files (scenario.limits.QUANTITIES) match the channels along
+    each track, so the checks take the worst over every track's stations."""
+    from tb_exudyn.scenario.limits import QUANTITIES
+
+    for q, name in (("deck_acc_z_en1990", "bridge.span2.mid.track2.acc_z_en1990"),
+                    ("deck_twist_3m", "bridge.span1.start.track2.twist_3m"),
+                    ("deck_acc_z", "bridge.span1.q1.track1.acc_z")):
+        assert QUANTITIES[q].matches(name), (q, name)
