@@ -115,3 +115,11 @@ def test_second_track_mirrors_the_first(runs):
     # not a tautology: the train on track 1 shakes track 1's rail more than track 2's
     a, b = names.index("bridge.span1.mid.track1.acc_z"), names.index("bridge.span1.mid.track2.acc_z")
     assert np.max(r1.std[a]) > 1.01 * np.max(r1.std[b])
+
+
+def test_modes_name_the_train_track():
+    """`tb-exudyn modes` (builder.system_modes): the table's heading says which track the train is on."""
+    from tb_exudyn.builder.system_modes import system_modes
+
+    text = system_modes(_scenario(2)).text().splitlines()[0]
+    assert "the train on track 2 of 2 (offset -2.5 m, rail level 1.64 m)" in text
