@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
+from .codes.trains import train_view
 from .engines import ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
@@ -45,6 +46,8 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
+    if not args.settings and (view := train_view(args.scenario)) is not None:  # a train of models/trains
+        return print(view) or EXIT_OK
     scenario = cli_scenario.load(args)
     print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
     return EXIT_OK
@@ -324,7 +327,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("list", help="named vehicles, bridges, scenarios and track spectra")
     p.set_defaults(func=_cmd_list)
-    p = sub.add_parser("show", help="the resolved scenario as a table")
+    p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
                    help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")

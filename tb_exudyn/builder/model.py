@@ -29,6 +29,7 @@ from ..errors import CapabilityError
 from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
+from ..scenario.sections import track_lines
 from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
@@ -64,12 +65,13 @@ def bridge_modes(scenario: Scenario) -> ModalBridge:
 def closed_form_modes(bridge: SimpleBeam, max_frequency: float, max_modes: int = 0) -> ModalBridge:
     """Closed-form modes of a :class:`SimpleBeam` (EI_vertical = E I_y, EI_lateral = E I_z, GJ = G J):
     the FE model's independent check, and a cheap bridge for benchmarks (``build_model(modal_bridge=...)``)."""
-    gd = bridge.girder
+    gd = bridge.sections  # one per span
     return simply_supported_modes(
-        bridge.spans, EI_vertical=gd.E * gd.I_y, EI_lateral=gd.E * gd.I_z, GJ=gd.G * gd.J,
-        mass_per_length=gd.mass_per_length, rot_mass_per_length=gd.rot_mass_per_length,
+        bridge.spans, EI_vertical=[g.E * g.I_y for g in gd], EI_lateral=[g.E * g.I_z for g in gd],
+        GJ=[g.G * g.J for g in gd], mass_per_length=[g.mass_per_length for g in gd],
+        rot_mass_per_length=[g.rot_mass_per_length for g in gd],
         damping_ratio=bridge.damping_ratio, max_frequency=max_frequency,
-        track_offset=bridge.track_offset, track_height=bridge.track_height, max_modes=max_modes,
+        max_modes=max_modes, tracks=track_lines(bridge),
     )
 
 
@@ -435,7 +437,7 @@ def build_model(
     -------
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
-    bridge = modal_bridge if modal_bridge is not None else bridge_modes(scenario)
+    bridge = (modal_bridge if modal_bridge is not None else bridge_modes(scenario)).on_track(scenario.track.on)
     check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
     model = TrainBridgeModel(scenario, bridge)
     if excitation is not None:

@@ -128,6 +128,8 @@ def system_modes(
     on = sum(0.0 <= x0 - a <= scenario.bridge.length for a in scenario.train.axle_positions)
     where = ("vehicles on rigid track, bridge free" if on == 0 and t == 0.0
              else f"first axle at x = {x0:.4g} m (t = {t:.4g} s), {on} of {len(scenario.train.axle_positions)} axles on the bridge")
+    on_track = model.bridge.track_text()
+    where += f"; {on_track}" if on_track else ""
     text = f"modes of '{scenario.name}': {where}; coupling frozen (no convective terms), linearised about rest"
     return mode_table(M, K, D, model_dofs(model), text, inputs)
 

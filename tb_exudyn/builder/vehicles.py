@@ -65,6 +65,7 @@ import numpy as np
 from exudyn import itemInterface as ei
 
 from ..scenario.model import (
+    ArticulatedSet,
     Car15,
     Car15Geometry,
     CreepCar,
@@ -321,6 +322,13 @@ def add_car15(
     Channels: ``<prefix>.body``, ``<prefix>.bogie1/2``, ``<prefix>.axle1..4``.
     """
     L = _car_levels(car.geometry, x_first)
+    _add_two_bogie_car(mbs, parts, car, prefix, first_axle, L, _rigid_wheelsets(mbs, parts, car, L), x_decoupled=True)
+
+
+def _rigid_wheelsets(mbs: exu.MainSystem, parts: TrainParts, car: Car15 | ArticulatedSet, L: _CarLevels
+                     ) -> WheelsetBuilder:
+    """The builder of a car15-style wheelset (rigid, y z rx, on the primary suspension per side, two vertical
+    and one lateral contact rows) of ``car``'s data."""
     r, b_p, b = car.geometry.wheel_radius, car.geometry.half_primary_span, parts.half_gauge
     ws = car.wheelset
     # wheelset spin and yaw inertia are not in the data and do not matter (decoupled): use roll's
@@ -338,7 +346,42 @@ def add_car15(
         _add_vertical_contacts(parts, name, axle, ws_node, ws.mass, ws.inertia_roll, b)
         _add_lateral_contact(parts, name, axle, ws_node, ws.mass, r)
 
-    _add_two_bogie_car(mbs, parts, car, prefix, first_axle, L, add_wheelset, x_decoupled=True)
+    return add_wheelset
+
+
+def add_articulated(
+    mbs: exu.MainSystem, parts: TrainParts, veh: ArticulatedSet, prefix: str, first_axle: int, x_first: float
+) -> None:
+    """An articulated set: ``bodies`` car bodies and ``bodies + 1`` bogies (rigid, y z rx ry rz, as car15's),
+    body i on bogies i and i + 1 (1 = leading) through the secondary suspension per side at each of its ends,
+    each bogie on its two car15 wheelsets. Channels ``<prefix>.body<i>``, ``<prefix>.bogie<j>``,
+    ``<prefix>.axle<k>`` (k = 1 ... 2 (bodies + 1)). A body's weight goes half to each of its bogies (its ends
+    at +-half_bogie_spacing, its centre of gravity midway)."""
+    g = veh.geometry
+    L = _car_levels(g, x_first)
+    p, a, b_s = 2 * g.half_bogie_spacing, g.half_wheelbase, g.half_secondary_span
+    sec_k, sec_c, _ = _stage(veh.secondary)
+    add_wheelset = _rigid_wheelsets(mbs, parts, veh, L)
+    bodies = []
+    for i in range(veh.bodies):
+        x_c = x_first - a - (i + 0.5) * p
+        node, body = add_rigid_body(mbs, parts, mass=veh.body.mass, inertia=_inertia(veh.body),
+                                    position=(x_c, 0.0, L.z_c), weak_coordinates=(0,))
+        parts.bodies.append(BodyOutput(f"{prefix}.body{i + 1}", node, RIGID_COMPONENTS, veh.body.mass))
+        bodies.append((body, x_c))
+    for j in range(veh.bodies + 1):
+        xt = x_first - a - j * p
+        bog_node, bogie = add_rigid_body(mbs, parts, mass=veh.bogie.mass, inertia=_inertia(veh.bogie),
+                                         position=(xt, 0.0, L.z_t), weak_coordinates=(0,))
+        parts.bodies.append(BodyOutput(f"{prefix}.bogie{j + 1}", bog_node, RIGID_COMPONENTS, veh.bogie.mass))
+        for body, x_c in bodies[max(j - 1, 0):j + 1]:  # the bodies on this bogie: behind it and ahead of it
+            for side in (1.0, -1.0):
+                _spring_damper(mbs, bogie, np.array([0.0, side * b_s, L.z_s - L.z_t]), body,
+                               np.array([xt - x_c, side * b_s, L.z_s - L.z_c]), sec_k, sec_c)
+        for k, xw in enumerate((xt + a, xt - a)):
+            axle = first_axle + 2 * j + k
+            add_wheelset(bog_node, bogie, xt, xw, axle, f"{prefix}.axle{2 * j + k + 1}")
+    parts.vehicle_frequencies.append(_car15_bounce_frequency(veh))
 
 
 def _add_vertical_contacts(
@@ -522,6 +565,7 @@ def add_moving_force(mbs: exu.MainSystem, parts: TrainParts, veh: MovingForce, p
 #: in the moving frame. Adding a vehicle kind is a dataclass in tb_exudyn/scenario/model.py and one line here.
 VEHICLE_BUILDERS = {
     "car15": add_car15,
+    "articulated": add_articulated,
     "creep_car": add_creep_car,
     "sprung_mass": add_sprung_mass,
     "moving_force": add_moving_force,

@@ -4,7 +4,9 @@ given as compositions of vehicle models.
 A :class:`ForceTrain` is a list of axle positions (m behind the first axle, ascending, the first 0) and
 axle loads (N, downwards). HSLM-A1 ... A10 are generated from the code's table (EN 1991-2:2003 Annex E,
 Table E.1 and Figure E.1); real trains are read from ``models/trains/*.toml``, each a list of vehicles
-of ``models/vehicles`` whose axle spacing and masses give the axle loads. Pure numpy.
+of ``models/vehicles`` whose axle spacing and masses give the axle loads, axle-load sets given as such
+(a power car's axles and loads) and articulated sets (car bodies on bogies shared by neighbouring cars,
+Jacobs bogies), in running order. Pure numpy.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import numpy as np
 from ..errors import ScenarioError, SettingError
 from ..scenario.io import load_vehicle
 from ..scenario.model import MovingForce, SprungMass
-from ..scenario.registry import models_dir
+from ..scenario.registry import model_files, models_dir
 from ..scenario.toml_io import read_toml
 
 #: g for the weight of a vehicle model's masses (as ``Train.mass``) [m/s^2]
@@ -67,6 +69,8 @@ class ForceTrain:
     description: str = ""
     source: str = ""
     vehicles: tuple = field(default=(), repr=False)
+    #: the composition, one :class:`TrainPart` per car or set in running order (empty for HSLM-A)
+    parts: tuple = field(default=(), repr=False)
 
     def __post_init__(self) -> None:
         x = np.asarray(self.positions, dtype=float)
@@ -84,6 +88,7 @@ class ForceTrain:
         object.__setattr__(self, "positions", x)
         object.__setattr__(self, "loads", p)
         object.__setattr__(self, "vehicles", tuple(self.vehicles))
+        object.__setattr__(self, "parts", tuple(self.parts))
 
     @property
     def n_axles(self) -> int:
@@ -97,6 +102,46 @@ class ForceTrain:
     @property
     def total_load(self) -> float:
         return float(self.loads.sum())
+
+
+@dataclass(frozen=True)
+class TrainPart:
+    """One car or set of a train's composition: ``name``, ``kind`` ('vehicle': a vehicle model; 'axle_loads':
+    axles and loads given; 'articulated': car bodies on shared bogies), its first axle [m behind the
+    train's first], its number of axles, car bodies and bogies, and its weight [N] (the sum of its axle loads)."""
+
+    name: str
+    kind: str
+    first_axle: float
+    n_axles: int
+    n_bodies: int
+    n_bogies: int
+    weight: float
+
+
+def composition_table(train: ForceTrain) -> str:
+    """A plain-text table of a train's composition (its cars and sets, their axles and weights) and its
+    axle-load view (what the EN 1991-2 check moves over the bridge)."""
+    lines = [f"train {train.name}: {train.n_axles} axles, first to last {train.length:.4g} m, "
+             f"{train.total_load / 1e3:.6g} kN, D = {train.regular_length:g} m"]
+    if train.parts:
+        lines.append(f"  {'#':>3} {'car or set':<20} {'kind':<12} {'first axle [m]':>14} {'axles':>5} {'bodies':>6} "
+                     f"{'bogies':>6} {'weight [kN]':>11}")
+        for i, p in enumerate(train.parts):
+            lines.append(f"  {i + 1:>3} {p.name:<20} {p.kind:<12} {p.first_axle:>14.4f} {p.n_axles:>5} {p.n_bodies:>6} "
+                         f"{p.n_bogies:>6} {p.weight / 1e3:>11.2f}")
+    lines.append("  axle loads [kN] at [m]: " + ", ".join(
+        f"{q / 1e3:.4g} @ {x:.4g}" for x, q in zip(train.positions, train.loads)))
+    return "\n".join(lines)
+
+
+def train_view(name: str) -> str | None:
+    """:func:`composition_table` of the train ``name`` of models/trains, or None when ``name`` is no such
+    train or is also a scenario's name (``tb-exudyn show NAME``: a scenario comes first)."""
+    trains = train_files()
+    if name not in trains or name in model_files("scenarios"):
+        return None
+    return composition_table(load_train(trains[name]))
 
 
 # ---------------------------------------------------------------------------------------- HSLM-A
@@ -154,12 +199,144 @@ def _positive(file: str, key: str, value) -> float:
     return float(value)
 
 
+#: the keys of each kind of [[cars]] table (the key that says the kind first)
+CAR_KEYS: dict[str, tuple[str, ...]] = {
+    "vehicle": ("vehicle", "count", "body_mass"),
+    "axle_loads": ("axles", "axle_loads", "axle_load", "length", "name", "count"),
+    "articulated": ("bodies", "pivot_spacing", "wheelbase", "body_mass", "bogie_mass", "wheelset_mass", "length",
+                    "name", "count"),
+}
+_KIND_KEY = {"vehicle": "vehicle", "axle_loads": "axles", "articulated": "bodies"}
+
+
+@dataclass(frozen=True)
+class _Car:
+    """One car or set read from a [[cars]] table: axle offsets from its first axle [m], axle loads [N],
+    the distance to the next car's first axle [m], the lengths of its car bodies (for D), its vehicle
+    model (None: a set of loads), and its part's name, kind and counts."""
+
+    offsets: tuple[float, ...]
+    loads: tuple[float, ...]
+    length: float
+    body_lengths: tuple[float, ...]
+    model: object
+    name: str
+    kind: str
+    n_bodies: int
+    n_bogies: int
+
+
+def _number_list(file: str, key: str, value, n: int | None = None, first_zero: bool = False) -> list[float]:
+    """A list of numbers > 0 (``n`` of them if given; with ``first_zero`` the first may be 0)."""
+    if not isinstance(value, list) or not value or (n is not None and len(value) != n):
+        raise _train_error(file, key, value, f"a list of {n if n is not None else 'one or more'} numbers")
+    return [_nonnegative(file, f"{key}[0]", v) if first_zero and i == 0 else _positive(file, f"{key}[{i}]", v)
+            for i, v in enumerate(value)]
+
+
+def _nonnegative(file: str, key: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value) or value < 0:
+        raise _train_error(file, key, value, "a number >= 0")
+    return float(value)
+
+
+def _vehicle_car(file: str, path: Path, where: str, car: dict) -> _Car:
+    name = car.get("vehicle")
+    if not isinstance(name, str) or not name:
+        raise _train_error(file, f"{where}.vehicle", name, "a vehicle name of models/vehicles or a .toml path")
+    ref = name if not name.endswith(".toml") else str((path.parent / name).resolve())
+    try:
+        vehicle = load_vehicle(ref)
+    except ScenarioError as exc:
+        raise _train_error(file, f"{where}.vehicle", name, exc.allowed, exc.reason or "not a valid vehicle") from None
+    if isinstance(vehicle, (MovingForce, SprungMass)):
+        raise _train_error(file, f"{where}.vehicle", name, "a car with two bogies (kind car15 or creep_car)",
+                           f"kind {vehicle.kind}")
+    body = vehicle.body.mass
+    if "body_mass" in car:
+        body = _positive(file, f"{where}.body_mass", car["body_mass"])
+        vehicle = vehicle.replace(body=vehicle.body.replace(mass=body))
+    weight = GRAVITY * (body + 2.0 * vehicle.bogie.mass + 4.0 * vehicle.wheelset.mass)
+    return _Car(tuple(vehicle.axle_offsets), (weight / 4.0,) * 4, vehicle.length, (vehicle.length,), vehicle,
+                vehicle.name, "vehicle", 1, 2)
+
+
+def _axle_set(file: str, where: str, car: dict) -> _Car:
+    """An axle-load set: ``axles`` [m from its first axle: 0, ascending], ``axle_loads`` [N] (one per axle) or
+    ``axle_load`` (every axle), ``length`` [m] to the next car's first axle."""
+    axles = _number_list(file, f"{where}.axles", car.get("axles"), first_zero=True)
+    if axles[0] != 0.0 or any(b <= a for a, b in zip(axles, axles[1:])):
+        raise _train_error(file, f"{where}.axles", car.get("axles"), "axle positions [m] from 0, ascending")
+    if ("axle_loads" in car) == ("axle_load" in car):
+        raise _train_error(file, f"{where}.axle_loads", car.get("axle_loads", "<missing>"),
+                           "either axle_loads (a load [N] per axle) or axle_load (every axle), not both",
+                           "no axle loads" if "axle_loads" not in car else "two axle loads")
+    loads = (_number_list(file, f"{where}.axle_loads", car["axle_loads"], len(axles)) if "axle_loads" in car
+             else [_positive(file, f"{where}.axle_load", car["axle_load"])] * len(axles))
+    length = _length(file, where, car, axles[-1])
+    name = str(car.get("name", "axle loads"))
+    return _Car(tuple(axles), tuple(loads), length, (length,), None, name, "axle_loads", 1, 0)
+
+
+def _length(file: str, where: str, car: dict, spread: float) -> float:
+    if "length" not in car:
+        raise _train_error(file, f"{where}.length", "<missing>", "the distance [m] from its first axle to the next "
+                           "car's first axle", "missing key")
+    length = _positive(file, f"{where}.length", car["length"])
+    if length < spread:
+        raise _train_error(file, f"{where}.length", length, f">= {spread:g} m (its axle spread)",
+                           "shorter than its axles")
+    return length
+
+
+def _articulated_set(file: str, where: str, car: dict) -> _Car:
+    """``bodies`` car bodies in a row on ``bodies + 1`` two-axle bogies, each inner bogie shared by the two
+    bodies beside it (Jacobs bogies), ``pivot_spacing`` [m] between a body's two bogie centres, ``wheelbase``
+    [m] a bogie's axle spacing, ``body_mass`` [kg] (one for all or a list, one per body), ``bogie_mass``
+    and ``wheelset_mass`` [kg]; ``length`` [m] from its first axle to the next car's first axle. A bogie
+    carries half of each body it supports (statics of a body on two pivots, its centre of gravity midway)
+    and its own mass; its two axles share that equally."""
+    n = car.get("bodies")
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 100:
+        raise _train_error(file, f"{where}.bodies", n, "a whole number 1 ... 100 (car bodies of the set)")
+    for key in ("pivot_spacing", "wheelbase", "bogie_mass", "wheelset_mass"):
+        if key not in car:
+            raise _train_error(file, f"{where}.{key}", "<missing>", "a number > 0", "missing key")
+    pivot = _positive(file, f"{where}.pivot_spacing", car["pivot_spacing"])
+    wheelbase = _positive(file, f"{where}.wheelbase", car["wheelbase"])
+    if wheelbase >= pivot:
+        raise _train_error(file, f"{where}.wheelbase", wheelbase, f"< pivot_spacing = {pivot:g} m", "bogies overlap")
+    bogie = _positive(file, f"{where}.bogie_mass", car["bogie_mass"])
+    wheelset = _positive(file, f"{where}.wheelset_mass", car["wheelset_mass"])
+    raw = car.get("body_mass")
+    bodies = (_number_list(file, f"{where}.body_mass", raw, n) if isinstance(raw, list)
+              else [_positive(file, f"{where}.body_mass", raw if raw is not None else "<missing>")] * n)
+    offsets, loads = [], []
+    for j in range(n + 1):
+        share = 0.5 * ((bodies[j - 1] if j > 0 else 0.0) + (bodies[j] if j < n else 0.0))
+        axle = GRAVITY * (share + bogie + 2.0 * wheelset) / 2.0
+        offsets += [j * pivot, j * pivot + wheelbase]
+        loads += [axle, axle]
+    length = _length(file, where, car, offsets[-1])
+    name = str(car.get("name", "articulated set"))
+    return _Car(tuple(offsets), tuple(loads), length, (pivot,) * n, None, name, "articulated", n, n + 1)
+
+
 def load_train(path: str | Path) -> ForceTrain:
-    """A real train from its TOML file: ``[[cars]]`` tables in running order, each ``vehicle`` (a name in
-    models/vehicles or a path), optional ``count`` (default 1) and ``body_mass`` [kg] (replacing the
-    vehicle's car body mass). Each car's four axle loads are its weight (body + 2 bogies + 4 wheelsets)
-    / 4; car k's first axle trails the first car's by the lengths of the cars ahead. ``regular_length``
-    [m] (default: the most frequent car length) is D of the resonant speeds."""
+    """A real train from its TOML file: ``[[cars]]`` tables in running order, each one of
+    (docs/en1991.md, trains):
+
+    - a vehicle model: ``vehicle`` (a name in models/vehicles or a path), optional ``body_mass`` [kg]
+      (replacing the vehicle's car body mass); its four axle loads are its weight (body + 2 bogies + 4
+      wheelsets) / 4;
+    - an axle-load set: ``axles`` [m from its first axle], ``axle_loads`` [N] or ``axle_load``, ``length``;
+    - an articulated set: ``bodies``, ``pivot_spacing``, ``wheelbase``, ``body_mass``, ``bogie_mass``,
+      ``wheelset_mass``, ``length`` (:func:`_articulated_set`);
+
+    each with an optional ``count`` (default 1). Car k's first axle trails the first car's by the lengths
+    of the cars ahead. ``regular_length`` [m] (default: the most frequent car body length) is D of the
+    resonant speeds. The train's ``vehicles`` are its vehicle models when every car is one (what the
+    check's stochastic rows run), else none."""
     path = Path(path)
     file = str(path)
     data = read_toml(path)
@@ -169,40 +346,35 @@ def load_train(path: str | Path) -> ForceTrain:
             raise _train_error(file, key, data[key], ", ".join(sorted(known)), "unknown key")
     cars = data.get("cars")
     if not isinstance(cars, list) or not cars or not all(isinstance(c, dict) for c in cars):
-        raise _train_error(file, "cars", cars, "one or more [[cars]] tables with a 'vehicle'")
-    positions, loads, lengths, models, start = [], [], [], [], 0.0
+        raise _train_error(file, "cars", cars, "one or more [[cars]] tables with a 'vehicle', 'axles' or 'bodies'")
+    positions, loads, lengths, models, parts, start = [], [], [], [], [], 0.0
     for i, car in enumerate(cars):
         where = f"cars[{i}]"
+        kinds = [k for k, key in _KIND_KEY.items() if key in car]
+        if len(kinds) != 1:
+            raise _train_error(file, where, ", ".join(sorted(car)) or "<empty>",
+                               "one of: vehicle (a vehicle model), axles (an axle-load set), bodies (an articulated "
+                               "set)", "no kind of car" if not kinds else "two kinds of car")
         for key in car:
-            if key not in ("vehicle", "count", "body_mass"):
-                raise _train_error(file, f"{where}.{key}", car[key], "vehicle, count, body_mass", "unknown key")
-        name = car.get("vehicle")
-        if not isinstance(name, str) or not name:
-            raise _train_error(file, f"{where}.vehicle", name, "a vehicle name of models/vehicles or a .toml path")
+            if key not in CAR_KEYS[kinds[0]]:
+                raise _train_error(file, f"{where}.{key}", car[key], ", ".join(CAR_KEYS[kinds[0]]), "unknown key")
         count = car.get("count", 1)
         if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= 100:
             raise _train_error(file, f"{where}.count", count, "a whole number 1 ... 100")
-        ref = name if not name.endswith(".toml") else str((path.parent / name).resolve())
-        try:
-            vehicle = load_vehicle(ref)
-        except ScenarioError as exc:
-            raise _train_error(file, f"{where}.vehicle", name, exc.allowed, exc.reason or "not a valid vehicle") from None
-        if isinstance(vehicle, (MovingForce, SprungMass)):
-            raise _train_error(file, f"{where}.vehicle", name, "a car with two bogies (kind car15 or creep_car)",
-                               f"kind {vehicle.kind}")
-        body = vehicle.body.mass
-        if "body_mass" in car:
-            body = _positive(file, f"{where}.body_mass", car["body_mass"])
-            vehicle = vehicle.replace(body=vehicle.body.replace(mass=body))
-        weight = GRAVITY * (body + 2.0 * vehicle.bogie.mass + 4.0 * vehicle.wheelset.mass)
+        one = (_vehicle_car(file, path, where, car) if kinds[0] == "vehicle"
+               else _axle_set(file, where, car) if kinds[0] == "axle_loads" else _articulated_set(file, where, car))
         for _ in range(count):
-            positions.extend(start + a for a in vehicle.axle_offsets)
-            loads.extend([weight / 4.0] * 4)
-            lengths.append(vehicle.length)
-            models.append(vehicle)
-            start += vehicle.length
+            positions.extend(start + a for a in one.offsets)
+            loads.extend(one.loads)
+            lengths.extend(one.body_lengths)
+            models.append(one.model)
+            parts.append(TrainPart(one.name, one.kind, start, len(one.offsets), one.n_bodies, one.n_bogies,
+                                   float(sum(one.loads))))
+            start += one.length
+            if start > 2 * MAX_TRAIN_LENGTH:  # stop reading a train far too long (its error follows)
+                break
     if positions[-1] > MAX_TRAIN_LENGTH:
-        raise _train_error(file, "cars", f"{len(lengths)} cars", f"a train at most {MAX_TRAIN_LENGTH:g} m long",
+        raise _train_error(file, "cars", f"{len(parts)} cars", f"a train at most {MAX_TRAIN_LENGTH:g} m long",
                            f"first to last axle {positions[-1]:g} m")
     if "regular_length" in data:
         regular = _positive(file, "regular_length", data["regular_length"])
@@ -212,7 +384,7 @@ def load_train(path: str | Path) -> ForceTrain:
     return ForceTrain(
         name=str(data.get("name", path.stem)), positions=np.array(positions), loads=np.array(loads),
         regular_length=regular, description=str(data.get("description", "")), source=str(data.get("source", "")),
-        vehicles=tuple(models),
+        vehicles=tuple(models) if all(m is not None for m in models) else (), parts=tuple(parts),
     )
 
 
@@ -273,5 +445,5 @@ def resolve_trains(names, where: str = "check", key: str = "trains") -> list[For
     return unique
 
 
-__all__ = ["ForceTrain", "GRAVITY", "HSLM_A_GROUP", "HSLM_A_TABLE", "hslm_a", "hslm_a_positions", "list_trains",
+__all__ = ["CAR_KEYS", "ForceTrain", "GRAVITY", "TrainPart", "composition_table", "train_view", "HSLM_A_GROUP", "HSLM_A_TABLE", "hslm_a", "hslm_a_positions", "list_trains",
            "load_train", "resolve_trains", "train_files", "train_names", "trains_dir"]

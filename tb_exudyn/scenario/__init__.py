@@ -27,6 +27,7 @@ from .model import (
     Suspension,
     Suspension3,
     Track,
+    TrackLine,
     Train,
     Vehicle,
     WheelRailContact,
@@ -41,7 +42,7 @@ __all__ = [
     "CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "with_mass_case",
     "AddedMass", "Analysis", "BeamSection", "Bearings", "Bridge", "Car15", "Car15Geometry", "CreepCar", "Frame", "GivenCreep", "HertzCreep", "ModalTable",
     "MovingForce", "Pier", "RigidBodyInertia", "RigidWheelset", "Scenario", "ScenarioError", "SimpleBeam", "SprungMass",
-    "Suspension", "Suspension3", "Track", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
+    "Suspension", "Suspension3", "Track", "TrackLine", "Train", "Vehicle", "WheelRailContact", "WheelsetInertia", "YawDamper", "describe_fields", "list_models",
     "load_bridge", "load_scenario", "load_vehicle", "model_files", "models_dir", "save_scenario",
     "scenario_from_dict", "scenario_to_toml", "to_dict",
 ]

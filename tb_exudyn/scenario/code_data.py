@@ -85,10 +85,13 @@ def with_mass_case(bridge: Any, case: str) -> Any:
         ratio = (am.mass_per_length + dm) / am.mass_per_length
         return bridge.replace(code=code, added_mass=am.replace(mass_per_length=am.mass_per_length * ratio,
                                                                rot_mass_per_length=am.rot_mass_per_length * ratio))
-    g = bridge.girder
-    ratio = (g.mass_per_length + dm) / g.mass_per_length
-    return bridge.replace(code=code, girder=g.replace(mass_per_length=g.mass_per_length * ratio,
-                                                      rot_mass_per_length=g.rot_mass_per_length * ratio))
+    def scaled(g):  # noqa: ANN001, ANN202 - a girder section carrying the ballast
+        ratio = (g.mass_per_length + dm) / g.mass_per_length
+        return g.replace(mass_per_length=g.mass_per_length * ratio, rot_mass_per_length=g.rot_mass_per_length * ratio)
+
+    if getattr(bridge, "girders", ()):  # a section per span: each carries the same ballast per length
+        return bridge.replace(code=code, girders=tuple(scaled(g) for g in bridge.girders))
+    return bridge.replace(code=code, girder=scaled(bridge.girder))
 
 
 __all__ = ["CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "check_ballast", "with_mass_case"]

@@ -10,7 +10,8 @@ from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
 from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
-from .sections import AddedMass, BeamSection, Pier, _Replaceable
+from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
+                       check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -35,7 +36,7 @@ CONTINUOUS_SUPPORTS = ("pier", "rigid")
 
 
 @dataclass(frozen=True, kw_only=True)
-class Continuous(_Replaceable):
+class Continuous(_SpanSections):
     """One girder continuous over all its spans, on bearings at both abutments (rigid ground) and at
     every intermediate support, each a pier (``supports`` entry 'pier', the bearings on its top) or
     rigid ground ('rigid'). The girder section is one for all spans (``girder``) or one per span
@@ -44,8 +45,8 @@ class Continuous(_Replaceable):
     kind: ClassVar[str] = "continuous"
     name: str = param(doc="identifier")
     spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order (at least two)", check=POSITIVE)
-    girder: BeamSection | None = param(None, doc="girder section of every span (or girders: one per span)")
-    girders: tuple[BeamSection, ...] = param((), doc="girder section of each span in running order (instead of girder)")
+    girder: BeamSection | None = girder_param()
+    girders: tuple[BeamSection, ...] = girders_param()
     supports: tuple[Literal["pier", "rigid"], ...] = param(
         doc="each intermediate support in running order (len(spans) - 1 of them): 'pier' (bearings on the pier top) "
             "or 'rigid' (bearings on rigid ground)")
@@ -55,6 +56,8 @@ class Continuous(_Replaceable):
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
     track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
     track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = tracks_param()
+    deck_width: float = deck_width_param()
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
@@ -67,29 +70,12 @@ class Continuous(_Replaceable):
     def length(self) -> float:
         return float(sum(self.spans))
 
-    @property
-    def sections(self) -> tuple[BeamSection, ...]:
-        """The girder section of each span."""
-        return self.girders if self.girders else (self.girder,) * len(self.spans)
-
-    def section_key(self, span: int) -> str:
-        """The key of span ``span``'s section in the bridge data: 'girder' or 'girders[i]'."""
-        return f"girders[{span}]" if self.girders else "girder"
-
     def _validate(self, ctx: Context) -> None:
         n = len(self.spans)
         if n < 2:
             raise ctx.child("spans").error(list(self.spans), "at least two span lengths > 0 (one span: kind 'frame' "
                                            "or 'simple_beam')", "a continuous girder of fewer than two spans")
-        if self.girder is None and not self.girders:
-            raise ctx.child("girder").error("<missing>", "a [girder] table (every span) or [[girders]] tables, one "
-                                            "per span", "no girder section")
-        if self.girder is not None and self.girders:
-            raise ctx.child("girders").error(f"{len(self.girders)} sections", "either girder (every span) or girders "
-                                             "(one per span), not both", "two girder sections")
-        if self.girders and len(self.girders) != n:
-            raise ctx.child("girders").error(f"{len(self.girders)} sections", f"{n} sections, one per span",
-                                             "not one section per span")
+        check_sections(self, ctx)
         if len(self.supports) != n - 1:
             entries = f"{n - 1} {'entry' if n == 2 else 'entries'}"
             raise ctx.child("supports").error(
@@ -102,3 +88,4 @@ class Continuous(_Replaceable):
                 self.bearings.fixed_support, f"0 ... {n} (0: the start abutment, {n}: the end abutment)",
                 "no such support")
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
+        check_tracks(self, ctx)

@@ -13,11 +13,12 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal, Union
 
 from ..track import spectrum_names
-from .code_data import CodeData, check_ballast
-from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings
-from .sections import AddedMass, BeamSection, Pier, _Replaceable
+from .code_data import CodeData  # noqa: F401 (re-exported)
+from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings  # noqa: F401 (re-exported)
+from .girders import Bearings, Frame, SimpleBeam  # noqa: F401 (re-exported: the simply supported kinds)
+from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_track_choice  # noqa: F401
 from .modal_table import ModalTable
-from .schema import (ANY, NONNEGATIVE, POSITIVE, RATIO, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
+from .schema import (ANY, NONNEGATIVE, POSITIVE, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
                      Check, Context, Validated, param, replace, source_file)
 
@@ -172,7 +173,6 @@ class Car15(_TwoBogieCar):
     notes: str = param("", doc="remarks, values marked [check]")
 
 
-
 def _check_two_bogie_geometry(g: Car15Geometry, axle_offsets: tuple[float, ...], ctx: Context) -> None:
     """Bogies must not overlap and the car must be at least as long as its axle spread."""
     if g.half_wheelbase >= g.half_bogie_spacing:
@@ -285,11 +285,48 @@ class CreepCar(_TwoBogieCar):
         return gravity * (self.body.mass / 4 + self.bogie.mass / 2 + self.wheelset.mass)
 
 
-Vehicle = Union[MovingForce, SprungMass, Car15, CreepCar]
+@dataclass(frozen=True, kw_only=True)
+class ArticulatedSet(_Replaceable):
+    """Car bodies in a row on ``bodies + 1`` two-axle bogies, each inner bogie shared by the two bodies beside
+    it (Jacobs bogies): bodies, bogies and wheelsets as in car15, a body's ends on the secondary suspension of
+    the bogies at +-half_bogie_spacing from its centre (an inner bogie carries two, one per body)."""
+
+    kind: ClassVar[str] = "articulated"
+    name: str = param(doc="identifier")
+    bodies: int = param(doc="number of car bodies", check=Check(low=1.0, low_inclusive=True, high=50.0))
+    body: RigidBodyInertia = param(doc="each car body")
+    bogie: RigidBodyInertia = param(doc="each of the bodies + 1 bogies")
+    wheelset: WheelsetInertia = param(doc="each wheelset (two per bogie)")
+    geometry: Car15Geometry = param(doc="a body and its bogies as in car15 (half_bogie_spacing: half a body's pivot "
+                                        "spacing; length: from the set's first axle to the next car's)")
+    primary: Suspension = param(doc="primary suspension (axle box), per side")
+    secondary: Suspension = param(doc="secondary suspension of each body end, per side")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return self.geometry.length
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        p, a = 2 * self.geometry.half_bogie_spacing, 2 * self.geometry.half_wheelbase
+        return tuple(x for j in range(self.bodies + 1) for x in (j * p, j * p + a))
+
+    @property
+    def total_mass(self) -> float:
+        return self.bodies * self.body.mass + (self.bodies + 1) * (self.bogie.mass + 2 * self.wheelset.mass)
+
+    def _validate(self, ctx: Context) -> None:
+        _check_two_bogie_geometry(self.geometry, self.axle_offsets, ctx)
+
+
+Vehicle = Union[MovingForce, SprungMass, Car15, CreepCar, ArticulatedSet]
 #: vehicle kinds whose contact has general linear rows (creep forces): an engine must integrate them
 #: (``Engine.linear_rows``)
 LINEAR_ROW_KINDS: tuple[str, ...] = ("creep_car",)
-VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15, CreepCar)}
+VEHICLE_KINDS: dict[str, type] = {c.kind: c for c in (MovingForce, SprungMass, Car15, CreepCar, ArticulatedSet)}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -322,6 +359,8 @@ class Train(_Replaceable):
                 total += v.force / 9.81
             elif isinstance(v, SprungMass):
                 total += v.mass + v.wheel_mass
+            elif isinstance(v, ArticulatedSet):
+                total += v.total_mass
             else:
                 total += v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass
         return total
@@ -333,82 +372,6 @@ class Train(_Replaceable):
 
 # ============================================================================================
 # bridges
-
-
-@dataclass(frozen=True, kw_only=True)
-class SimpleBeam(_Replaceable):
-    """Uniform simply supported spans with ideal supports (for closed-form checks).
-
-    Every span is simply supported on its own (vertical, lateral and torsional restraint at both
-    ends, longitudinal at its start)."""
-
-    kind: ClassVar[str] = "simple_beam"
-    name: str = param(doc="identifier")
-    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
-    girder: BeamSection = param(doc="girder section")
-    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
-    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
-    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
-                                            "the bridge)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
-
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
-    def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        check_ballast(self.code, self.girder.mass_per_length, "girder.mass_per_length", ctx)
-
-
-@dataclass(frozen=True, kw_only=True)
-class Bearings(_Replaceable):
-    """Bearing stiffness per bearing line and direction (inf = rigid, 0 = free)."""
-
-    k_x_fixed: float = param(math.inf, unit="N/m", doc="longitudinal, at each span's fixed end", check=STIFFNESS)
-    k_x_sliding: float = param(0.0, unit="N/m", doc="longitudinal, at each span's sliding end", check=STIFFNESS)
-    k_y: float = param(math.inf, unit="N/m", doc="lateral", check=STIFFNESS)
-    k_z: float = param(math.inf, unit="N/m", doc="vertical", check=STIFFNESS)
-    k_rx: float = param(math.inf, unit="N m/rad", doc="torsional restraint of the girder end", check=STIFFNESS)
-    fixed_end: Literal["start", "end"] = param("start", doc="which end of each span is longitudinally fixed")
-    height: float = param(0.0, unit="m", doc="girder shear centre above the pier top", check=NONNEGATIVE)
-
-
-@dataclass(frozen=True, kw_only=True)
-class Frame(_Replaceable):
-    """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
-
-    kind: ClassVar[str] = "frame"
-    name: str = param(doc="identifier")
-    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
-    girder: BeamSection = param(doc="girder section")
-    pier: Pier = param(doc="every intermediate pier")
-    bearings: Bearings = param(doc="bearings at every girder end")
-    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
-    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
-    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
-    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
-                                            "the bridge)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
-
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
-    def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
-        check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
 
 
 Bridge = Union[SimpleBeam, Frame, Continuous, ModalTable]
@@ -429,6 +392,8 @@ class Track(_Replaceable):
     lead_in: float = param(100.0, unit="m", doc="track the first axle runs before it reaches the bridge", check=POSITIVE)
     run_out: float = param(50.0, unit="m", doc="track the last axle runs after it leaves the bridge", check=NONNEGATIVE)
     half_gauge: float = param(0.75, unit="m", doc="b: half the distance between the rail centres", check=POSITIVE)
+    on: int = param(1, doc="the track the train runs on: 1, 2, ... of the bridge's tracks (bridge.tracks)",
+                    check=Check(low=1.0, low_inclusive=True, high=100.0))
     taper_length: float = param(
         20.0, unit="m", check=NONNEGATIVE,
         doc="the irregularity rises from 0 (cosine taper) over this length after the first axle's start "
@@ -548,6 +513,7 @@ class Scenario(_Replaceable):
         return distance / self.speed
 
     def _validate(self, ctx: Context) -> None:
+        check_track_choice(self.bridge, self.track, ctx)
         track_length = self.track.lead_in + self.bridge.length + self.track.run_out
         for i, v in enumerate(self.train.vehicles):
             if v.axle_offsets[-1] > track_length:

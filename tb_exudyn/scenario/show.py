@@ -7,6 +7,7 @@ from dataclasses import fields, is_dataclass
 from typing import Any, Sequence
 
 from .model import Scenario
+from .sections import track_lines
 
 
 def _fmt(value: Any) -> str:
@@ -40,6 +41,19 @@ def _rows(obj: Any, prefix: str, out: list[tuple[str, str, str, str]]) -> None:
             out.append((key, _fmt(value), f.metadata.get("unit", ""), f.metadata.get("doc", "")))
 
 
+def track_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
+    """The ``show`` rows of a bridge with two tracks or more: each track's offset and rail level, and
+    the one the train runs on (none for one track: its track_offset/track_height rows say it)."""
+    lines = track_lines(scenario.bridge)
+    if len(lines) < 2:
+        return []
+    rows = [(f"(derived) track {i + 1}", f"{e:g}, {h:g}", "m",
+             "offset from the girder axis (+y left), rail level above the shear centre"
+             + ("; the train's track (track.on)" if i + 1 == scenario.track.on else ""))
+            for i, (e, h) in enumerate(lines)]
+    return rows
+
+
 def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str, str]] = (), *,
                    vehicles_once: bool = True) -> str:
     """Key, value, unit and meaning of every setting, with derived quantities (and ``extra_rows``,
@@ -67,6 +81,7 @@ def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str,
         ("(derived) train length", _fmt(scenario.train.length), "m", "first to last axle"),
         ("(derived) axles", str(len(scenario.train.axle_positions)), "", "number of axles"),
         ("(derived) bridge length", _fmt(scenario.bridge.length), "m", "sum of spans"),
+        *track_rows(scenario),
         ("(derived) duration", _fmt(scenario.duration), "s", "first axle at -lead_in until last axle run_out past the bridge"),
         ("(derived) time steps", str(int(round(scenario.duration / scenario.analysis.time_step))), "", "duration / time_step"),
         *extra_rows,
@@ -114,8 +129,11 @@ def run_label(scenario: Scenario) -> str:
         groups.setdefault(spectrum, []).append(kind or spectrum)
     irr = "; ".join(f"{k} {', '.join(v)}" for k, v in groups.items()) or "no irregularity"
     an = scenario.analysis
+    n_tracks = len(track_lines(scenario.bridge))
+    if n_tracks > 1:
+        layout += f", track {scenario.track.on} of {n_tracks}"
     return (f"{train} at {scenario.speed_kmh:g} km/h over {scenario.bridge.name} ({layout}); {irr}; "
             f"{an.freq_min:.3g}-{an.freq_max:.3g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
 
 
-__all__ = ["run_label", "scenario_table"]
+__all__ = ["run_label", "scenario_table", "track_rows"]

@@ -4,23 +4,22 @@ Global axes: x along the track (x = 0 at the start of the first span), y lateral
 z up; the girder shear centre lies on the x axis (y = z = 0). Every node has six DOFs
 (ux, uy, uz, rx, ry, rz), node i owning DOFs 6 i ... 6 i + 5.
 
-- Girders: every span is its own girder (simply supported spans), ``elements_per_span`` beam
-  elements; adjacent spans have separate end nodes at the same x.
-- Piers (``Frame``): one between each pair of spans, a vertical beam of ``elements_per_pier``
-  elements from the footing up to the pier top at z = -bearings.height. Footing clamped or on
-  springs (per translation / rotation; inf = rigid, 0 = free). Optional lumped cap mass at the top.
-- Bearings: each girder end rests on the pier top (or on a rigid abutment at the bridge ends) with
-  per-direction stiffness between the girder's bearing point (bearings.height below the shear
-  centre, joined to it by a rigid link) and the support: longitudinal (k_x_fixed at the span's
-  fixed end, k_x_sliding at the other), lateral k_y, vertical k_z, torsional k_rx; rotations about
-  y and z are free. For a rigid link of height h_b the girder's bearing point moves by
-  (ux - h_b ry, uy + h_b rx, uz).
-- Stiffness inf is imposed exactly by eliminating the girder DOF (master-slave: u = T q), not by a
-  penalty, so a rigid bearing adds no spurious stiff mode and no round-off; stiffness 0 adds nothing.
+- Girders: every span is its own girder (simply supported spans) of its own section (``sections``),
+  ``elements_per_span`` beam elements; adjacent spans have separate end nodes at the same x.
+- Piers (``Frame``): one between each pair of spans, a vertical beam of ``elements_per_pier`` elements from
+  the footing up to the pier top at z = -bearings.height. Footing clamped or on springs (per translation /
+  rotation; inf = rigid, 0 = free). Optional lumped cap mass at the top.
+- Bearings: each girder end rests on the pier top (or on a rigid abutment at the bridge ends) with per-direction
+  stiffness between the girder's bearing point (bearings.height below the shear centre, joined to it by a rigid
+  link) and the support: longitudinal (k_x_fixed at the span's fixed end, k_x_sliding at the other), lateral
+  k_y, vertical k_z, torsional k_rx; rotations about y and z are free. For a rigid link of height h_b the
+  girder's bearing point moves by (ux - h_b ry, uy + h_b rx, uz).
+- Stiffness inf is imposed exactly by eliminating the girder DOF (master-slave: u = T q), not by a penalty, so
+  a rigid bearing adds no spurious stiff mode and no round-off; stiffness 0 adds nothing.
 - ``SimpleBeam``: the same girders on ideal supports at the shear centre (uy, uz, rx at both ends,
   ux at the start of each span).
-- Other kinds (``Continuous``, :mod:`.continuous`) register their validation, assembly and the keys
-  of their errors in :data:`KINDS`.
+- Other kinds (``Continuous``, :mod:`.continuous`) register their validation, assembly and the keys of their
+  errors in :data:`KINDS`.
 
 Sparse matrices (scipy.sparse) throughout. No Exudyn.
 """
@@ -253,7 +252,8 @@ def validate_bridge(bridge: SimpleBeam | Frame) -> None:
     if kind is not None:
         kind.validate(bridge)
     else:
-        _check_section(name, "girder", bridge.girder)
+        for i, section in enumerate(bridge.sections):
+            _check_section(name, bridge.section_key(i), section)
     for key in ("track_offset", "track_height"):
         if not math.isfinite(getattr(bridge, key)):
             raise _fail(name, key, getattr(bridge, key), "a finite number")
@@ -300,7 +300,7 @@ def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int, member: 
     if type(bridge) in KINDS:
         return KINDS[type(bridge)].mechanism_key(bridge, part, j, member)
     if not isinstance(bridge, Frame):
-        return _section_key("girder", bridge.girder, j) if part == GIRDER else ("<top level>", None)
+        return _section_key(bridge.section_key(member), bridge.sections[member], j) if part == GIRDER else ("<top level>", None)
     if part == GIRDER and getattr(bridge.bearings, _BEARING_OF_DOF[j]) == 0.0:
         return f"bearings.{_BEARING_OF_DOF[j]}", 0.0
     p = bridge.pier
@@ -308,7 +308,8 @@ def mechanism_key(bridge: SimpleBeam | Frame | None, part: int, j: int, member: 
         for key in ("k_translation", "k_rotation") if j < 3 else ("k_rotation", "k_translation"):
             if getattr(p, key) == 0.0:
                 return f"pier.{key}", 0.0
-    return _section_key("girder", bridge.girder, j) if part == GIRDER else _section_key("pier.section", p.section, j)
+    girder = _section_key(bridge.section_key(member), bridge.sections[member], j)
+    return girder if part == GIRDER else _section_key("pier.section", p.section, j)
 
 
 def _extreme_value(label: str, s: BeamSection) -> tuple[str, float]:
@@ -325,7 +326,7 @@ def extreme_section_key(bridge: SimpleBeam | Frame | None) -> tuple[str, object]
     if type(bridge) in KINDS:
         found = [_extreme_value(label, section) for label, section in KINDS[type(bridge)].sections(bridge)]
         return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
-    found = [_extreme_value("girder", bridge.girder)]
+    found = [_extreme_value(bridge.section_key(i), g) for i, g in enumerate(bridge.sections)]
     if isinstance(bridge, Frame):
         found.append(_extreme_value("pier.section", bridge.pier.section))
     return max(found, key=lambda kv: abs(math.log10(kv[1])) if kv[1] > 0 else math.inf)
@@ -472,17 +473,18 @@ def _girder_section_mass(girder: BeamSection, added: AddedMass | None) -> np.nda
     return s
 
 
-def _add_girders(b: _Builder, spans: tuple[float, ...], girder: BeamSection, added: AddedMass | None,
+def _add_girders(b: _Builder, spans: tuple[float, ...], bridge: SimpleBeam | Frame, added: AddedMass | None,
                  n_el: int) -> tuple[GirderMesh, list[tuple[int, int]], np.ndarray]:
-    smass = _girder_section_mass(girder, added)
     starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
     el_nodes, el_x, el_len, el_span, phis = [], [], [], [], []
     ends = []
     for s, (x0, length) in enumerate(zip(starts, spans)):
+        girder, key = bridge.sections[s], bridge.section_key(s)
+        smass = _girder_section_mass(girder, added)
         xs = x0 + np.linspace(0.0, length, n_el + 1)
         nodes = [b.node((x, 0.0, 0.0), GIRDER, s) for x in xs]
         for i in range(n_el):
-            phis.append(b.element(nodes[i], nodes[i + 1], girder, smass))
+            phis.append(b.element(nodes[i], nodes[i + 1], girder, smass, key))
             el_nodes.append((nodes[i], nodes[i + 1]))
             el_x.append(xs[i])
             el_len.append(xs[i + 1] - xs[i])
@@ -519,15 +521,13 @@ def assemble_simple_beam(bridge: SimpleBeam) -> FEModel:
     validate_bridge(bridge)
     b = _Builder(bridge.name)
     spans = tuple(float(s) for s in bridge.spans)
-    mesh, ends, starts = _add_girders(b, spans, bridge.girder, None, int(bridge.elements_per_span))
+    mesh, ends, starts = _add_girders(b, spans, bridge, None, int(bridge.elements_per_span))
     for start, end in ends:
         _bearing(b, start, None, 0.0, math.inf, math.inf, math.inf, math.inf)
         _bearing(b, end, None, 0.0, 0.0, math.inf, math.inf, math.inf)
-    return b.finish(
-        girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=(),
-        track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
-        damping_ratio=float(bridge.damping_ratio), bridge=bridge,
-    )
+    return b.finish(girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=(),
+                    track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
+                    damping_ratio=float(bridge.damping_ratio), bridge=bridge)
 
 
 def _add_pier(b: _Builder, pier: Pier, x: float, top_z: float, n_el: int, index: int) -> int:
@@ -553,7 +553,7 @@ def assemble_frame(bridge: Frame) -> FEModel:
     validate_bridge(bridge)
     b = _Builder(bridge.name)
     spans = tuple(float(s) for s in bridge.spans)
-    mesh, ends, starts = _add_girders(b, spans, bridge.girder, bridge.added_mass, int(bridge.elements_per_span))
+    mesh, ends, starts = _add_girders(b, spans, bridge, bridge.added_mass, int(bridge.elements_per_span))
     br: Bearings = bridge.bearings
     top_z = -float(br.height)
     tops = tuple(
@@ -566,11 +566,9 @@ def assemble_frame(bridge: Frame) -> FEModel:
         support_end = None if s == len(spans) - 1 else tops[s]
         _bearing(b, start, support_start, br.height, k_start, br.k_y, br.k_z, br.k_rx)
         _bearing(b, end, support_end, br.height, k_end, br.k_y, br.k_z, br.k_rx)
-    return b.finish(
-        girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=tops,
-        track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
-        damping_ratio=float(bridge.damping_ratio), bridge=bridge,
-    )
+    return b.finish(girder=mesh, span_starts=starts, span_lengths=np.array(spans), pier_top_nodes=tops,
+                    track_offset=float(bridge.track_offset), track_height=float(bridge.track_height),
+                    damping_ratio=float(bridge.damping_ratio), bridge=bridge)
 
 
 def assemble_pier(pier: Pier, n_elements: int = 8, name: str = "pier") -> FEModel:

@@ -30,11 +30,12 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as sla
 
 from ..scenario.model import Frame, SimpleBeam
+from ..scenario.sections import track_lines
 from .assembly import (DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assemble, extreme_section_key, mechanism_key,
                        validate_bridge)
 from .beam import SIGN_VERTICAL, cubic_coefficients
 from .size import check_bridge_size
-from .modal import ModalBridge, RailShapes
+from .modal import ModalBridge, RailShapes, TrackShapes, track_stations
 
 #: kinetic-energy groups used to name a mode
 ENERGY_GROUPS = ("vertical", "lateral", "torsion", "longitudinal", "pier")
@@ -389,11 +390,13 @@ def line_shape_evaluator(
 # stations, report, ModalBridge
 
 
-def stations(model: FEModel, shapes: np.ndarray) -> tuple[tuple[str, ...], np.ndarray]:
+def stations(model: FEModel, shapes: np.ndarray, tracks: tuple[TrackShapes, ...] = ()
+             ) -> tuple[tuple[str, ...], np.ndarray]:
     """Named output stations and their (y, z, rx) shape rows, array (n_stations, 3, n_modes).
 
     Quarter points and midspan of every span on the girder axis ('span1.q1', 'span1.mid',
-    'span1.q3', ...) and pier tops ('pier1.top', ...).
+    'span1.q3', ...), pier tops ('pier1.top', ...) and, with two ``tracks`` or more, the span points
+    along each track at rail level ('span1.mid.track2', :func:`.modal.track_stations`).
     """
     axis = line_shape_evaluator(model, shapes)
     names, xs = [], []
@@ -408,6 +411,9 @@ def stations(model: FEModel, shapes: np.ndarray) -> tuple[tuple[str, ...], np.nd
     for i, node in enumerate(model.pier_top_nodes):
         names.append(f"pier{i + 1}.top")
         rows.append(shapes[[6 * node + 1, 6 * node + 2, 6 * node + 3]][None, :, :])
+    along, along_rows = track_stations(names[:len(xs)], xs, tracks)
+    if along_rows is not None:
+        names, rows = names + list(along), rows + [along_rows]
     return tuple(names), np.concatenate(rows, axis=0)
 
 
@@ -463,7 +469,9 @@ def modal_bridge_from_modes(
     model = modes.model
     zeta = model.damping_ratio if damping_ratios is None else damping_ratios
     zeta = np.broadcast_to(np.asarray(zeta, dtype=float), modes.frequencies.shape).copy()
-    names, rows = stations(model, modes.shapes)
+    lines = track_lines(model.bridge) if model.bridge is not None else ((model.track_offset, model.track_height),)
+    tracks = tuple(TrackShapes(e, h, line_shape_evaluator(model, modes.shapes, e, h)) for e, h in lines)
+    names, rows = stations(model, modes.shapes, tracks)
     node_shapes = modes.shapes.reshape(model.n_nodes, 6, -1)[:, :3, :]
     return ModalBridge(
         frequencies=modes.frequencies,
@@ -472,12 +480,13 @@ def modal_bridge_from_modes(
         mode_types=modes.mode_types,
         station_names=names,
         station_shapes=rows,
-        rail_shape_function=line_shape_evaluator(model, modes.shapes, model.track_offset, model.track_height),
+        rail_shape_function=tracks[0].shapes,
         effective_masses=modes.effective_masses,
         description=description or f"finite-element modes of bridge '{model.name}'",
         node_positions=model.coordinates.copy(),
         node_shapes=np.ascontiguousarray(node_shapes),
         node_masses=lumped_masses(model),
+        tracks=tracks if len(tracks) > 1 else (),
     )
 
 

@@ -33,12 +33,13 @@ from scipy.linalg import solve_banded
 from ..errors import ScenarioError
 from ..files import MIB, FileRefused, output_targets, read_text, write_output
 from ..scenario.model import ModalTable
+from ..scenario.sections import track_lines
 from ..scenario.toml_io import dumps_toml
 from ..system.derived import station_positions
 from .assembly import SPAN_RANGE, StructureError
 from .fe import (MECHANISM_FREQUENCY, RailShapeEvaluator, bridge_modes, line_shape_evaluator, modal_bridge_from_modes,
                  rayleigh_damping_ratios)
-from .modal import ModalBridge
+from .modal import ModalBridge, TrackShapes, track_stations
 
 #: the mode types a modes.csv may name (those our FE gives)
 MODE_TYPES = ("vertical", "lateral", "torsion", "longitudinal", "pier", "mixed")
@@ -324,9 +325,14 @@ def imported_modal_bridge(bridge: ModalTable, max_frequency: float, max_modes: i
     freq, zeta, types = read_modes(bridge.modes)
     n_all = freq.size
     length = bridge.length
-    evaluator = read_shapes(bridge.shapes, n_all, length)
+    tracks = tuple(TrackShapes(float(t.offset), float(t.height), read_shapes(t.shapes, n_all, length))
+                   for t in bridge.tracks)
+    evaluator = tracks[0].shapes if tracks else read_shapes(bridge.shapes, n_all, length)
     if bridge.stations:
         names, xs, rows = read_stations(bridge.stations, n_all, bridge.spans)
+    elif len(tracks) > 1:  # the span points along each track (the girder axis is not in the tables)
+        deck, xs = _deck_stations(bridge.spans)
+        names, rows = track_stations(deck, xs, tracks)
     else:
         names, xs = _deck_stations(bridge.spans)
         r = evaluator(xs)
@@ -343,7 +349,8 @@ def imported_modal_bridge(bridge: ModalTable, max_frequency: float, max_modes: i
         frequencies=freq, damping_ratios=np.asarray(zeta, dtype=float), length=length, mode_types=types,
         station_names=tuple(names), station_shapes=np.ascontiguousarray(rows), rail_shape_function=evaluator,
         description=f"imported modes of bridge '{bridge.name}' ({Path(bridge.modes).name}, "
-                    f"{Path(bridge.shapes).name})",
+                    f"{', '.join(Path(t.shapes).name for t in bridge.tracks) or Path(bridge.shapes).name})",
+        tracks=tracks if len(tracks) > 1 else (),
     )
     return full if keep == n_all else full.truncated(keep)
 
@@ -405,7 +412,8 @@ def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int =
                  overwrite: bool = False, where: str = "export_modes", key: str = "out") -> dict[str, Path]:
     """Write the FE modes of ``bridge`` (a ``simple_beam`` or ``frame``) as a ``modal_table`` bridge into the
     folder ``out``: bridge.toml (kind = "modal_table", name ``<name>_modes``, the same spans), modes.csv,
-    shapes.csv and stations.csv, all four atomically as one (existing ones only with ``overwrite``;
+    shapes.csv (a bridge of two tracks or more: shapes_track<i>.csv per track) and stations.csv, all atomically
+    as one (existing ones only with ``overwrite``;
     ``where``/``key`` name the argument in errors). Returns the written paths by file name."""
 
     if isinstance(bridge, ModalTable):
@@ -414,18 +422,27 @@ def export_modes(bridge, out: str | Path, max_frequency: float, max_modes: int =
     modes = bridge_modes(bridge, max_frequency, max_modes)
     mb = modal_bridge_from_modes(modes)
     model = modes.model
-    evaluator = line_shape_evaluator(model, modes.shapes, model.track_offset, model.track_height)
-    texts = modal_tables(mb, np.asarray(model.girder.x_start), np.asarray(model.girder.length), evaluator,
-                         station_positions(mb.station_names, bridge.spans))
+    girder = (np.asarray(model.girder.x_start), np.asarray(model.girder.length))
+    at = station_positions(mb.station_names, bridge.spans)
+    lines = track_lines(bridge)
+    texts = modal_tables(mb, *girder, line_shape_evaluator(model, modes.shapes, *lines[0]), at)
+    shapes: dict = {"shapes": "shapes.csv"}
+    if len(lines) > 1:  # a shapes file per track: shapes_track<i>.csv
+        del texts["shapes.csv"]
+        shapes = {"tracks": [{"shapes": f"shapes_track{i + 1}.csv", "offset": e, "height": h}
+                             for i, (e, h) in enumerate(lines)]}
+        for i, (e, h) in enumerate(lines):
+            texts[f"shapes_track{i + 1}.csv"] = modal_tables(
+                mb, *girder, line_shape_evaluator(model, modes.shapes, e, h), at)["shapes.csv"]
     name = f"{bridge.name}_modes"
     toml = dumps_toml(
         {"kind": "modal_table", "name": name, "spans": [float(s) for s in bridge.spans], "modes": "modes.csv",
-         "shapes": "shapes.csv", "stations": "stations.csv",
+         "stations": "stations.csv", **shapes,
          "description": f"the finite-element modes of bridge '{bridge.name}' up to {max_frequency:g} Hz, imported",
          "source": f"tb-exudyn export-modes {bridge.name} (tb_exudyn.structure.imported.export_modes)"},
         f"tb_exudyn bridge '{name}': modes of '{bridge.name}' as tables (docs/modal_bridge.md)")
     folder = Path(out)
-    files = ["bridge.toml", "modes.csv", "shapes.csv", "stations.csv"]
+    files = ["bridge.toml", "modes.csv", *sorted(k for k in texts if k.startswith("shapes")), "stations.csv"]
     targets = output_targets(folder / files[0], sidecars=[folder / f for f in files[1:]], overwrite=overwrite,
                              where=where, key=key)
     content = {"bridge.toml": toml, **texts}

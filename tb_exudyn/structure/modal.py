@@ -13,8 +13,9 @@ offset e and height h above the shear centre moves by dy = v - h theta, dz = w +
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Callable
+import math
+from dataclasses import dataclass, field, replace
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -36,6 +37,49 @@ class RailShapes:
     dz: np.ndarray
     drx: np.ndarray
 
+    def at_line(self, offset: float, height: float) -> "RailShapes":
+        """These shapes (of the girder axis, offset 0 and height 0) moved to a line at lateral ``offset``
+        e and ``height`` h: dy = v - h theta, dz = w + e theta, the rotation unchanged (module docstring)."""
+        e, h = float(offset), float(height)
+        return RailShapes(self.y - h * self.rx, self.z + e * self.rx, self.rx,
+                          self.dy - h * self.drx, self.dz + e * self.drx, self.drx)
+
+    def truncated(self, n: int) -> "RailShapes":
+        return RailShapes(*(a[:, :n] for a in (self.y, self.z, self.rx, self.dy, self.dz, self.drx)))
+
+
+@dataclass(frozen=True)
+class TrackShapes:
+    """One track of a bridge: its centre line's offset e from the girder axis and its rail level h above
+    the shear centre [m] (nan where the data do not say, an imported bridge) and its rail-level shapes,
+    x -> :class:`RailShapes` on that track's centre line."""
+
+    offset: float
+    height: float
+    shapes: Callable[[np.ndarray], RailShapes] = field(repr=False)
+
+
+def _truncated_function(full: Callable[[np.ndarray], RailShapes], n: int) -> Callable[[np.ndarray], RailShapes]:
+    own = getattr(full, "truncated", None)  # an evaluator that can drop modes itself (faster)
+    if callable(own):
+        return own(n)
+    return lambda x: full(x).truncated(n)
+
+
+def track_stations(names: Sequence[str], x: Sequence[float], tracks: Sequence[TrackShapes]
+                   ) -> tuple[tuple[str, ...], np.ndarray | None]:
+    """The deck stations along each track of a bridge with two tracks or more: '<name>.track<i>' at
+    each x, rows (y, z, rx) of track i's rail-level shapes there, shape (n, 3, n_modes) (None: one
+    track, whose deck channels are the train's track's rail shapes, tb_exudyn.system.derived)."""
+    if len(tracks) < 2 or not len(names):
+        return (), None
+    out_names, rows = [], []
+    for i, track in enumerate(tracks):
+        r = track.shapes(np.asarray(x, dtype=float))
+        out_names += [f"{n}.track{i + 1}" for n in names]
+        rows.append(np.stack([r.y, r.z, r.rx], axis=1))
+    return tuple(out_names), np.concatenate(rows, axis=0)
+
 
 @dataclass(frozen=True)
 class ModalBridge:
@@ -55,6 +99,10 @@ class ModalBridge:
         visualisation and for the FFRF body)
     node_shapes : (n_nodes, 3, n) translations (x, y, z) of those nodes per mode, if known
     node_masses : (n_nodes,) lumped translational mass of those nodes [kg], if known
+    tracks : every track of the bridge, track 1 first (:class:`TrackShapes`); () for one track whose
+        shapes are ``rail_shape_function``
+    track : the track the train runs on (1, 2, ...): ``rail_shape_function`` is its shapes
+        (:meth:`on_track`)
     """
 
     frequencies: np.ndarray
@@ -69,6 +117,35 @@ class ModalBridge:
     node_positions: np.ndarray | None = field(default=None, repr=False)
     node_shapes: np.ndarray | None = field(default=None, repr=False)
     node_masses: np.ndarray | None = field(default=None, repr=False)
+    tracks: tuple[TrackShapes, ...] = ()
+    track: int = 1
+
+    @property
+    def n_tracks(self) -> int:
+        return max(1, len(self.tracks))
+
+    def track_shapes(self, track: int, x: np.ndarray) -> RailShapes:
+        """Rail-level shapes on the centre line of track ``track`` (1, 2, ...) at x [m]."""
+        if not self.tracks:
+            return self.rail_shapes(x)
+        return self.tracks[track - 1].shapes(np.atleast_1d(np.asarray(x, dtype=float)))
+
+    def on_track(self, track: int) -> "ModalBridge":
+        """The same bridge with the train on track ``track`` (1, 2, ...): its rail shapes are that
+        track's. ValueError for a track the bridge does not have (the scenario checks track.on first)."""
+        if not 1 <= track <= self.n_tracks:
+            raise ValueError(f"track {track} of a bridge with {self.n_tracks} track(s)")
+        if not self.tracks or track == self.track:
+            return self
+        return replace(self, rail_shape_function=self.tracks[track - 1].shapes, track=int(track))
+
+    def track_text(self) -> str:
+        """Which track the train runs on, in words ('' for a bridge of one track)."""
+        if not self.tracks:
+            return ""
+        t = self.tracks[self.track - 1]
+        where = "" if math.isnan(t.offset) else f" (offset {t.offset:g} m, rail level {t.height:g} m)"
+        return f"the train on track {self.track} of {self.n_tracks}{where}"
 
     @property
     def n_modes(self) -> int:
@@ -98,22 +175,14 @@ class ModalBridge:
     def truncated(self, n_modes: int) -> "ModalBridge":
         """The same bridge with only its lowest ``n_modes`` modes."""
         n = int(n_modes)
-        full = self.rail_shape_function
-        own = getattr(full, "truncated", None)  # an evaluator that can drop modes itself (faster)
-        if callable(own):
-            shapes = own(n)
-        else:
-
-            def shapes(x: np.ndarray) -> RailShapes:
-                s = full(x)
-                return RailShapes(*(a[:, :n] for a in (s.y, s.z, s.rx, s.dy, s.dz, s.drx)))
-
+        tracks = tuple(TrackShapes(t.offset, t.height, _truncated_function(t.shapes, n)) for t in self.tracks)
+        shapes = tracks[self.track - 1].shapes if tracks else _truncated_function(self.rail_shape_function, n)
         return ModalBridge(
             self.frequencies[:n], self.damping_ratios[:n], self.length, self.mode_types[:n],
             self.station_names, self.station_shapes[:, :, :n], shapes,
             None if self.effective_masses is None else self.effective_masses[:n], self.description,
             self.node_positions, None if self.node_shapes is None else self.node_shapes[:, :, :n],
-            self.node_masses,
+            self.node_masses, tracks, self.track,
         )
 
 
@@ -129,20 +198,26 @@ def simply_supported_modes(
     track_offset: float = 0.0,
     track_height: float = 0.0,
     max_modes: int = 0,
+    tracks: Sequence[tuple[float, float]] = (),
 ) -> ModalBridge:
     """Closed-form modes of independent uniform simply supported spans (Euler-Bernoulli, St-Venant torsion).
 
     Vertical and lateral bending: omega_j = (j pi / L)^2 sqrt(EI / m), shape sin(j pi x / L);
     torsion: omega_j = (j pi / L) sqrt(G J / I_p), same shape. Mass-normalised over the span:
     shape amplitude sqrt(2 / (m L)) (bending) and sqrt(2 / (I_p L)) (torsion). Bending and torsion
-    are uncoupled (shear centre = mass centre). Modes up to ``max_frequency`` [Hz] (and at most
-    ``max_modes`` if > 0), sorted by frequency.
+    are uncoupled (shear centre = mass centre). The section values are one for all spans or one per span
+    (sequences in span order: spans of different sections). Modes up to ``max_frequency`` [Hz] (and at most
+    ``max_modes`` if > 0), sorted by frequency. ``tracks``: (offset, height) of every track, track 1
+    first (instead of ``track_offset``, ``track_height``: one track); the train on track 1.
     """
     spans = tuple(float(s) for s in spans)
     starts = np.concatenate([[0.0], np.cumsum(spans)[:-1]])
+    per_span = [np.broadcast_to(np.asarray(v, dtype=float), (len(spans),))
+                for v in (EI_vertical, EI_lateral, GJ, mass_per_length, rot_mass_per_length)]
     rows = []  # (freq, span index, j, type, amplitude)
     for s, L in enumerate(spans):
-        for kind, stiff, inertia in (("vertical", EI_vertical, mass_per_length), ("lateral", EI_lateral, mass_per_length)):
+        EI_v, EI_l, GJ_s, m, I_p = (float(v[s]) for v in per_span)
+        for kind, stiff, inertia in (("vertical", EI_v, m), ("lateral", EI_l, m)):
             j = 1
             while True:
                 f = (j * np.pi / L) ** 2 * np.sqrt(stiff / inertia) / (2 * np.pi)
@@ -152,10 +227,10 @@ def simply_supported_modes(
                 j += 1
         j = 1
         while True:
-            f = (j * np.pi / L) * np.sqrt(GJ / rot_mass_per_length) / (2 * np.pi)
+            f = (j * np.pi / L) * np.sqrt(GJ_s / I_p) / (2 * np.pi)
             if f > max_frequency:
                 break
-            rows.append((f, s, j, "torsion", np.sqrt(2.0 / (rot_mass_per_length * L))))
+            rows.append((f, s, j, "torsion", np.sqrt(2.0 / (I_p * L))))
             j += 1
     rows.sort(key=lambda r: r[0])
     if max_modes > 0:
@@ -172,34 +247,38 @@ def simply_supported_modes(
     is_t = np.array([k == "torsion" for k in kinds], dtype=float)
     L_mode = np.array(spans)[span_idx]
     x0_mode = starts[span_idx]
-    e, h = float(track_offset), float(track_height)
+    lines = tuple((float(e), float(h)) for e, h in tracks) or ((float(track_offset), float(track_height)),)
 
-    def shapes(x: np.ndarray) -> RailShapes:
+    def axis(x: np.ndarray) -> RailShapes:
         xi = x[:, None] - x0_mode[None, :]
         inside = (xi >= 0.0) & (xi <= L_mode[None, :])
         k = j_idx * np.pi / L_mode
         s = np.where(inside, amp * np.sin(k * xi), 0.0)
         ds = np.where(inside, amp * k * np.cos(k * xi), 0.0)
-        y = s * (is_l - h * is_t)
-        z = s * (is_v + e * is_t)
-        rx = s * is_t
-        return RailShapes(y, z, rx, ds * (is_l - h * is_t), ds * (is_v + e * is_t), ds * is_t)
+        return RailShapes(s * is_l, s * is_v, s * is_t, ds * is_l, ds * is_v, ds * is_t)
 
-    names, rows_st = [], []
+    def line(e: float, h: float) -> Callable[[np.ndarray], RailShapes]:
+        return lambda x: axis(x).at_line(e, h)
+
+    track_list = tuple(TrackShapes(e, h, line(e, h)) for e, h in lines)
+    names, rows_st, xs = [], [], []
     for s, L in enumerate(spans):
         for label, frac in (("q1", 0.25), ("mid", 0.5), ("q3", 0.75)):
-            xs = starts[s] + frac * L
+            xs.append(starts[s] + frac * L)
             names.append(f"span{s + 1}.{label}")
             inside = span_idx == s
             val = np.where(inside, amp * np.sin(j_idx * np.pi * frac), 0.0)
             rows_st.append(np.stack([val * is_l, val * is_v, val * is_t]))
+    along, along_rows = track_stations(names, xs, track_list)
+    station_rows = np.array(rows_st) if along_rows is None else np.concatenate([np.array(rows_st), along_rows])
     return ModalBridge(
         frequencies=freq,
         damping_ratios=np.full(freq.size, float(damping_ratio)),
         length=float(sum(spans)),
         mode_types=kinds,
-        station_names=tuple(names),
-        station_shapes=np.array(rows_st),
-        rail_shape_function=shapes,
+        station_names=tuple(names) + along,
+        station_shapes=station_rows,
+        rail_shape_function=track_list[0].shapes,
         description="closed-form simply supported spans",
+        tracks=track_list if len(track_list) > 1 else (),
     )

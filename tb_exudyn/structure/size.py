@@ -106,14 +106,16 @@ def estimate_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: 
     its parts solved alone by ``solve`` (module docstring)."""
     if isinstance(bridge, Continuous):
         return _estimate_continuous(bridge, max_frequency, max_modes, solve)
-    lengths = sorted({float(s) for s in bridge.spans})
-    if len(lengths) > MAX_SPAN_SOLVES:
-        lengths = lengths[-1:]
+    spans = list(zip((float(s) for s in bridge.spans), bridge.sections))  # each span and its section
+    parts = sorted(set(spans), key=lambda p: p[0])
+    if len(parts) > MAX_SPAN_SOLVES:
+        parts = parts[-1:]
     single = {}
-    for length in lengths:
-        part = dataclasses.replace(bridge, spans=(length,))
-        single[length] = _modes_below(solve, assemble(part), max_frequency, True)
-    count = sum(single.get(float(s), single[lengths[-1]]) for s in bridge.spans)
+    for length, section in parts:
+        part = dataclasses.replace(bridge, spans=(length,), girder=section, girders=())
+        # a span of its own section alone: its errors would name 'girder', so the whole model names the key
+        single[(length, section)] = _modes_below(solve, assemble(part), max_frequency, not bridge.girders)
+    count = sum(single.get(p, single[parts[-1]]) for p in spans)
     if isinstance(bridge, Frame) and len(bridge.spans) > 1:
         pier = assemble_pier(bridge.pier, int(bridge.elements_per_pier), bridge.name)
         per_pier = _modes_below(solve, pier, max_frequency, False)

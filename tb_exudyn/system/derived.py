@@ -39,6 +39,11 @@ car<k>.axle<j>.right.derailment                        H / P_R, H = axle<j>.forc
                                                        toward +y: H > 0 loads the right wheel's flange)
 =====================================  ======  ======  =========================================================
 
+On a deck of two tracks or more (``ModalBridge.tracks``) the two bridge rows are made along each track
+instead, at its stations ``span<k>.<st>.track<i>`` (``bridge.span1.mid.track2.acc_z_en1990``, twist at
+``span<k>.start.track<i>`` too) with that track's rail shapes (:func:`station_track`), and the
+girder-axis stations have none.
+
 What the 15-DOF car (``car15``) can and cannot give per wheel: it has one vertical contact per wheel
 (``left.force_z``, ``right.force_z``: P per wheel is defined) but ONE lateral contact per wheelset
 (``force_y`` = H = Q_L + Q_R, at rail level on the track centre line): the lateral force of a wheel
@@ -92,7 +97,7 @@ EN1990_MIN_CUT = 30.0
 #: Sperling window [s] (GB/T 5599-2019 [check]; docs/references.md, ride comfort)
 SPERLING_WINDOW = 5.0
 
-_STATION = re.compile(r"span(\d+)\.(q1|mid|q3|start|end)\Z")
+_STATION = re.compile(r"span(\d+)\.(q1|mid|q3|start|end)(?:\.track(\d+))?\Z")
 _FRACTION = {"q1": 0.25, "mid": 0.5, "q3": 0.75}
 _DERIVATIVE = {"disp": "vel", "vel": "acc"}
 
@@ -163,19 +168,36 @@ def derivative_name(name: str) -> str | None:
 def station_positions(station_names: Sequence[str], spans: Sequence[float]) -> dict[str, float]:
     """x [m] along the track of the span stations (``span<k>.q1``, ``.mid``, ``.q3``: quarter points and
     midspan) and of the twist stations ``span<k>.start`` / ``.end`` (1.5 m inside the span's ends), from
-    the span lengths (x = 0 at the bridge start, spans back to back); other stations (pier tops) have none."""
+    the span lengths (x = 0 at the bridge start, spans back to back); other stations (pier tops) have none.
+    A station along a track (``span<k>.mid.track<i>``, a bridge of two tracks or more) lies where its
+    span point does, and each track named among the stations gets its own twist stations
+    (``span<k>.start.track<i>``)."""
     starts = np.concatenate(([0.0], np.cumsum(np.asarray(spans, dtype=float))[:-1]))
     out: dict[str, float] = {}
+    tracks: set[int] = set()
     for name in station_names:
         m = _STATION.match(name)
         if m and int(m.group(1)) <= len(spans) and m.group(2) in _FRACTION:
             k = int(m.group(1)) - 1
             out[name] = float(starts[k] + _FRACTION[m.group(2)] * spans[k])
-    for k, (x0, length) in enumerate(zip(starts, spans)):
-        if length > 2 * TWIST_HALF_BASE:
-            out[f"span{k + 1}.start"] = float(x0 + TWIST_HALF_BASE)
-            out[f"span{k + 1}.end"] = float(x0 + length - TWIST_HALF_BASE)
+            if m.group(3):
+                tracks.add(int(m.group(3)))
+    for suffix in [f".track{i}" for i in sorted(tracks)] or [""]:
+        for k, (x0, length) in enumerate(zip(starts, spans)):
+            if length > 2 * TWIST_HALF_BASE:
+                out[f"span{k + 1}.start{suffix}"] = float(x0 + TWIST_HALF_BASE)
+                out[f"span{k + 1}.end{suffix}"] = float(x0 + length - TWIST_HALF_BASE)
     return out
+
+
+def station_track(name: str, n_tracks: int) -> int:
+    """The track whose deck channels station ``name`` carries: i of ``span<k>.<st>.track<i>``; on a
+    bridge of one track, 1 for its span stations; 0 for none (a girder-axis station of a bridge of two
+    tracks or more, whose deck channels are along each track instead)."""
+    m = _STATION.match(name)
+    if m and m.group(3):
+        return int(m.group(3))
+    return 1 if n_tracks == 1 else 0
 
 
 def en1990_cut_frequency(frequencies: Sequence[float], mode_types: Sequence[str]) -> float:
@@ -186,9 +208,11 @@ def en1990_cut_frequency(frequencies: Sequence[float], mode_types: Sequence[str]
     return max([EN1990_MIN_CUT] + [x for x in (1.5 * f1, f3) if math.isfinite(x)])
 
 
-def _rail_rows(bridge, x: float, half_gauge: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # noqa: ANN001
-    """Vertical displacement of the left and right rail at x per unit modal coordinate: z +- b rx."""
-    rs = bridge.rail_shapes(np.array([x]))
+def _rail_rows(bridge, x: float, half_gauge: float, track: int = 1  # noqa: ANN001
+               ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Vertical displacement of the left and right rail of ``track`` at x per unit modal coordinate:
+    z +- b rx."""
+    rs = bridge.track_shapes(track, np.array([x]))
     return rs.z[0] + half_gauge * rs.rx[0], rs.z[0] - half_gauge * rs.rx[0]
 
 
@@ -227,12 +251,14 @@ def derived_catalogue(channels: Sequence[Channel], stations: dict[str, float], b
         if top < cut:
             notes.append(f"acc_z_en1990: f_cut = {cut:.4g} Hz lies above the model's highest bridge mode "
                          f"({top:.4g} Hz, analysis.mode_max_frequency): the modes between are missing")
+        n_tracks = getattr(bridge, "n_tracks", 1)
+        stations = {st: x for st, x in stations.items() if station_track(st, n_tracks)}
         for st, x in stations.items():
             base = f"bridge.{st}"
             if f"{base}.acc_z" in by_name and base in station_index:
                 # along the track (EN 1990 A2.4.4.2.1 limits the deck acceleration of each track): the
                 # rail-level vertical shape on the track centre line, w + e theta, as the wheels see it
-                shape = bridge.rail_shapes(np.array([x])).z[0] * keep
+                shape = bridge.track_shapes(station_track(st, n_tracks), np.array([x])).z[0] * keep
                 add_aux(f"{base}.en1990", (("acc", "m/s^2", 2),), shape)
                 out.append(DerivedChannel(
                     f"{base}.acc_z_en1990", "m/s^2", "linear", ((f"{base}.en1990.acc_z", 1.0),),
@@ -242,7 +268,7 @@ def derived_catalogue(channels: Sequence[Channel], stations: dict[str, float], b
             base = f"bridge.{st}"
             names = []
             for side_name, along in (("ahead", x + TWIST_HALF_BASE), ("behind", x - TWIST_HALF_BASE)):
-                left, right = _rail_rows(bridge, along, half_gauge)
+                left, right = _rail_rows(bridge, along, half_gauge, station_track(st, n_tracks))
                 for label, row in (("left", left), ("right", right)):
                     name = f"{base}.rail_{label}_{side_name}"
                     add_aux(name, (("disp", "m", 0), ("vel", "m/s", 1)), row)
@@ -350,4 +376,4 @@ def derived_provenance(catalogue: DerivedCatalogue, derived: Sequence[DerivedCha
 
 __all__ = ["DERIVED_KINDS", "DerivedCatalogue", "DerivedChannel", "EN1990_MIN_CUT", "SPERLING_WINDOW",
            "TWIST_HALF_BASE", "derivative_name", "derived_catalogue", "derived_provenance", "en1990_cut_frequency", "engine_outputs",
-           "extended_shapes", "select_channels", "station_positions"]
+           "extended_shapes", "select_channels", "station_positions", "station_track"]

@@ -26,6 +26,7 @@ _BODY_DERIVED = {"acc_z_wb": "Wb-weighted vertical acceleration", "acc_y_wd": "W
                  "sperling_z": "vertical Sperling index", "sperling_y": "lateral Sperling index"}
 _BRIDGE = re.compile(r"bridge\.(span|pier)(\d+)\.(\w+)\.(.+)")
 _CAR = re.compile(r"car(\d+)\.(.+)")
+_TRACK = re.compile(r"track(\d+)\.")
 
 
 def _motion_label(what: str, components: dict[str, str]) -> str | None:
@@ -47,9 +48,13 @@ def channel_label(name: str) -> str:
     m = _BRIDGE.fullmatch(name)
     if m:
         kind, number, station, what = m.groups()
+        track = _TRACK.match(what)  # a station along a track of a deck of two or more: span1.mid.track2
+        if track:
+            what = what[track.end():]
         motion = _motion_label(what, _BRIDGE_COMPONENT) or _BRIDGE_DERIVED.get(what)
         if motion is not None:
-            return f"{kind} {number}, {_STATION.get(station, station)}, {motion}"
+            on = f", track {track.group(1)}" if track else ""
+            return f"{kind} {number}, {_STATION.get(station, station)}{on}, {motion}"
         return name
     m = _CAR.fullmatch(name)
     if not m:
@@ -63,6 +68,10 @@ def channel_label(name: str) -> str:
     if len(parts) == 2 and parts[0].startswith("bogie") and parts[0][5:] in _BOGIE:
         motion = _motion_label(parts[1], _COMPONENT)
         return f"{head}, {_BOGIE[parts[0][5:]]}, {motion}" if motion else name
+    numbered = re.fullmatch(r"(body|bogie)(\d+)", parts[0]) if len(parts) == 2 else None  # an articulated set's
+    if numbered:
+        motion = _motion_label(parts[1], _COMPONENT)
+        return f"{head}, {numbered.group(1)} {numbered.group(2)}, {motion}" if motion else name
     if parts[0].startswith("axle") and parts[0][4:].isdigit():
         axle = f"{head}, axle {parts[0][4:]}"
         if len(parts) == 2 and parts[1] == "force_y":
@@ -140,14 +149,15 @@ def _middle_span(names: Sequence[str]) -> int | None:
 def default_patterns(names: Sequence[str]) -> tuple[tuple[str, tuple[str, ...]], ...]:
     """(component, glob patterns) of the channels drawn by default, a short list per component:
 
-    - those the verdicts check (EN 1990 deck vertical acceleration at every mid-span; car-body
+    - those the verdicts check (EN 1990 deck vertical acceleration at every mid-span, along each track
+      of a deck of two tracks or more; car-body
       vertical and lateral accelerations; the lateral axle force of each car's leading axle);
     - those of the reference study's figures 3-8 (Li & Zhu, section 4.3-4.4): the middle span's
       mid-point lateral and vertical displacement and acceleration, the first car's body and
       leading bogie lateral displacement and acceleration, the wheel-rail forces of its first axle.
     """
     mid = _middle_span(names)
-    bridge = ("bridge.span*.mid.acc_z",)
+    bridge = ("bridge.span*.mid.acc_z", "bridge.span*.mid.track*.acc_z")  # the girder axis; along each track
     if mid is not None:
         bridge += (f"bridge.span{mid}.mid.disp_[yz]", f"bridge.span{mid}.mid.acc_y")
     return (

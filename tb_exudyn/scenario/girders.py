@@ -1,0 +1,101 @@
+"""Simply supported spans: the bridge kinds ``simple_beam`` (ideal supports) and ``frame`` (girders on bearings
+carried by piers), their data and rules. Pure data, no Exudyn; re-exported by :mod:`.model` (its ``Bridge``
+union); the structural model is :mod:`tb_exudyn.structure.assembly`."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+from .code_data import CodeData, check_ballast
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
+from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
+                       check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
+
+
+@dataclass(frozen=True, kw_only=True)
+class SimpleBeam(_SpanSections):
+    """Uniform simply supported spans with ideal supports (for closed-form checks).
+
+    Every span is simply supported on its own (vertical, lateral and torsional restraint at both
+    ends, longitudinal at its start)."""
+
+    kind: ClassVar[str] = "simple_beam"
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
+    girder: BeamSection | None = girder_param()
+    girders: tuple[BeamSection, ...] = girders_param()
+    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = tracks_param()
+    deck_width: float = deck_width_param()
+    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
+                                            "the bridge)")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        check_sections(self, ctx)
+        light = min(range(len(self.spans)), key=lambda i: self.sections[i].mass_per_length)
+        check_ballast(self.code, self.sections[light].mass_per_length, f"{self.section_key(light)}.mass_per_length", ctx)
+        check_tracks(self, ctx)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bearings(_Replaceable):
+    """Bearing stiffness per bearing line and direction (inf = rigid, 0 = free)."""
+
+    k_x_fixed: float = param(math.inf, unit="N/m", doc="longitudinal, at each span's fixed end", check=STIFFNESS)
+    k_x_sliding: float = param(0.0, unit="N/m", doc="longitudinal, at each span's sliding end", check=STIFFNESS)
+    k_y: float = param(math.inf, unit="N/m", doc="lateral", check=STIFFNESS)
+    k_z: float = param(math.inf, unit="N/m", doc="vertical", check=STIFFNESS)
+    k_rx: float = param(math.inf, unit="N m/rad", doc="torsional restraint of the girder end", check=STIFFNESS)
+    fixed_end: Literal["start", "end"] = param("start", doc="which end of each span is longitudinally fixed")
+    height: float = param(0.0, unit="m", doc="girder shear centre above the pier top", check=NONNEGATIVE)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Frame(_SpanSections):
+    """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
+
+    kind: ClassVar[str] = "frame"
+    name: str = param(doc="identifier")
+    spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
+    girder: BeamSection | None = girder_param()
+    girders: tuple[BeamSection, ...] = girders_param()
+    pier: Pier = param(doc="every intermediate pier")
+    bearings: Bearings = param(doc="bearings at every girder end")
+    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
+    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
+    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
+    tracks: tuple[TrackLine, ...] = tracks_param()
+    deck_width: float = deck_width_param()
+    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
+                                            "the bridge)")
+    description: str = param("", doc="one line for listings")
+    source: str = param("", doc="citation of the data")
+    notes: str = param("", doc="remarks, values marked [check]")
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def _validate(self, ctx: Context) -> None:
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        check_sections(self, ctx)
+        check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
+        check_tracks(self, ctx)
