@@ -14,6 +14,8 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from .checks_table import Caveat
 
 _CAR_ANY = re.compile(r"car(\d+)\.")
@@ -43,7 +45,7 @@ class ModelRequirement:
 MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
     ModelRequirement(
         ("derailment_coefficient", "wheel_unloading", "axle_force_y"), ("creep_car",),
-        "running safety needs creep-guided wheelsets; the {kind} cars hold theirs to the rail, bogie yaw undamped",
+        "running safety needs creep-guided wheelsets; {kind} holds them to the rail (bogie yaw undamped)",
         "use creep cars (ice_motor_creep, ice_trailer_creep), e.g. scenario li_zhu_2011_creep"),
 )
 
@@ -125,5 +127,25 @@ def contact_judged(c: Caveat, p_loss: float | None, verdict: str, p: float | Non
     return Caveat(c.kind, c.text + tail, turn)
 
 
+def window_effect(c: Caveat, result: Any, channel: str) -> tuple[Caveat, float | None]:
+    """A Sperling index over a window shorter than the criterion's, with a bound of its effect: a
+    longer window averages the same car's acceleration power over more of a run like this one, so the
+    index (the power's 0.15 power, the acceleration's 0.3) moves by at most (max sigma^2 / mean
+    sigma^2)^0.15 - 1 of the acceleration (``car<k>.body.acc_<d>``) over the run. No bound (None) when
+    the acceleration is not in the result."""
+    m = re.match(r"(car\d+\.body)\.sperling_([yz])\Z", channel)
+    acc = f"{m.group(1)}.acc_{m.group(2)}" if m else ""
+    if acc not in result.channels:
+        return c, None
+    power = np.asarray(result.std[result.index(acc)], dtype=float) ** 2
+    mean = float(np.mean(power))
+    if not (mean > 0 and np.all(np.isfinite(power))):
+        return c, None
+    rise = math.sqrt(float(np.max(power)) / mean) - 1.0  # of sigma: effect_on_estimate's 0.3 power makes it the index's
+    text = (c.text + f"; the acceleration's power over the run peaks at {float(np.max(power)) / mean:.3g} x its mean"
+            f" (unweighted), which bounds the window's effect")
+    return Caveat(c.kind, text, c.changes_verdict), effect_on_estimate("sperling", rise)
+
+
 __all__ = ["MODEL_REQUIREMENTS", "SPERLING_EXPONENT", "ModelRequirement", "can_turn", "contact_judged", "effect_on_estimate",
-           "judged", "unmet_requirement"]
+           "judged", "unmet_requirement", "window_effect"]

@@ -58,7 +58,7 @@ from ..scenario.registry import model_files, models_dir
 from ..scenario.schema import source_file
 from ..system import statistics as st
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
-                      unmet_requirement)
+                      unmet_requirement, window_effect)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
 from .empirical import binomial_interval
 
@@ -347,7 +347,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
         if win is not None and c.window and win + 1e-9 < c.window:
             cav = Caveat("window", f"the index is over windows of {win:.3g} s (the run is shorter than the "
                          f"criterion's {c.window:g} s): the index depends on the window length", True)
-            caveats.append(judged(*_window_effect(cav, result, channel), estimate, limit))
+            caveats.append(judged(*window_effect(cav, result, channel), estimate, limit))
         if isinstance(c.limit, GradedLimit):
             grade = c.limit.grade(estimate) or "beyond the last grade"
         kept = [judged(e, effect_on_estimate(c.quantity, eff), estimate, limit) for e, eff in effects] \
@@ -394,26 +394,6 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
         grade = c.limit.grade(abs(estimate)) or "beyond the last grade"
     return CheckRow(**base, estimate=estimate, estimate_text=text, probability=p, interval=interval,
                     probability_vanmarcke=pv, verdict=verdict, grade=grade, caveats=tuple(kept))
-
-
-def _window_effect(c: Caveat, result: Any, channel: str) -> tuple[Caveat, float | None]:
-    """A Sperling index over a window shorter than the criterion's, with a bound of its effect: a
-    longer window averages the same car's acceleration power over more of a run like this one, so the
-    index (the power's 0.15 power, the acceleration's 0.3) moves by at most (max sigma^2 / mean
-    sigma^2)^0.15 - 1 of the acceleration (``car<k>.body.acc_<d>``) over the run. No bound (None) when
-    the acceleration is not in the result."""
-    m = re.match(r"(car\d+\.body)\.sperling_([yz])\Z", channel)
-    acc = f"{m.group(1)}.acc_{m.group(2)}" if m else ""
-    if acc not in result.channels:
-        return c, None
-    power = np.asarray(result.std[result.index(acc)], dtype=float) ** 2
-    mean = float(np.mean(power))
-    if not (mean > 0 and np.all(np.isfinite(power))):
-        return c, None
-    rise = math.sqrt(float(np.max(power)) / mean) - 1.0  # of sigma: effect_on_estimate's 0.3 power makes it the index's
-    text = (c.text + f"; the acceleration's power over the run peaks at {float(np.max(power)) / mean:.3g} x its mean"
-            f" (unweighted), which bounds the window's effect")
-    return Caveat(c.kind, text, c.changes_verdict), effect_on_estimate("sperling", rise)
 
 
 def _channel_window(result: Any, channel: str) -> float | None:
