@@ -8,6 +8,7 @@ import math
 import re
 
 from .codes.trains import list_trains
+from .results.caveats import unmet_requirement
 from .results.checks import default_limits, verdict_lines
 from .scenario import list_models
 from .track import get_spectrum, spectrum_names
@@ -63,12 +64,18 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
     patterns = [p for _, group in default_patterns(result.channels) for p in group]
     key = [r for r in rows if any(fnmatch.fnmatchcase(r[0], p) for p in patterns)] or rows[:SHOWN_CHANNELS]
     width = max((len(r[0]) for r in key), default=10)
-    lines.append(f"key channels (all {len(rows)}: {table_path.name} in the output folder):")
+    lines.append(f"key channels (a screening, not the verdicts' statistic; all {len(rows)}: {table_path.name} in the "
+                 "output folder):")
     lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
+    unanswered = ""
     for n, u, m, sd, p in key:
         du = display_unit(u)
+        why = unmet_requirement(result, "axle_force_y", n) if fnmatch.fnmatchcase(n, "car*.axle*.force_y") else None
+        unanswered = unanswered or (why or "").split(":")[0].split("; ")[-1]
         lines.append(f"  {n:<{width}}  {format_number(du.factor * m):>12} {format_number(du.factor * sd):>12} "
-                     f"{format_number(du.factor * p):>14} {du.unit}")
+                     f"{format_number(du.factor * p):>14} {du.unit}" + (" *" if why else ""))
+    if unanswered:  # the lateral forces of a car that cannot give running safety: no value to judge
+        lines.append(f"  * not a running-safety value: {unanswered}")
     return "\n".join(lines)
 
 

@@ -549,6 +549,8 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     n_cond = sum(r.conditional for r in table.rows)
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
              + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
+    if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
+        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage")
     worst = table.worst()
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
                   key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
