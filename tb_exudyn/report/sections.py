@@ -439,6 +439,12 @@ def channels_section(found: Sequence[tuple[Path, Result]], k: float, figure_ids:
 MODES_SHOWN = 12
 
 
+def damping_text(zeta: float) -> str:
+    """A damping ratio as shown: 3 digits, ">= 1" for an overdamped (real) root, whose "frequency" is
+    |lambda| / 2 pi and not an oscillation."""
+    return ">= 1" if zeta >= 1.0 else f"{zeta:.3g}"
+
+
 def modes_section(modes: Sequence[ModeEntry] | None) -> str:
     """The modal table, or "not computed"."""
     out = ['<section id="modes"><h2>Modes</h2>']
@@ -448,10 +454,11 @@ def modes_section(modes: Sequence[ModeEntry] | None) -> str:
     elif not modes:
         out.append("<p>No modes in the analysed band.</p>")
     else:
-        rows = [(format_number(m.frequency, 4), f"{m.damping_ratio:.3g}", m.label, m.context,
+        rows = [(format_number(m.frequency, 4), damping_text(m.damping_ratio), m.label, m.context,
                  Raw(f'<span class="exceeds">{esc(m.warning)}</span>' if m.warning else ""))
                 for m in sorted(modes, key=lambda m: m.frequency)]
-        table = html_table("modes-table", ["frequency [Hz]", "damping ratio", "what moves", "computed for", "warning"],
+        table = html_table("modes-table", ["frequency [Hz] (|lambda| / 2 pi)", "damping ratio", "what moves",
+                                           "computed for", "warning"],
                            rows, ("num", "num", "", "", ""))
         if len(modes) <= MODES_SHOWN:
             out.append(table)
