@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, described, param
 from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
                        check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
 
@@ -36,6 +36,7 @@ CONTINUOUS_SUPPORTS = ("pier", "rigid")
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class Continuous(_SpanSections):
     """One girder continuous over all its spans, on bearings at both abutments (rigid ground) and at
     every intermediate support, each a pier (``supports`` entry 'pier', the bearings on its top) or
@@ -62,9 +63,6 @@ class Continuous(_SpanSections):
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def length(self) -> float:

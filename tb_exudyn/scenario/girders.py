@@ -9,12 +9,13 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, param
+from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, described, param
 from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
                        check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class SimpleBeam(_SpanSections):
     """Uniform simply supported spans with ideal supports (for closed-form checks).
 
@@ -34,9 +35,6 @@ class SimpleBeam(_SpanSections):
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def length(self) -> float:
@@ -65,6 +63,7 @@ class Bearings(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class Frame(_SpanSections):
     """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
 
@@ -85,9 +84,6 @@ class Frame(_SpanSections):
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def length(self) -> float:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import ClassVar
 
-from .schema import ANY, POSITIVE, Context, Validated, param, replace
+from .schema import ANY, POSITIVE, Context, Validated, described, param, replace
 from .sections import check_tracks, deck_width_param
 
 
@@ -32,6 +32,7 @@ class ModalTrack(Validated):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class ModalTable(Validated):
     """A bridge given by its modes: frequencies, damping ratios and mass-normalised shapes in CSV
     tables written by any FE program (format: docs/modal_bridge.md; read by
@@ -51,9 +52,6 @@ class ModalTable(Validated):
     deck_width: float = deck_width_param()
     stations: str = param("", doc="CSV file: station, x and y<k>, z<k>, rx<k> per output station ('': span "
                                   "quarter points and midspans on the track line)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     #: no EN 1991-2 data (the code check refuses the bridge)
     code: ClassVar[None] = None

@@ -20,7 +20,7 @@ from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, che
 from .modal_table import ModalTable
 from .schema import (ANY, NONNEGATIVE, POSITIVE, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
-                     Check, Context, Validated, param, replace, source_file)
+                     Check, Context, Validated, described, param, replace, source_file)
 
 KMH = 1.0 / 3.6  # m/s per km/h
 
@@ -30,6 +30,7 @@ KMH = 1.0 / 3.6  # m/s per km/h
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class MovingForce(_Replaceable):
     """A constant vertical point load moving along the track (for closed-form checks)."""
 
@@ -37,9 +38,6 @@ class MovingForce(_Replaceable):
     name: str = param(doc="identifier")
     force: float = param(unit="N", doc="load acting downward on the rail", check=POSITIVE)
     length: float = param(unit="m", doc="distance from this load to the next vehicle's first axle", check=POSITIVE)
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def axle_offsets(self) -> tuple[float, ...]:
@@ -51,6 +49,7 @@ class MovingForce(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class SprungMass(_Replaceable):
     """One mass on a linear spring-damper over one wheel (the VBI-2D / Yang-Yau vehicle).
 
@@ -64,9 +63,6 @@ class SprungMass(_Replaceable):
     damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=VEHICLE_DAMPING)
     wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=VEHICLE_MASS_OR_0)
     length: float = param(unit="m", doc="distance from this wheel to the next vehicle's first axle", check=POSITIVE)
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def axle_offsets(self) -> tuple[float, ...]:
@@ -156,6 +152,7 @@ class _TwoBogieCar(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class Car15(_TwoBogieCar):
     """The reference study's car: body and two bogies with y, z, roll, pitch, yaw; four wheelsets."""
 
@@ -168,9 +165,6 @@ class Car15(_TwoBogieCar):
     primary: Suspension = param(doc="primary suspension (axle box), per side")
     secondary: Suspension = param(doc="secondary suspension (bolster), per side")
     yaw_damper: YawDamper | None = param(None, doc="secondary yaw dampers between body and bogies (default: none)")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
 
 def _check_two_bogie_geometry(g: Car15Geometry, axle_offsets: tuple[float, ...], ctx: Context) -> None:
@@ -260,6 +254,7 @@ class WheelRailContact(_Replaceable):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class CreepCar(_TwoBogieCar):
     """A car with two two-axle bogies whose wheelsets are guided by linear Kalker creep forces:
     body and bogies as in car15; every wheelset with its own lateral displacement, roll and yaw;
@@ -275,9 +270,6 @@ class CreepCar(_TwoBogieCar):
     secondary: Suspension3 = param(doc="secondary suspension (bolster), per side")
     yaw_damper: YawDamper | None = param(None, doc="secondary yaw dampers between body and bogies (default: none)")
     contact: WheelRailContact = param(doc="wheel-rail contact and creep data")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     def static_axle_load(self, gravity: float) -> float:
         """Static load of one wheelset on the rails [N]: a quarter of the body, half a bogie and
@@ -286,6 +278,7 @@ class CreepCar(_TwoBogieCar):
 
 
 @dataclass(frozen=True, kw_only=True)
+@described
 class ArticulatedSet(_Replaceable):
     """Car bodies in a row on ``bodies + 1`` two-axle bogies, each inner bogie shared by the two bodies beside
     it (Jacobs bogies): bodies, bogies and wheelsets as in car15, a body's ends on the secondary suspension of
@@ -301,9 +294,6 @@ class ArticulatedSet(_Replaceable):
                                         "spacing; length: from the set's first axle to the next car's)")
     primary: Suspension = param(doc="primary suspension (axle box), per side")
     secondary: Suspension = param(doc="secondary suspension of each body end, per side")
-    description: str = param("", doc="one line for listings")
-    source: str = param("", doc="citation of the data")
-    notes: str = param("", doc="remarks, values marked [check]")
 
     @property
     def length(self) -> float:

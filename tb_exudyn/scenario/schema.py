@@ -94,6 +94,22 @@ def param(default: Any = MISSING, *, unit: str = "", doc: str = "", check: Check
     return field(default=default, metadata=meta)
 
 
+#: the fields that close a data file's table (a vehicle, a bridge): what it is, where it comes from, remarks
+DESCRIBED_FIELDS = (("description", "one line for listings"), ("source", "citation of the data"),
+                    ("notes", "remarks, values marked [check]"))
+
+
+def described(cls: type) -> type:
+    """Give a data class the fields of :data:`DESCRIBED_FIELDS` (str, default "") after its own, the
+    same three in every file of models/; apply it under ``@dataclass`` (it must run first)."""
+    annotations = cls.__dict__.get("__annotations__", {})
+    for name, doc in DESCRIBED_FIELDS:
+        annotations[name] = "str"
+        setattr(cls, name, param("", doc=doc))
+    cls.__annotations__ = annotations
+    return cls
+
+
 def unit_of(cls: type, name: str) -> str:
     """The unit declared for field ``name`` of dataclass ``cls``."""
     return {f.name: f.metadata.get("unit", "") for f in fields(cls)}[name]
