@@ -22,7 +22,7 @@ from typing import Any, Sequence, Union
 import numpy as np
 from numpy.typing import NDArray
 
-from ..errors import SettingError
+from ..errors import SettingError, UserError
 from ..scenario import Scenario
 from ..system.labels import (DISPLAY_UNITS, DisplayUnit, channel_label, default_patterns, display_unit, format_number,
                              psd_unit)
@@ -142,11 +142,24 @@ def channel_names(result: Result) -> tuple[str, ...]:
     return result.names if is_time_history(result) else tuple(result.channels)
 
 
+def deciding_bridge_channels(result: Result) -> list[str]:
+    """The bridge channels that decide a criterion of the result's code checks (its worst locations,
+    e.g. ``bridge.span1.q1.acc_z_en1990``), so that the report's verdict rows link to their figures;
+    none for a result without checks or whose limits cannot be read (the run reports that)."""
+    if not hasattr(result, "checks"):
+        return []
+    try:
+        rows = result.checks().worst()
+    except UserError:
+        return []
+    return list(dict.fromkeys(r.channel for r in rows if r.channel.startswith("bridge.") and r.verdict != "NOT EVALUATED"))
+
+
 def default_channels(result: Result) -> list[str]:
-    """The channels drawn when none are asked for (:func:`default_patterns`), in stored order;
-    every channel when none of them exists."""
+    """The channels drawn when none are asked for (:func:`default_patterns` and
+    :func:`deciding_bridge_channels`), in stored order; every channel when none of them exists."""
     names = channel_names(result)
-    pats = [p for _, group in default_patterns(names) for p in group]
+    pats = [p for _, group in default_patterns(names) for p in group] + deciding_bridge_channels(result)
     keep = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
     return keep or list(names)
 
@@ -359,7 +372,7 @@ def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | N
 __all__ = [
     "Crossing", "DISPLAY_UNITS", "DisplayUnit", "KEY_CHANNELS", "axis_label", "band_across_zero_share", "band_text",
     "channel_car", "channel_crossing", "channel_group", "channel_label", "channel_names", "channel_subset",
-    "crossing_times", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
+    "crossing_times", "deciding_bridge_channels", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
     "low_frequency_content", "max_sigma_time", "mc_label", "psd_band", "psd_peak", "psd_slices", "psd_unit",
     "quantity_label", "sample_matrix", "select_channels", "sigma_to_mean_ratio",
 ]

@@ -621,7 +621,8 @@ def test_not_evaluated_rows_carry_their_reason(quick_run):
 
 
 def test_report_of_a_run_is_small_and_keeps_its_pictures(quick_run):
-    """The report of the quick run (36 default figures: 12 channels, bounds + PSD map + PSD slices)
+    """The report of the quick run (38 default figures: 12 channels, bounds + PSD map + PSD slices, and
+    the bounds of the 2 deciding bridge channels, derived ones with no PSD: deck acceleration, twist)
     is at most 1.5 MB. Embedded as they are, its figure files (about 2.2 MB of PNG) would take about
     2.9 MB in base64 alone; as 256-colour palette PNGs they take about 1 MB. The reference study's
     report measured 6.92 MB before and 2.83 MB after (69 figures, 559 channels; the issue's bound:
@@ -633,7 +634,7 @@ def test_report_of_a_run_is_small_and_keeps_its_pictures(quick_run):
     size = report.stat().st_size
     files = sorted((out / "pem" / "figures").glob("*.png"))
     images = Page(report.read_text(encoding="utf-8")).images
-    assert len(files) == len(images) == 36
+    assert len(files) == len(images) == 38
     assert size <= 1.5e6, size
     embedded = [base64.b64decode(src.split(",", 1)[1]) for src in images]
     assert sum(len(b) for b in embedded) <= 0.5 * sum(f.stat().st_size for f in files)
