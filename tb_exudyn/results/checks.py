@@ -317,6 +317,8 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
         effects.append((cav, None))
     if c.check:
         effects.append((Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False), None))
+    elif c.note:  # what the limits file says of how the criterion applies here (e.g. the total twist on straight track)
+        effects.append((Caveat("limit_note", c.note, False), None))
     caveats = [e for e, _ in effects]
     base = dict(criterion=f"{set_name}/{c.id}", title=c.title, clause=c.clause, channel=channel, unit=unit,
                 statistic=c.statistic, limit=limit, limit_text=limit_text, peak_3sigma=peak3, target=target)

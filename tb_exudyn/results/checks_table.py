@@ -19,7 +19,7 @@ class Caveat:
     """Something that qualifies a verdict.
 
     kind : 'lightly_damped_mode', 'grid_error', 'loss_of_contact', 'linear_model', 'first_passage',
-        'window', 'frequency_range', 'limit_unverified', 'statistic'
+        'window', 'frequency_range', 'limit_unverified', 'limit_note' (the limits file's note), 'statistic', 'model'
     text : one line
     changes_verdict : True when it could turn the verdict (the row is then conditional)
     """
