@@ -201,8 +201,10 @@ def _part_modes(
         vl = None
     lam = snap_round_off(lam, A, B)
     keep = np.isfinite(lam) & (lam.imag >= 0.0)
-    lam, x = lam[keep], vec[:, keep]
-    y = None if vl is None else vl[:, keep]
+    # complex whatever eig gave (real vectors when every root is real): the rotation of a degenerate
+    # set below is complex in general
+    lam, x = lam[keep], vec[:, keep].astype(np.complex128)
+    y = None if vl is None else vl[:, keep].astype(np.complex128)
     if L is not None:  # back to the coordinates q (both halves of x)
         x = np.vstack([la.solve_triangular(L.T, x[:n], lower=False), la.solve_triangular(L.T, x[n:], lower=False)])
     # a rigid mode's displacement part carries it; an oscillating mode's phi = x[:n] as well
