@@ -18,6 +18,9 @@ from typing import Any
 from ..errors import SettingError
 from ..scenario.model import LINEAR_ROW_KINDS
 
+#: the engine a method runs on when none is given (``run_pem``, ``run_monte_carlo``, ``simulate``, the
+#: sweep, the command line's ``--engine``); the deterministic run is always Exudyn's
+DEFAULT_ENGINE = "batched"
 #: name -> (module, class) of every engine
 ENGINES: dict[str, tuple[str, str]] = {
     "exudyn": ("tb_exudyn.engines.exudyn", "ExudynEngine"),
@@ -55,4 +58,4 @@ def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: boo
     return engine_class(name)(scenario, options, wheel_forces)
 
 
-__all__ = ["ENGINES", "check_engine", "engine_class", "make_engine"]
+__all__ = ["DEFAULT_ENGINE", "ENGINES", "check_engine", "engine_class", "make_engine"]
