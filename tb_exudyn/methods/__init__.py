@@ -106,8 +106,9 @@ def run_pem(
     engine : "exudyn" (two Exudyn runs per type and frequency: the reference), "batched" (all
         pseudo-excitations in one integration of the same linear model with Exudyn's
         generalized-alpha step) or "dense" (the same on full matrices: a small reference); the mean
-        is the engine's deterministic run: Exudyn's on the Exudyn engine, the linear model's under the
-        dead loads on the batched engine by default (``mean_engine`` in the provenance says which)
+        is the engine's deterministic run (:class:`~.common.MeanTask`): Exudyn's on the Exudyn and the
+        dense engine by default, the linear model's under the dead loads on the batched engine by
+        default (``mean_engine`` in the provenance says which)
     linearization : overrides ``analysis.linearization``: "rest" (every engine: pseudo-runs from the
         unloaded rest state without gravity) or, with a linear engine, "static" (about the static
         equilibrium under gravity, with the suspensions' preload stiffness)

@@ -100,8 +100,13 @@ def analysis_setup(scenario: Scenario, *, warn: bool = True, least_count: bool =
 
 @dataclass(frozen=True)
 class MeanTask:
-    """The mean: the engine's deterministic run (gravity, static start, no irregularity) on the worker's
-    built model (:meth:`tb_exudyn.engines.base.Engine.mean`: Exudyn's, or a linear engine's own)."""
+    """The mean task a method asks for (PEM always; Monte Carlo on a linear engine), run by the driver's
+    worker as the built engine's :meth:`~tb_exudyn.engines.base.Engine.mean`: the deterministic run
+    (gravity, static start, no irregularity) of the engine, that is Exudyn's run on the Exudyn engine,
+    on the dense engine by default and with ``BatchedOptions(mean="exudyn")``; the batched engine's
+    linear model under the dead loads by default (:mod:`tb_exudyn.engines.batched.mean`; Exudyn's run
+    where that does not apply) and the dense engine's with ``DenseOptions(mean="linear")``. The
+    provenance's ``mean_engine`` says which."""
 
 
 def package_versions() -> dict[str, str]:

@@ -246,8 +246,7 @@ class SpeedTask:
 
 @dataclass(frozen=True)
 class SpeedWorker:
-    """A sweep's worker (:class:`~tb_exudyn.methods.driver.Worker`): nothing to build, each task the
-    whole PEM of one speed."""
+    """A sweep's worker (:class:`~tb_exudyn.methods.driver.Worker`): each task a speed's whole PEM."""
 
     def setup(self) -> None:
         return None
