@@ -53,9 +53,11 @@ def check_engine(name: str, scenario: Any, options: Any = None, *, linearized: b
     return cls
 
 
-def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: bool = False) -> Any:
-    """Build an engine (in a worker: once per worker and setup)."""
-    return engine_class(name)(scenario, options, wheel_forces)
+def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> Any:
+    """Build an engine (in a worker: once per worker and setup); ``system``: a linear engine's
+    :class:`~.linear_model.LinearModel`, built once in the parent (None: the engine makes its own)."""
+    cls = engine_class(name)
+    return cls(scenario, options, wheel_forces) if system is None else cls(scenario, options, wheel_forces, system)
 
 
 __all__ = ["DEFAULT_ENGINE", "ENGINES", "check_engine", "engine_class", "make_engine"]

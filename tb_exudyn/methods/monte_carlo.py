@@ -44,6 +44,8 @@ from numpy.typing import NDArray
 
 from ..system.derived import derived_provenance
 from ..engines import check_engine, engine_class, make_engine
+from ..engines.exudyn_runs import linear_model
+from ..engines.linear_model import LinearModel
 from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
@@ -158,11 +160,13 @@ class MonteCarloWorker:
     discretisation: Discretisation
     grid: Any
     sizing: McSizing | None = None
+    system: LinearModel | None = field(default=None, repr=False)  # determined by the fields above
 
     def setup(self) -> tuple[Any, ProfileSampler]:
-        """The engine (its model) and the sampler, once per worker; with ``sizing``, refuse
-        (ResourceError) a run whose memory estimate exceeds its limit, before any task allocates."""
-        built = make_engine(self.engine, self.scenario, self.options, wheel_forces=True)
+        """The engine (the Exudyn engine's model; a linear engine on the parent's ``system``) and the
+        sampler, once per worker; with ``sizing``, refuse (ResourceError) a run whose memory estimate
+        exceeds its limit, before any task allocates."""
+        built = make_engine(self.engine, self.scenario, self.options, wheel_forces=True, system=self.system)
         s = self.sizing
         if s is not None:
             check_memory(mc_memory(s, built), s.limit or memory_limit(None, s.where), s.where)
@@ -175,7 +179,7 @@ class MonteCarloWorker:
         result = integrate_samples(engine, sampler, st.seed, range(st.start, st.stop), st.keep_samples)
         plan = engine_plan(engine)
         return {**result, "names": np.array(plan.names, dtype=str), "units": np.array(plan.units, dtype=str),
-                "warnings": np.array(engine.model.warnings, dtype=str).reshape(-1),
+                "warnings": np.array(engine.warnings, dtype=str).reshape(-1),
                 "describe": np.array(json.dumps(engine.describe()))}
 
 
@@ -336,7 +340,9 @@ class MonteCarloMethod:
         shape = (n, len(plan.names))
         state = McState(setup=setup, sampler=sampler, plan=plan, n_samples=n, seed=seed, linear=linear, blocks=blocks,
                         t0=t0, min_force=np.full(n, math.nan), extremes=(np.full(shape, np.nan), np.full(shape, np.nan)))
-        worker = MonteCarloWorker(self.engine, scenario, self.options, self.discretisation, setup.grid, sizing)
+        system = (None if cls.full_model else  # a linear engine's system, built once here for every worker
+                  linear_model(setup.model, wheel_forces=True, mean=cls.linear_mean(self.options)))
+        worker = MonteCarloWorker(self.engine, scenario, self.options, self.discretisation, setup.grid, sizing, system)
         return RunPlan(files=self.files, tasks=tasks, identity=identity, state=state, worker=worker,
                        desc=f"Monte Carlo ({self.engine})")
 

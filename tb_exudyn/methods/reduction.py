@@ -197,8 +197,7 @@ def engine_plan(engine: Any) -> ReductionPlan:
     """The plan of an engine's outputs and its model's selection (cached on the engine)."""
     plan = getattr(engine, "_reduction_plan", None)
     if plan is None:
-        model = engine.model
-        plan = reduction_plan(engine.outputs.names, [(c.name, c.unit) for c in model.selected], model.derived)
+        plan = reduction_plan(engine.outputs.names, list(engine.selected), engine.derived)
         engine._reduction_plan = plan
     return plan
 

@@ -15,6 +15,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from ...engines import check_engine, make_engine
+from ...engines.exudyn_runs import linear_model
+from ...engines.linear_model import LinearModel
 from ...execution import Execution, RunFiles, Task
 from ...execution.resources import check_memory, check_run_length, memory_limit, scenario_where
 from ...results.random_response import RandomResponse
@@ -110,8 +112,10 @@ class PemMethod:
             psd_channels=len(rows_kept), psd_task_rows=None if psd_z is None else len(psd_z))
         state = PemState(setup=setup, plan=plan, spectra=spectra, grid_error=grid_error, rows_kept=rows_kept,
                          ptasks=len(ptasks), t0=t0, scenario=scenario)
+        system = (None if cls.full_model else  # a linear engine's system, built once here for every worker
+                  linear_model(setup.model, wheel_forces=False, mean=cls.linear_mean(self.options)))
         return RunPlan(files=RunFiles("pem", "checkpoint"), tasks=tasks, identity=identity, state=state,
-                       worker=PemWorker(self.engine, scenario, self.options, sizing), desc=f"PEM ({self.engine})")
+                       worker=PemWorker(self.engine, scenario, self.options, sizing, system), desc=f"PEM ({self.engine})")
 
     def _tasks(self, cls: Any, execution: Execution, ptasks: Sequence[PemTask], mid_tasks: Sequence[PemTask],
                psd_z: tuple[int, ...] | None) -> list[Task]:
@@ -183,18 +187,20 @@ class PemMethod:
 
 @dataclass(frozen=True)
 class PemWorker:
-    """What a PEM worker gets (:class:`~tb_exudyn.methods.driver.Worker`): the engine to build and the
-    sweep's sizing for the memory check."""
+    """What a PEM worker gets (:class:`~tb_exudyn.methods.driver.Worker`): the engine to build, the
+    sweep's sizing for the memory check and a linear engine's system (built once in the parent)."""
 
     engine: str
     scenario: Scenario
     options: Any
     sizing: PemSizing | None = None
+    system: LinearModel | None = field(default=None, repr=False)  # determined by the fields above
 
     def setup(self) -> Any:
-        """The engine (and its model), once per worker; the sweep's memory estimate checked against
-        its limit (ResourceError) before any task allocates."""
-        built = make_engine(self.engine, self.scenario, self.options)
+        """The engine (the Exudyn engine's model; a linear engine on the parent's ``system``), once per
+        worker; the sweep's memory estimate checked against its limit (ResourceError) before any
+        task allocates."""
+        built = make_engine(self.engine, self.scenario, self.options, system=self.system)
         s = self.sizing
         if s is not None:
             check_memory(pem_memory(s, built), s.limit or memory_limit(None, s.where), s.where)
