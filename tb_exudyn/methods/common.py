@@ -18,7 +18,9 @@ import numpy as np
 from .._version import __version__
 from ..builder import build_model
 from ..builder.system_modes import damping_guard, system_modes
+from ..errors import SettingError
 from ..scenario import Scenario
+from ..scenario.model import Analysis
 from ..system.damping_guard import DampingWarning, merged_messages
 from ..system.modes import ModeTable
 from ..track import get_spectrum
@@ -109,6 +111,22 @@ class MeanTask:
     provenance's ``mean_engine`` says which."""
 
 
+def whole_number(value: Any, where: str, key: str, low: int, high: float | None = None) -> int:
+    """``value`` as an int in [``low``, ``high``], else a SettingError naming ``key``."""
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
+            or (high is not None and value > high)):
+        raise SettingError(where, key, value, f"a whole number >= {low}" + (f" and <= {high:.0f}" if high else ""))
+    return int(value)
+
+
+def analysis_high(name: str) -> float | None:
+    """The upper bound the scenario schema allows for ``analysis.<name>`` (the same bound for the
+    function argument that overrides it: ``n_samples``, ``seed``, a sweep's ``n_freq``; one home,
+    the schema)."""
+    check = next(f.metadata.get("check") for f in dataclasses.fields(Analysis) if f.name == name)
+    return getattr(check, "high", None)
+
+
 def package_versions() -> dict[str, str]:
     """The versions of the packages whose code computes a number (without importing them)."""
     out = {"tb_exudyn": __version__}
@@ -168,5 +186,6 @@ def merge_provenance(mean: Mapping[str, np.ndarray], engine: Mapping[str, Any], 
     }
 
 
-__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_setup", "fingerprint_identity", "mean_of",
-           "merge_provenance", "package_versions", "source_digest", "spectra_identity"]
+__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_high", "analysis_setup",
+           "fingerprint_identity", "mean_of", "merge_provenance", "package_versions", "source_digest", "spectra_identity",
+           "whole_number"]

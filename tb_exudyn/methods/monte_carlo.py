@@ -30,7 +30,6 @@ assumes a linear system and the comparison no longer holds.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import time as _time
@@ -51,11 +50,11 @@ from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
                                    check_run_length, check_task_count, column_bytes, describe_counts, memory_limit,
                                    model_bytes, scenario_where)
-from ..scenario.model import Analysis
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
-from .common import AnalysisSetup, MeanTask, analysis_setup, fingerprint_identity, merge_provenance
+from .common import (AnalysisSetup, MeanTask, analysis_high, analysis_setup, fingerprint_identity, merge_provenance,
+                     whole_number)
 from .driver import RunPlan, drive
 from .pem import default_slices
 from .reduction import (REDUCTION_FORMAT, ReductionPlan, SampleReduction, engine_plan, mean_rows, model_plan,
@@ -247,21 +246,6 @@ def sample_blocks(n: int, weights: Sequence[float], largest: int) -> list[tuple[
         cuts = np.round(np.linspace(a, b, pieces + 1)).astype(int)
         blocks += [(int(p), int(q)) for p, q in zip(cuts[:-1], cuts[1:]) if q > p]
     return blocks
-
-
-def whole_number(value: Any, where: str, key: str, low: int, high: float | None = None) -> int:
-    """``value`` as an int in [``low``, ``high``], else a SettingError naming ``key``."""
-    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
-            or (high is not None and value > high)):
-        raise SettingError(where, key, value, f"a whole number >= {low}" + (f" and <= {high:.0f}" if high else ""))
-    return int(value)
-
-
-def analysis_high(name: str) -> float | None:
-    """The upper bound the scenario schema allows for ``analysis.<name>`` (the same bound for the
-    function argument or option that overrides it)."""
-    check = next(f.metadata.get("check") for f in dataclasses.fields(Analysis) if f.name == name)
-    return getattr(check, "high", None)
 
 
 # ---------------------------------------------------------------------------------- the method

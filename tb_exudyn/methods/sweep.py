@@ -77,7 +77,7 @@ from ..scenario.model import KMH, Analysis
 from ..scenario.speed_rule import RULE, at_speed, capped
 from ..structure import modal_bridge
 from ..system.modes import DIRECTIONS, nth_frequency
-from .common import analysis_setup, fingerprint_identity
+from .common import analysis_high, analysis_setup, fingerprint_identity, whole_number
 from .driver import RunPlan, drive
 from .speed_series import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds, parse_speeds,
                            range_count, speed_label, speed_range)
@@ -406,6 +406,7 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
         raise SettingError("run_sweep", "speeds_kmh", speeds_kmh, f"at most {MAX_SPEEDS} speeds",
                            f"more than {MAX_SPEEDS} speeds")
     speeds = check_speeds(items, "run_sweep", "speeds_kmh")
+    n_freq = None if n_freq is None else whole_number(n_freq, "run_sweep", "n_freq", 1, analysis_high("n_freq"))
     if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
@@ -420,8 +421,7 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
 
 @dataclass
 class SweepState:
-    """What the sweep's plan checked (the speeds, the key quantities, each speed's scenario, the
-    default quantities left out) and what its reduce fills: each speed's summary, in speed order."""
+    """What the sweep's plan checked (speeds, quantities, scenarios, left out) and each speed's summary."""
 
     speeds: tuple[float, ...]
     quantities: Any
