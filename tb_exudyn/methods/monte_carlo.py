@@ -45,7 +45,6 @@ from ..system.derived import derived_provenance
 from ..engines import check_engine, engine_class, make_engine
 from ..engines.exudyn_runs import linear_model
 from ..engines.linear_model import LinearModel
-from ..errors import SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
                                    check_run_length, check_task_count, column_bytes, describe_counts, memory_limit,
