@@ -47,7 +47,8 @@ def exudyn_side() -> Any:
 
 
 class Engine(ABC):
-    """An integrator of column sources on a scenario's model (build one per worker).
+    """An integrator of column sources on a scenario's model (build one per worker); it implements
+    :class:`~.protocols.ColumnEngine`.
 
     Class attributes (capabilities)
     -------------------------------

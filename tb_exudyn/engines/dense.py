@@ -205,7 +205,7 @@ class DenseEngine(Engine):
 
         values = np.zeros((len(om.names), self.steps.n_outputs))
 
-        class _Recorder:
+        class _Recorder:  # a protocols.Reducer: the mean column's outputs
             def record(self, i: int, Y: np.ndarray, ext: np.ndarray) -> None:
                 values[:, i] = Y[:, 0].real
 

@@ -90,7 +90,8 @@ class SampleTask:
 
 class SampleReducer(SampleReduction):
     """At every output time: the mean and the sum of squared deviations of the task's samples over the
-    result channels (the scenario's channels and its derived channels, :class:`~.reduction.SampleReduction`),
+    result channels (the scenario's channels and its derived channels, :class:`~.reduction.SampleReduction`, a
+    :class:`~tb_exudyn.engines.protocols.Reducer`),
     every sample's minimum and maximum of every channel, the samples' vertical wheel forces and, if
     asked, the samples."""
 

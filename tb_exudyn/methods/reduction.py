@@ -382,7 +382,8 @@ def sample_offsets(plan: ReductionPlan, mean: FloatArray) -> FloatArray:
 
 
 class SampleReduction:
-    """Monte Carlo's reduction of a task's samples (module docstring): per output time the mean and
+    """Monte Carlo's reduction of a task's samples (module docstring), a
+    :class:`~tb_exudyn.engines.protocols.Reducer`: per output time the mean and
     the sum of squared deviations (from ``offsets``) of every result channel, per sample its minimum and
     maximum over the record and its smallest vertical wheel force, and, if asked, the samples.
 

@@ -25,7 +25,8 @@ from .loop import integrate
 
 
 class _MeanRecorder:
-    """The gravity column's outputs at every output time (real part: the column has no imaginary input)."""
+    """The gravity column's outputs at every output time (real part: the column has no imaginary input);
+    a :class:`~tb_exudyn.engines.protocols.Reducer`."""
 
     def __init__(self, n_outputs: int, n_t: int) -> None:
         self.values = np.zeros((n_outputs, n_t))

@@ -95,7 +95,8 @@ def harmonic_columns(ptasks: Sequence[PemTask], scenario: Scenario) -> HarmonicC
 
 
 class PsdReducer(PseudoReduction):
-    """PEM's reduction at an output time (:class:`~tb_exudyn.methods.reduction.PseudoReduction`): per
+    """PEM's reduction at an output time (:class:`~tb_exudyn.methods.pseudo_reduction.PseudoReduction`, a
+    :class:`~tb_exudyn.engines.protocols.Reducer`): per
     result channel (the scenario's channels and its derived channels) |y~|^2 summed per type (sigma^2),
     the PSD map with ``keep_psd`` (summed over types, divided by df; ``psd_z``: only of those z rows,
     :func:`psd_z_rows`), the time derivative's sums for
