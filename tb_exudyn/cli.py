@@ -18,7 +18,7 @@ from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .codes.trains import train_view
-from .engines import ENGINES
+from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
@@ -87,7 +87,6 @@ def _cmd_modes(args: argparse.Namespace) -> int:
 
 #: the main job: the reference study (README), with the everyday engine
 DEFAULT_SCENARIO = "li_zhu_2011"
-DEFAULT_ENGINE = "batched"
 DEFAULT_OUT = "tb_exudyn_out"
 #: the channel table of a run, written into its output folder (the terminal shows a short summary)
 TABLE_FILE = "channels.txt"

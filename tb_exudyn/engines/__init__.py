@@ -18,6 +18,9 @@ from typing import Any
 from ..errors import SettingError
 from ..scenario.model import LINEAR_ROW_KINDS
 
+#: the engine a method runs on when none is given (``run_pem``, ``run_monte_carlo``, ``simulate``, the
+#: sweep, the command line's ``--engine``); the deterministic run is always Exudyn's
+DEFAULT_ENGINE = "batched"
 #: name -> (module, class) of every engine
 ENGINES: dict[str, tuple[str, str]] = {
     "exudyn": ("tb_exudyn.engines.exudyn", "ExudynEngine"),
@@ -50,9 +53,11 @@ def check_engine(name: str, scenario: Any, options: Any = None, *, linearized: b
     return cls
 
 
-def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: bool = False) -> Any:
-    """Build an engine (in a worker: once per worker and setup)."""
-    return engine_class(name)(scenario, options, wheel_forces)
+def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> Any:
+    """Build an engine (in a worker: once per worker and setup); ``system``: a linear engine's
+    :class:`~.linear_model.LinearModel`, built once in the parent (None: the engine makes its own)."""
+    cls = engine_class(name)
+    return cls(scenario, options, wheel_forces) if system is None else cls(scenario, options, wheel_forces, system)
 
 
-__all__ = ["ENGINES", "check_engine", "engine_class", "make_engine"]
+__all__ = ["DEFAULT_ENGINE", "ENGINES", "check_engine", "engine_class", "make_engine"]

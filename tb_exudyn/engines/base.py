@@ -3,13 +3,15 @@
 An engine integrates the columns of a column source (:mod:`tb_exudyn.system.columns`: PEM's harmonic
 pseudo-excitations, Monte Carlo's sampled profiles) over the crossing and hands the outputs of every
 output time to a reducer (the method's: PSD and sigma^2 for PEM, sample moments for Monte Carlo).
-An engine instance is built once per worker (it builds the scenario's Exudyn model: the same model
-for every engine, so that the mean, the channels and the physics are shared) and then integrates
-many column blocks.
+An engine instance is built once per worker and then integrates many column blocks. The Exudyn
+engine builds the scenario's Exudyn model; a linear engine (batched, dense) receives a
+:class:`~.linear_model.LinearModel` built once in the parent from the same model (its linear system,
+output map and channels: :func:`~.exudyn_runs.linear_model`) and imports no Exudyn; it builds the
+model (:attr:`Engine.model`, loaded by name on first use) only for what only Exudyn gives (its
+``mean="exudyn"``). Given no LinearModel (tests, scripts) it makes one itself.
 
-The reducer protocol: ``reducer.record(i, Y, ext)`` at output time i with ``Y`` (n_outputs, m)
-complex, the outputs of the m columns in the engine's internal row order, ``ext[c]`` the internal row
-of output c (``outputs.names`` order); ``reducer.result()`` returns the block's arrays.
+The reducer, the column source and the engine are the protocols of :mod:`.protocols` (``Engine``
+implements ``ColumnEngine``).
 
 Capabilities (class attributes) say what an engine can do; :meth:`Engine.check` refuses the rest
 with a :class:`~tb_exudyn.errors.CapabilityError` before any run.
@@ -17,6 +19,7 @@ with a :class:`~tb_exudyn.errors.CapabilityError` before any run.
 
 from __future__ import annotations
 
+import importlib
 import json
 import time as _time
 from abc import ABC, abstractmethod
@@ -24,7 +27,6 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..builder import build_model, linear_system
 from ..scenario.model import LINEAR_ROW_KINDS
 from ..errors import CapabilityError
 from ..system.derived_values import derived_values
@@ -33,11 +35,20 @@ from ..system.channels import OutputMap, evaluate, output_map
 from ..system.conventions import scenario_steps
 from ..system.linear import LINEARIZATIONS
 from .alpha import GeneralizedAlpha
-from .exudyn_runs import run_model
+from .linear_model import LinearModel
+
+#: the engines' Exudyn side (the model, the Exudyn mean, the LinearModel), loaded by name on first use
+EXUDYN_SIDE = "tb_exudyn.engines.exudyn_runs"
+
+
+def exudyn_side() -> Any:
+    """:mod:`tb_exudyn.engines.exudyn_runs` (imports Exudyn): loaded when an engine needs the model."""
+    return importlib.import_module(EXUDYN_SIDE)
 
 
 class Engine(ABC):
-    """An integrator of column sources on a scenario's model (build one per worker).
+    """An integrator of column sources on a scenario's model (build one per worker); it implements
+    :class:`~.protocols.ColumnEngine`.
 
     Class attributes (capabilities)
     -------------------------------
@@ -58,6 +69,8 @@ class Engine(ABC):
     options : engine options (see each engine; None: defaults)
     wheel_forces : also output every vertical wheel-rail force (``*.force_z``) the scenario's
         channels leave out, after the selected channels (Monte Carlo's loss-of-contact check)
+    system : a linear engine's :class:`~.linear_model.LinearModel` (built with the same
+        ``wheel_forces``; None: made here from the scenario's model)
     """
 
     name: ClassVar[str]
@@ -66,19 +79,49 @@ class Engine(ABC):
     single_columns: ClassVar[bool] = False
     linear_rows: ClassVar[bool] = False
 
-    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
+    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False,
+                 system: LinearModel | None = None) -> None:
         self.scenario = scenario
         self.options = options
         self.wheel_forces = wheel_forces
         #: the run's time grid (:func:`~tb_exudyn.system.conventions.run_steps`)
         self.steps = scenario_steps(scenario)
-        self.model = build_model(scenario, warn=False)
-        model = self.model
-        #: the outputs (tb_exudyn.system.derived.engine_outputs): the selected channels first, then the
-        #: derived channels' inputs and the recorded derivatives, then (``wheel_forces``) the wheel forces
-        self.output_channels = model.output_channels(wheel_forces)
-        self.outputs: OutputMap = output_map(self.output_channels, model.node_indices, model.output_shapes)
+        self._model: Any = None
         self._mean: dict[str, np.ndarray] | None = None
+        if self.full_model:
+            model = self.model
+            #: the outputs (tb_exudyn.system.derived.engine_outputs): the selected channels first, then the
+            #: derived channels' inputs and the recorded derivatives, then (``wheel_forces``) the wheel forces
+            self.outputs: OutputMap = output_map(model.output_channels(wheel_forces), model.node_indices,
+                                                 model.output_shapes)
+            self.system = None
+            self.selected = tuple((c.name, c.unit) for c in model.selected)
+            self.derived = tuple(model.derived)
+            self.warnings = tuple(model.warnings)
+            self.n_coordinates = int(model.n_ode2)
+            return
+        if system is None:
+            system = exudyn_side().linear_model(self.model, wheel_forces, mean=True)
+        self.system = system
+        self.outputs = system.outputs
+        self.selected, self.derived, self.warnings = system.selected, system.derived, system.warnings
+        self.n_coordinates = system.n_coordinates
+
+    @property
+    def model(self) -> Any:
+        """The scenario's Exudyn model: the Exudyn engine's own; a linear engine's built on first use
+        (only for what only Exudyn gives: the Exudyn mean)."""
+        if self._model is None:
+            self._model = exudyn_side().build_model(self.scenario)
+        return self._model
+
+    @property
+    def output_channels(self) -> list[Any]:
+        """The channels of the outputs (``outputs.names`` order), of the model (what an Exudyn
+        recording is evaluated on)."""
+        if getattr(self, "_output_channels", None) is None:
+            self._output_channels = self.model.output_channels(self.wheel_forces)
+        return self._output_channels
 
     # ------------------------------------------------------------------ capabilities
     @classmethod
@@ -109,6 +152,12 @@ class Engine(ABC):
         return {}
 
     @classmethod
+    def linear_mean(cls, options: Any) -> bool:
+        """Whether the mean may be the engine's linear model's (its inputs are then built in the
+        parent, :class:`~.linear_model.LinearMeanInputs`); by default not."""
+        return False
+
+    @classmethod
     def mean_cost_columns(cls, options: Any) -> float | None:
         """What the mean task costs in columns of the engine's sweep (to size the slices that share a
         worker with it: :func:`tb_exudyn.methods.pem.default_slices`); None: not known (an Exudyn run,
@@ -119,7 +168,7 @@ class Engine(ABC):
     @property
     def n_selected(self) -> int:
         """Number of the scenario's channels (the first of ``outputs.names``)."""
-        return len(self.model.selected)
+        return len(self.selected)
 
     @property
     def fs(self) -> float:
@@ -142,24 +191,24 @@ class Engine(ABC):
         channels evaluated on them as on Exudyn's run (:func:`~tb_exudyn.system.derived_values.derived_values`),
         the vertical wheel forces (in the model's channel order, as :meth:`mean` gives them); cached
         as :meth:`mean`'s."""
-        model, om = self.model, self.outputs
+        om, derived_channels = self.outputs, self.derived
         n_sel = self.n_selected
         names = list(om.names[:n_sel])
         units = list(om.units[:n_sel])
         rows = [outputs[:n_sel]]
-        if model.derived:
-            derived = derived_values(model.derived, dict(zip(om.names, outputs)), self.fs)
-            rows.append(np.stack([derived[d.name] for d in model.derived]))
-            names += [d.name for d in model.derived]
-            units += [d.unit for d in model.derived]
-        forces = ([om.names.index(c.name) for c in model.channels if c.name.endswith(".force_z")]
-                  if self.wheel_forces else [])
+        if derived_channels:
+            derived = derived_values(derived_channels, dict(zip(om.names, outputs)), self.fs)
+            rows.append(np.stack([derived[d.name] for d in derived_channels]))
+            names += [d.name for d in derived_channels]
+            units += [d.unit for d in derived_channels]
+        force_names = self.system.force_channels if self.system is not None else ()
+        forces = [om.names.index(name) for name in force_names] if self.wheel_forces else []
         self._mean = {
             "force_mean": outputs[forces] if forces else np.zeros((0, outputs.shape[1])), "outputs": outputs,
             "mean": np.concatenate(rows), "time": self.steps.output_times,
             "names": np.array(names, dtype=str), "units": np.array(units, dtype=str),
             "provenance": np.array(json.dumps(provenance, default=json_default)),
-            "warnings": np.array(model.warnings, dtype=str).reshape(-1),
+            "warnings": np.array(self.warnings, dtype=str).reshape(-1),
             "seconds": np.array(_time.perf_counter() - start),
         }
         return self._mean
@@ -191,29 +240,8 @@ class Engine(ABC):
         (all of them, selected or not), the run's provenance (JSON) and the scenario's warnings. Run
         once per engine: later calls return the same arrays (a linear Monte Carlo worker needs the
         mean for its samples' extremes and ratios)."""
-        if self._mean is not None:
-            return self._mean
-        start = _time.perf_counter()
-        model = self.model
-        th, _ = run_model(model, None, gravity=True, initial="static")
-        rec = model.recording()
-        forces = [c for c in model.channels if c.name.endswith(".force_z")] if self.wheel_forces else []
-        if forces:
-            values = evaluate(forces, rec, model.bridge.station_shapes)
-            force_mean = np.stack([values[c.name] for c in forces])
-        else:
-            force_mean = np.zeros((0, th.time.size))
-        outputs = self.channel_values(rec)
-        model.set_gravity(False)  # back to the sweep's state
-        model.set_excitation(None)
-        self._mean = {
-            "force_mean": force_mean, "outputs": outputs,
-            "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
-            "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
-            "provenance": np.array(json.dumps(th.provenance, default=json_default)),
-            "warnings": np.array(model.warnings, dtype=str).reshape(-1),
-            "seconds": np.array(_time.perf_counter() - start),
-        }
+        if self._mean is None:
+            self._mean = exudyn_side().exudyn_mean(self)
         return self._mean
 
 
@@ -225,17 +253,17 @@ def on_linear_system(cls: type, lin: Any, steps: Any, spectral_radius: float, ou
     ``integrate`` column sources (not ``mean``, which needs the model); for tests of the engines on
     small systems and couplings the builder does not make."""
     engine = cls.__new__(cls)
-    engine.scenario, engine.model, engine.wheel_forces = None, None, False
+    engine.scenario, engine._model, engine.wheel_forces, engine.system = None, None, False, None
     engine.options, engine.lin, engine.steps, engine.outputs = options, lin, steps, outputs
+    engine.selected, engine.derived, engine.warnings, engine.n_coordinates = (), (), (), lin.n
     _time_stepping(engine, steps, spectral_radius)
-    engine.output_channels = []
     return engine
 
 
 def init_linear(engine: Engine) -> None:
-    """What the linear engines (batched, dense) set up on a scenario's model: the linear system
-    about ``analysis.linearization`` and the time stepping (:func:`_time_stepping`)."""
-    engine.lin = linear_system(engine.model, engine.scenario.analysis.linearization)  # type: ignore[attr-defined]
+    """What the linear engines (batched, dense) set up from their :class:`~.linear_model.LinearModel`:
+    the linear system about ``analysis.linearization`` and the time stepping (:func:`_time_stepping`)."""
+    engine.lin = engine.system.lin  # type: ignore[attr-defined]
     _time_stepping(engine, engine.steps, engine.scenario.analysis.spectral_radius)
 
 
@@ -248,4 +276,4 @@ def _time_stepping(engine: Any, steps: Any, spectral_radius: float) -> None:
     engine.output_time = steps.output_times
 
 
-__all__ = ["Engine", "init_linear", "on_linear_system"]
+__all__ = ["EXUDYN_SIDE", "Engine", "exudyn_side", "init_linear", "on_linear_system"]

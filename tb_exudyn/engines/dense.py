@@ -29,11 +29,10 @@ from typing import Any
 import numpy as np
 from scipy.linalg import lu_factor, lu_solve
 
-from ..builder import linear_system
 from ..errors import SettingError
 from ..execution.threads import single_threaded_blas
 from ..system.columns import linear_row_inputs
-from .base import Engine, init_linear, on_linear_system
+from .base import Engine, exudyn_side, init_linear, on_linear_system
 
 MEANS: tuple[str, ...] = ("exudyn", "linear")
 
@@ -57,8 +56,8 @@ class DenseEngine(Engine):
     full_model = False
     linear_rows = True  # general linear rows (creep) through the coupling's RowMaps
 
-    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
-        super().__init__(scenario, options, wheel_forces)
+    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> None:
+        super().__init__(scenario, options, wheel_forces, system)
         self.options = _options(options)
         init_linear(self)
         self.ci = np.concatenate((self.lin.bridge, self.lin.wheel))
@@ -190,7 +189,7 @@ class DenseEngine(Engine):
         model.set_excitation(None)
         model.set_gravity(True)
         u_s = model.static_state(0.0)
-        lin = linear_system(model, "static")  # leaves gravity off
+        lin = exudyn_side().linear_system(model, "static")  # leaves gravity off
         cp, ci, om = lin.coupling, self.ci, self.outputs
         zero_in = (np.zeros((cp.n_contacts, 1)), np.zeros((cp.n_contacts, 1)), np.zeros((cp.n_linear, 1)))
 
@@ -206,7 +205,7 @@ class DenseEngine(Engine):
 
         values = np.zeros((len(om.names), self.steps.n_outputs))
 
-        class _Recorder:
+        class _Recorder:  # a protocols.Reducer: the mean column's outputs
             def record(self, i: int, Y: np.ndarray, ext: np.ndarray) -> None:
                 values[:, i] = Y[:, 0].real
 

@@ -25,6 +25,7 @@ reference study's train, gravity and a 1 mm irregularity of 7-13 m wavelength):
 
 from __future__ import annotations
 
+import json
 import platform
 import time as _time
 from dataclasses import asdict, dataclass
@@ -35,14 +36,18 @@ import numpy as np
 import scipy
 
 from .._version import __version__
+from ..builder.linear import linear_system
 from ..builder.model import TrainBridgeModel
+from ..builder.model import build_model as _build_model
 from ..errors import SettingError, SimulationIncomplete
 from ..execution.threads import single_threaded_blas
 from ..system.derived_values import derived_values
+from ..storage import json_default
 from ..results.time_history import TimeHistory
-from ..system.channels import Recording, evaluate
+from ..system.channels import Recording, evaluate, output_map
 from ..system.conventions import run_steps
 from ..system.excitation import Excitation, HarmonicExcitation, NoExcitation, ProfileExcitation, as_excitation
+from .linear_model import LinearMeanInputs, LinearModel
 
 
 @dataclass(frozen=True)
@@ -259,5 +264,63 @@ def run_model(
     return th, info
 
 
-__all__ = ["RunInfo", "SimulationIncomplete", "SolverSettings", "describe_excitation", "integrate", "run_model",
-           "simulation_settings", "versions"]
+
+# ------------------------------------------------------------------ the Exudyn side of the engines
+def exudyn_mean(engine: Any) -> dict[str, np.ndarray]:
+    """The mean as Exudyn's deterministic run (gravity, static start, no irregularity) on
+    ``engine``'s model, in the form of :meth:`tb_exudyn.engines.base.Engine.mean` (the Exudyn engine's
+    mean, and a linear engine's with ``mean="exudyn"``)."""
+    start = _time.perf_counter()
+    model = engine.model
+    th, _ = run_model(model, None, gravity=True, initial="static")
+    rec = model.recording()
+    forces = [c for c in model.channels if c.name.endswith(".force_z")] if engine.wheel_forces else []
+    if forces:
+        values = evaluate(forces, rec, model.bridge.station_shapes)
+        force_mean = np.stack([values[c.name] for c in forces])
+    else:
+        force_mean = np.zeros((0, th.time.size))
+    outputs = engine.channel_values(rec)
+    model.set_gravity(False)  # back to the sweep's state
+    model.set_excitation(None)
+    return {
+        "force_mean": force_mean, "outputs": outputs,
+        "mean": np.stack([th.channels[c] for c in th.names]), "time": th.time,
+        "names": np.array(th.names, dtype=str), "units": np.array([th.units[c] for c in th.names], dtype=str),
+        "provenance": np.array(json.dumps(th.provenance, default=json_default)),
+        "warnings": np.array(model.warnings, dtype=str).reshape(-1),
+        "seconds": np.array(_time.perf_counter() - start),
+    }
+
+
+def build_model(scenario: Any) -> TrainBridgeModel:
+    """The scenario's Exudyn model (for an engine: built without issuing the scenario's warnings)."""
+    return _build_model(scenario, warn=False)
+
+
+def linear_model(model: TrainBridgeModel, wheel_forces: bool = False, mean: bool = False) -> LinearModel:
+    """What a linear engine needs of ``model`` (:class:`~tb_exudyn.engines.linear_model.LinearModel`),
+    built here once and sent to the workers; with ``mean`` the linear mean's inputs too (the static
+    state under the dead loads and the linear system about it)."""
+    channels = model.output_channels(wheel_forces)
+    outputs = output_map(channels, model.node_indices, model.output_shapes)
+    lin = linear_system(model, model.scenario.analysis.linearization)
+    inputs = None
+    if mean:
+        model.set_excitation(None)
+        model.set_gravity(True)
+        try:
+            static = model.static_state(0.0)
+        finally:
+            model.set_gravity(False)
+        inputs = LinearMeanInputs(static=static, lin_static=None if lin.linearization == "static" else
+                                  linear_system(model, "static"), bridge_modes=model.bridge.n_modes,
+                                  bridge_description=model.bridge.description)
+    return LinearModel(lin=lin, outputs=outputs, selected=tuple((c.name, c.unit) for c in model.selected),
+                       derived=tuple(model.derived),
+                       force_channels=tuple(c.name for c in model.channels if c.name.endswith(".force_z")),
+                       warnings=tuple(model.warnings), n_coordinates=int(model.n_ode2), mean=inputs)
+
+
+__all__ = ["RunInfo", "SimulationIncomplete", "SolverSettings", "build_model", "describe_excitation", "exudyn_mean",
+           "integrate", "linear_model", "linear_system", "run_model", "simulation_settings", "versions"]

@@ -346,7 +346,7 @@ def model_bytes(engine: Any) -> int:
     """Bytes of a built model (Exudyn's system, the modal bridge, the linear system), at its peak while
     the bridge modes are solved: 8 MB and 0.2 MB per coordinate (measured 8 MB for quick's 52
     coordinates, 53 MB for li_zhu_2011's 224)."""
-    return 8 * 10**6 + 200_000 * int(engine.model.n_ode2)
+    return 8 * 10**6 + 200_000 * int(engine.n_coordinates)
 
 
 def column_bytes(engine: Any) -> int:
@@ -358,7 +358,7 @@ def column_bytes(engine: Any) -> int:
     acceleration, predictors and the outputs' gathers over the coordinates (about 16 float64 pairs
     per coordinate), the contact rows' inputs, and the outputs (complex, with their squares).
     """
-    n_out, n_t, n = len(engine.outputs.names), engine.steps.n_outputs, engine.model.n_ode2
+    n_out, n_t, n = len(engine.outputs.names), engine.steps.n_outputs, engine.n_coordinates
     if engine.single_columns:
         return 16 * n_out * n_t + 48 * n * n_t
     return 256 * n + 48 * n_out

@@ -22,56 +22,42 @@ from typing import Any, Callable
 
 from ..builder import build_model
 from ..builder.system_modes import damping_guard, system_modes
-from ..engines import engine_class
+from ..engines import DEFAULT_ENGINE, engine_class
 from ..engines.batched import BatchedOptions
 from ..engines.exudyn_runs import SolverSettings
 from ..errors import CapabilityError, SettingError
-from ..execution import Execution, RunFiles
-from ..execution.resources import check_run_length
+from ..execution import Execution
 from ..results.random_response import RandomResponse
-from ..results.time_history import TimeHistory
 from ..scenario import Scenario
 from ..system.linear import LINEARIZATIONS
 from . import monte_carlo, pem, sweep
-from .deterministic import run_deterministic, summarize
-from .monte_carlo import LossOfContactWarning
+from .deterministic import DeterministicMethod, run_deterministic, summarize
+from .driver import Method, RunPlan, drive
+from .monte_carlo import LossOfContactWarning, MonteCarloMethod
+from .pem import PemMethod
 
-#: the engine the functions use when none is given
-DEFAULT_ENGINE = "batched"
-
-
-def _deterministic(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None,
-                   excitation: Any = None) -> TimeHistory:
-    if engine != "exudyn":
-        raise CapabilityError("simulate", "engine", engine, "'exudyn' (the deterministic run is an Exudyn run)")
-    check_run_length(scenario)
-    with execution.claim(RunFiles("det")) as out:
-        th = run_deterministic(scenario, excitation, settings=options)
-        if out is not None:
-            th.save(out / "det")
-    return th
-
-
-#: method name -> run(scenario, engine, execution, **method options)
-METHODS: dict[str, Callable[..., Any]] = {
-    "deterministic": _deterministic,
-    "pem": pem.run,
-    "monte_carlo": monte_carlo.run,
+#: method name -> its :class:`~.driver.Method` class, built as ``cls(scenario, engine, **method options)``
+#: (the engine's options as ``options=``) and run by :func:`~.driver.drive`
+METHODS: dict[str, Callable[..., Method]] = {
+    "deterministic": DeterministicMethod,
+    "pem": PemMethod,
+    "monte_carlo": MonteCarloMethod,
 }
 
 
 def simulate(scenario: Scenario, method: str, engine: str | None = None, execution: Execution | None = None,
              **options: Any) -> Any:
     """Run ``method`` ("deterministic", "pem" or "monte_carlo") on ``engine`` ("exudyn", "batched",
-    "dense"; None: "exudyn" for the deterministic run, which is one Exudyn run, else DEFAULT_ENGINE)
-    under ``execution``; ``options`` are the method's (and ``options=`` the engine's)."""
+    "dense"; None: "exudyn" for the deterministic run, which is one Exudyn run, else
+    :data:`~tb_exudyn.engines.DEFAULT_ENGINE`) under ``execution``; ``options`` are the method's (and
+    ``options=`` the engine's). The driver (:func:`~.driver.drive`) runs every method's skeleton."""
     if method not in METHODS:
         raise SettingError("simulate", "method", method, " or ".join(map(repr, METHODS)))
     if engine is None:
         engine = "exudyn" if method == "deterministic" else DEFAULT_ENGINE
     if not isinstance(scenario, Scenario):
         raise SettingError("simulate", "scenario", type(scenario).__name__, "a Scenario (tb_exudyn.load_scenario)")
-    return METHODS[method](scenario, engine, execution or Execution(where="simulate"), **options)
+    return drive(METHODS[method](scenario, engine, **options), execution or Execution(where="simulate"))
 
 
 def _with_linearization(scenario: Scenario, linearization: str | None, where: str) -> Scenario:
@@ -120,8 +106,9 @@ def run_pem(
     engine : "exudyn" (two Exudyn runs per type and frequency: the reference), "batched" (all
         pseudo-excitations in one integration of the same linear model with Exudyn's
         generalized-alpha step) or "dense" (the same on full matrices: a small reference); the mean
-        is the engine's deterministic run: Exudyn's on the Exudyn engine, the linear model's under the
-        dead loads on the batched engine by default (``mean_engine`` in the provenance says which)
+        is the engine's deterministic run (:class:`~.common.MeanTask`): Exudyn's on the Exudyn and the
+        dense engine by default, the linear model's under the dead loads on the batched engine by
+        default (``mean_engine`` in the provenance says which)
     linearization : overrides ``analysis.linearization``: "rest" (every engine: pseudo-runs from the
         unloaded rest state without gravity) or, with a linear engine, "static" (about the static
         equilibrium under gravity, with the suspensions' preload stiffness)
@@ -137,7 +124,8 @@ def run_pem(
     max_memory : the memory the run may use (bytes, or a text such as "4GB"; None: what this machine
         has available): a run estimated above it is refused before it starts (ResourceError giving the
         estimate and the key to change)
-    where : the caller, for messages ("command line" from the ``tb-exudyn`` command)
+    where : the caller, named in messages (the ``tb-exudyn`` command passes its own); the keys are
+        the arguments' names
 
     Returns
     -------
@@ -147,8 +135,8 @@ def run_pem(
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           slices=slices, where=where, overwrite=overwrite, max_memory=max_memory,
                           keep_checkpoint=keep_checkpoint)
-    return pem.run(_with_linearization(scenario, linearization, where), engine, execution, options=options,
-                   keep_psd=keep_psd, grid_error=grid_error, psd_channels=psd_channels)
+    return drive(PemMethod(_with_linearization(scenario, linearization, where), engine, options=options,
+                           keep_psd=keep_psd, grid_error=grid_error, psd_channels=psd_channels), execution)
 
 
 def run_monte_carlo(
@@ -205,16 +193,18 @@ def run_monte_carlo(
     LossOfContactWarning when a sample's minimum vertical wheel-rail force is <= 0.
     """
     if linearization is not None and engine_class(engine, where).full_model:
-        raise CapabilityError(where, "--linearization" if where == "command line" else "linearization", linearization,
+        raise CapabilityError(where, "linearization", linearization,
                               "none with engine 'exudyn' (or a linear engine: 'batched', 'dense')",
                               "the Exudyn Monte Carlo runs the full model, it linearises nothing")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           slices=slices, where=where, overwrite=overwrite, max_memory=max_memory,
                           keep_checkpoint=keep_checkpoint)
-    return monte_carlo.run(_with_linearization(scenario, linearization, where), engine, execution,
-                           n_samples=n_samples, seed=seed, keep_samples=keep_samples,
-                           discretisation=discretisation, options=options, where=where)  # type: ignore[arg-type]
+    return drive(MonteCarloMethod(_with_linearization(scenario, linearization, where), engine, n_samples=n_samples,
+                                  seed=seed, keep_samples=keep_samples, discretisation=discretisation,  # type: ignore[arg-type]
+                                  options=options, where=where), execution)
 
 
-__all__ = ["DEFAULT_ENGINE", "BatchedOptions", "sweep", "build_model", "damping_guard", "system_modes", "Execution", "LossOfContactWarning", "METHODS", "SolverSettings", "run_deterministic",
-           "run_monte_carlo", "run_pem", "simulate", "summarize"]
+__all__ = ["DEFAULT_ENGINE", "BatchedOptions", "DeterministicMethod", "Execution", "LossOfContactWarning", "METHODS",
+           "Method", "MonteCarloMethod", "PemMethod", "RunPlan", "SolverSettings", "build_model", "damping_guard",
+           "drive", "monte_carlo", "pem", "run_deterministic", "run_monte_carlo", "run_pem", "simulate", "summarize",
+           "sweep", "system_modes"]

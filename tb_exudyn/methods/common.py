@@ -18,7 +18,9 @@ import numpy as np
 from .._version import __version__
 from ..builder import build_model
 from ..builder.system_modes import damping_guard, system_modes
+from ..errors import SettingError
 from ..scenario import Scenario
+from ..scenario.model import Analysis
 from ..system.damping_guard import DampingWarning, merged_messages
 from ..system.modes import ModeTable
 from ..track import get_spectrum
@@ -100,8 +102,29 @@ def analysis_setup(scenario: Scenario, *, warn: bool = True, least_count: bool =
 
 @dataclass(frozen=True)
 class MeanTask:
-    """The mean: the engine's deterministic run (gravity, static start, no irregularity) on the worker's
-    built model (:meth:`tb_exudyn.engines.base.Engine.mean`: Exudyn's, or a linear engine's own)."""
+    """The mean task a method asks for (PEM always; Monte Carlo on a linear engine), run by the driver's
+    worker as the built engine's :meth:`~tb_exudyn.engines.base.Engine.mean`: the deterministic run
+    (gravity, static start, no irregularity) of the engine, that is Exudyn's run on the Exudyn engine,
+    on the dense engine by default and with ``BatchedOptions(mean="exudyn")``; the batched engine's
+    linear model under the dead loads by default (:mod:`tb_exudyn.engines.batched.mean`; Exudyn's run
+    where that does not apply) and the dense engine's with ``DenseOptions(mean="linear")``. The
+    provenance's ``mean_engine`` says which."""
+
+
+def whole_number(value: Any, where: str, key: str, low: int, high: float | None = None) -> int:
+    """``value`` as an int in [``low``, ``high``], else a SettingError naming ``key``."""
+    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
+            or (high is not None and value > high)):
+        raise SettingError(where, key, value, f"a whole number >= {low}" + (f" and <= {high:.0f}" if high else ""))
+    return int(value)
+
+
+def analysis_high(name: str) -> float | None:
+    """The upper bound the scenario schema allows for ``analysis.<name>`` (the same bound for the
+    function argument that overrides it: ``n_samples``, ``seed``, a sweep's ``n_freq``; one home,
+    the schema)."""
+    check = next(f.metadata.get("check") for f in dataclasses.fields(Analysis) if f.name == name)
+    return getattr(check, "high", None)
 
 
 def package_versions() -> dict[str, str]:
@@ -163,5 +186,6 @@ def merge_provenance(mean: Mapping[str, np.ndarray], engine: Mapping[str, Any], 
     }
 
 
-__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_setup", "fingerprint_identity", "mean_of",
-           "merge_provenance", "package_versions", "source_digest", "spectra_identity"]
+__all__ = ["AnalysisSetup", "LightlyDampedModeWarning", "MeanTask", "analysis_high", "analysis_setup",
+           "fingerprint_identity", "mean_of", "merge_provenance", "package_versions", "source_digest", "spectra_identity",
+           "whole_number"]

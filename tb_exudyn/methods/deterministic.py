@@ -1,22 +1,32 @@
 """The deterministic run: gravity on, the train starting in static equilibrium on the approach.
 
-Without an excitation this is the mean response of the pseudo-excitation method; with a sampled
-profile it is one Monte Carlo sample. The vehicles start from their exact static equilibrium on
-the rigid approach track (nothing bounces at t = 0), the bridge at rest and unloaded. It is always
-an Exudyn run (:func:`~tb_exudyn.engines.exudyn_runs.run_model`), whatever engine a sweep uses.
+Always an Exudyn run of the full model (:func:`~tb_exudyn.engines.exudyn_runs.run_model`): without an
+excitation it is the Exudyn engine's mean (PEM's and Monte Carlo's mean task on that engine; the
+batched engine's mean is its own linear model's by default, :mod:`tb_exudyn.engines.batched.mean`,
+``mean_engine`` in a result's provenance says which); with a sampled profile it is one sample of the
+Exudyn Monte Carlo. The vehicles start from their exact static equilibrium on the rigid approach
+track (nothing bounces at t = 0), the bridge at rest and unloaded. As a method of its own
+(:class:`DeterministicMethod`, ``simulate(scenario, "deterministic")``) it runs through the driver in
+this process, without a checkpoint.
 """
 
 from __future__ import annotations
 
 import time as _time
 from collections import defaultdict
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 from ..builder import TrainBridgeModel, build_model
 from ..engines.exudyn_runs import SolverSettings, run_model
-from ..errors import SettingError
+from ..errors import CapabilityError, SettingError
+from ..execution import Execution, RunFiles, Task
+from ..execution.resources import check_run_length
 from ..results.time_history import TimeHistory
 from ..scenario import Scenario
 from ..system.excitation import Excitation
+from .driver import RunPlan
 
 
 def run_deterministic(
@@ -56,6 +66,40 @@ def run_deterministic(
     return th
 
 
+@dataclass(frozen=True)
+class DeterministicMethod:
+    """The deterministic run as a :class:`~tb_exudyn.methods.driver.Method` (and its own worker: one
+    task, in this process): ``engine`` must be "exudyn", ``options`` its :class:`SolverSettings`."""
+
+    scenario: Scenario
+    engine: str = "exudyn"
+    options: SolverSettings | None = None
+    excitation: Excitation | None = None
+
+    def plan(self, execution: Execution) -> RunPlan:
+        if self.engine != "exudyn":
+            raise CapabilityError("simulate", "engine", self.engine,
+                                  "'exudyn' (the deterministic run is an Exudyn run)")
+        check_run_length(self.scenario)
+        return RunPlan(files=RunFiles("det"), tasks=[Task("det", None)], identity=None, state={}, worker=self,
+                       desc="deterministic run", in_process=True)
+
+    def setup(self) -> None:
+        return None
+
+    def work(self, built: None, task: Task) -> TimeHistory:
+        return run_deterministic(self.scenario, self.excitation, settings=self.options)
+
+    def reduce(self, state: dict[str, TimeHistory], i: int, task: Task, result: TimeHistory) -> None:
+        state["result"] = result
+
+    def finish(self, state: dict[str, TimeHistory], stats: dict[str, Any]) -> TimeHistory:
+        return state["result"]
+
+    def save(self, result: TimeHistory, out: Path) -> None:
+        result.save(out / "det")
+
+
 def _group(name: str) -> str:
     """'bridge.span1.mid.acc_z' -> 'bridge.span1.mid'; 'car1.axle1.left.force_z' -> 'car1.axle1'."""
     parts = name.split(".")
@@ -86,4 +130,4 @@ def summarize(th: TimeHistory) -> str:
     return "\n".join(lines)
 
 
-__all__ = ["run_deterministic", "summarize"]
+__all__ = ["DeterministicMethod", "run_deterministic", "summarize"]

@@ -30,31 +30,34 @@ assumes a linear system and the comparison no longer holds.
 
 from __future__ import annotations
 
-import dataclasses
 import json
 import math
 import time as _time
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ..system.derived import derived_provenance
-from ..engines import check_engine, make_engine
-from ..errors import SettingError
+from ..engines import check_engine, engine_class, make_engine
+from ..engines.exudyn_runs import linear_model
+from ..engines.linear_model import LinearModel
 from ..execution import Execution, RunFiles, Task
 from ..execution.resources import (PROCESS_BYTES, MemoryEstimate, MemoryLimit, Part, check_memory,
                                    check_run_length, check_task_count, column_bytes, describe_counts, memory_limit,
                                    model_bytes, scenario_where)
-from ..scenario.model import Analysis
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario, scenario_to_toml
 from ..system.columns import ProfileColumns
-from .common import MeanTask, analysis_setup, fingerprint_identity, merge_provenance
+from .common import (AnalysisSetup, MeanTask, analysis_high, analysis_setup, fingerprint_identity, merge_provenance,
+                     whole_number)
+from .driver import RunPlan, drive
 from .pem import default_slices
-from .reduction import REDUCTION_FORMAT, SampleReduction, engine_plan, mean_rows, model_plan, sample_offsets
+from .reduction import (REDUCTION_FORMAT, ReductionPlan, SampleReduction, engine_plan, mean_rows, model_plan,
+                        sample_offsets)
 from .sampling import POINTS_PER_WAVELENGTH, TRIG_TABLE_MAX, Discretisation, ProfileSampler
 
 FloatArray = NDArray[np.float64]
@@ -87,7 +90,8 @@ class SampleTask:
 
 class SampleReducer(SampleReduction):
     """At every output time: the mean and the sum of squared deviations of the task's samples over the
-    result channels (the scenario's channels and its derived channels, :class:`~.reduction.SampleReduction`),
+    result channels (the scenario's channels and its derived channels, :class:`~.reduction.SampleReduction`, a
+    :class:`~tb_exudyn.engines.protocols.Reducer`),
     every sample's minimum and maximum of every channel, the samples' vertical wheel forces and, if
     asked, the samples."""
 
@@ -144,22 +148,46 @@ def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
     return MemoryEstimate(parent, worker, s.workers)
 
 
-def _setup(engine: str, scenario: Scenario, options: Any, discretisation: Discretisation, grid: Any,
-           sizing: McSizing | None = None) -> tuple[Any, ProfileSampler]:
-    """The engine (its model, every wheel force as an output) and the sampler, once per worker; with
-    ``sizing``, refuse (ResourceError) a run whose memory estimate exceeds its limit, before any task
-    allocates."""
-    built = make_engine(engine, scenario, options, wheel_forces=True)
-    if sizing is not None:
-        check_memory(mc_memory(sizing, built), sizing.limit or memory_limit(None, sizing.where), sizing.where)
-    return built, ProfileSampler(scenario, discretisation, grid)
+@dataclass(frozen=True)
+class MonteCarloWorker:
+    """What a Monte Carlo worker gets (:class:`~tb_exudyn.methods.driver.Worker`): the engine to build
+    (every wheel force as an output), the sampler's discretisation and grid, the run's sizing."""
+
+    engine: str
+    scenario: Scenario
+    options: Any
+    discretisation: Discretisation
+    grid: Any
+    sizing: McSizing | None = None
+    system: LinearModel | None = field(default=None, repr=False)  # determined by the fields above
+
+    def setup(self) -> tuple[Any, ProfileSampler]:
+        """The engine (the Exudyn engine's model; a linear engine on the parent's ``system``) and the
+        sampler, once per worker; with ``sizing``, refuse (ResourceError) a run whose memory estimate
+        exceeds its limit, before any task allocates."""
+        built = make_engine(self.engine, self.scenario, self.options, wheel_forces=True, system=self.system)
+        s = self.sizing
+        if s is not None:
+            check_memory(mc_memory(s, built), s.limit or memory_limit(None, s.where), s.where)
+        return built, ProfileSampler(self.scenario, self.discretisation, self.grid)
+
+    def work(self, state: tuple[Any, ProfileSampler], task: Task) -> dict[str, np.ndarray]:
+        """A block of samples: their profiles, their reducer, the integration."""
+        engine, sampler = state
+        st: SampleTask = task.data
+        result = integrate_samples(engine, sampler, st.seed, range(st.start, st.stop), st.keep_samples)
+        plan = engine_plan(engine)
+        return {**result, "names": np.array(plan.names, dtype=str), "units": np.array(plan.units, dtype=str),
+                "warnings": np.array(engine.warnings, dtype=str).reshape(-1),
+                "describe": np.array(json.dumps(engine.describe()))}
 
 
 def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: Sequence[int],
                       keep_samples: bool = False) -> dict[str, np.ndarray]:
     """Samples ``indices`` of a run seeded with ``seed`` on ``engine`` (built with ``wheel_forces``),
     reduced at every output time by :class:`SampleReducer` (a linear engine: the responses from rest
-    without gravity; the full model: the samples themselves)."""
+    without gravity about the engine's mean run, :meth:`~tb_exudyn.engines.base.Engine.mean`; the full
+    model: the samples themselves)."""
     plan = engine_plan(engine)
     offsets = zmean = force_mean = None
     if not engine.full_model:  # responses about the mean: the mean run gives the totals
@@ -170,19 +198,6 @@ def integrate_samples(engine: Any, sampler: ProfileSampler, seed: int, indices: 
     reducer = SampleReducer(plan, engine.force_rows, engine.steps.n_outputs, len(indices), keep_samples, offsets,
                             zmean, engine.fs, force_mean)
     return engine.integrate(sampler.columns(seed, indices), reducer)
-
-
-def _work(state: tuple[Any, ProfileSampler], task: Task) -> dict[str, np.ndarray]:
-    engine, sampler = state
-    if isinstance(task.data, MeanTask):
-        return engine.mean()
-    st: SampleTask = task.data
-    result = integrate_samples(engine, sampler, st.seed, range(st.start, st.stop), st.keep_samples)
-    plan = engine_plan(engine)
-    names, units = plan.names, plan.units
-    return {**result, "names": np.array(names, dtype=str), "units": np.array(units, dtype=str),
-            "warnings": np.array(engine.model.warnings, dtype=str).reshape(-1),
-            "describe": np.array(json.dumps(engine.describe()))}
 
 
 # ---------------------------------------------------------------------------------- statistics
@@ -233,158 +248,222 @@ def sample_blocks(n: int, weights: Sequence[float], largest: int) -> list[tuple[
     return blocks
 
 
-def whole_number(value: Any, where: str, key: str, low: int, high: float | None = None) -> int:
-    """``value`` as an int in [``low``, ``high``], else a SettingError naming ``key``."""
-    if (isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low
-            or (high is not None and value > high)):
-        raise SettingError(where, key, value, f"a whole number >= {low}" + (f" and <= {high:.0f}" if high else ""))
-    return int(value)
-
-
-def analysis_high(name: str) -> float | None:
-    """The upper bound the scenario schema allows for ``analysis.<name>`` (the same bound for the
-    function argument or option that overrides it)."""
-    check = next(f.metadata.get("check") for f in dataclasses.fields(Analysis) if f.name == name)
-    return getattr(check, "high", None)
-
-
 # ---------------------------------------------------------------------------------- the method
-def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int | None = None,
-        seed: int | None = None, keep_samples: bool = False, discretisation: Discretisation = "pem_grid",
-        options: Any = None, where: str = "run_monte_carlo") -> RandomResponse:
-    """Monte Carlo of ``scenario`` on ``engine``; see :func:`tb_exudyn.run_monte_carlo`."""
-    t0 = _time.perf_counter()
-    check_run_length(scenario)
-    cls = check_engine(engine, scenario, options, linearized=False)
-    option = (lambda name: {"n_samples": "--samples", "seed": "--seed"}[name]) if where == "command line" else str
-    n = whole_number(scenario.analysis.n_samples if n_samples is None else n_samples, where, option("n_samples"), 2,
-                     analysis_high("n_samples"))
-    seed = whole_number(scenario.analysis.seed if seed is None else seed, where, option("seed"), 0,
-                        analysis_high("seed"))
-    setup = analysis_setup(scenario)
-    sampler = ProfileSampler(scenario, discretisation, setup.grid)  # every check on spectra and band, before any run
-    linear = not cls.full_model
-    method = "monte_carlo_linear" if linear else "monte_carlo"
-    # the checkpoint does not depend on N: a larger N with resume reuses the samples run
-    key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
-    identity = fingerprint_identity(
-        scenario_to_toml(key_scenario), method=method, engine=engine, engine_options=cls.describe_options(options),
-        method_options={"seed": seed, "discretisation": discretisation, "keep_samples": keep_samples,
-                        "grid": setup.grid.f.tolist(), "reduction": REDUCTION_FORMAT,
-                        "points_per_wavelength": POINTS_PER_WAVELENGTH}, spectra=scenario.track.irregularities)
-    n_kinds = len({kind for kind, _ in sampler.kinds})
-    if cls.single_columns:
-        check_task_count(n, where, option("n_samples"), n, "fewer samples, or a linear engine ('batched')")
-        blocks = [(k, k + 1) for k in range(n)]
-        tasks = [Task(f"mc-{a:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
-    else:
+@dataclass
+class McState:
+    """What Monte Carlo's reduce accumulates (in this process) and its finish reads: the running
+    mean and sum of squared deviations (``mean``, ``m2`` over ``n`` samples, Chan's update in task
+    order), the mean task's result (``det``, a linear engine) and its ``offsets``, the samples'
+    minimum wheel forces, extremes and (``keep_samples``) values, and the first task's names, units,
+    warnings and time."""
+
+    setup: AnalysisSetup
+    sampler: ProfileSampler
+    plan: ReductionPlan
+    n_samples: int
+    seed: int
+    linear: bool
+    blocks: list[tuple[int, int]]
+    t0: float
+    min_force: FloatArray
+    extremes: tuple[FloatArray, FloatArray]
+    n: int = 0
+    mean: FloatArray | None = None
+    m2: FloatArray | None = None
+    det: dict[str, np.ndarray] | None = None
+    offsets: FloatArray | None = None
+    samples: FloatArray | None = None
+    first: dict[str, Any] | None = None
+    describe: dict[str, Any] = field(default_factory=dict)
+    run_times: list[float] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class MonteCarloMethod:
+    """Monte Carlo of ``scenario`` on ``engine`` (see :func:`tb_exudyn.run_monte_carlo`);
+    ``n_samples`` and ``seed`` override ``analysis.n_samples`` and ``analysis.seed`` (None: the
+    scenario's), ``where`` names the caller in messages."""
+
+    scenario: Scenario
+    engine: str
+    n_samples: int | None = None
+    seed: int | None = None
+    keep_samples: bool = False
+    discretisation: Discretisation = "pem_grid"
+    options: Any = None
+    where: str = "run_monte_carlo"
+
+    @property
+    def files(self) -> RunFiles:
+        linear = not engine_class(self.engine, self.where).full_model
+        return RunFiles("mc_linear" if linear else "mc", "checkpoint-mc-linear" if linear else "checkpoint-mc")
+
+    def plan(self, execution: Execution) -> RunPlan:
+        t0 = _time.perf_counter()
+        scenario, where = self.scenario, self.where
+        check_run_length(scenario)
+        cls = check_engine(self.engine, scenario, self.options, linearized=False)
+        n = whole_number(scenario.analysis.n_samples if self.n_samples is None else self.n_samples, where,
+                         "n_samples", 2, analysis_high("n_samples"))
+        seed = whole_number(scenario.analysis.seed if self.seed is None else self.seed, where, "seed", 0,
+                            analysis_high("seed"))
+        setup = analysis_setup(scenario)
+        sampler = ProfileSampler(scenario, self.discretisation, setup.grid)  # every check on spectra and band
+        linear = not cls.full_model
+        # the checkpoint does not depend on N: a larger N with resume reuses the samples run
+        key_scenario = scenario.replace(analysis=scenario.analysis.replace(n_samples=1, seed=seed))
+        identity = fingerprint_identity(
+            scenario_to_toml(key_scenario), method="monte_carlo_linear" if linear else "monte_carlo",
+            engine=self.engine, engine_options=cls.describe_options(self.options),
+            method_options={"seed": seed, "discretisation": self.discretisation, "keep_samples": self.keep_samples,
+                            "grid": setup.grid.f.tolist(), "reduction": REDUCTION_FORMAT,
+                            "points_per_wavelength": POINTS_PER_WAVELENGTH}, spectra=scenario.track.irregularities)
+        blocks, tasks = self._tasks(cls, execution, sampler, n, seed)
+        sizing = self._sizing(sampler, n, blocks, execution.worker_processes(len(tasks)), execution)
+        plan = model_plan(setup.model, wheel_forces=True)  # the workers' engines have the same outputs
+        shape = (n, len(plan.names))
+        state = McState(setup=setup, sampler=sampler, plan=plan, n_samples=n, seed=seed, linear=linear, blocks=blocks,
+                        t0=t0, min_force=np.full(n, math.nan), extremes=(np.full(shape, np.nan), np.full(shape, np.nan)))
+        system = (None if cls.full_model else  # a linear engine's system, built once here for every worker
+                  linear_model(setup.model, wheel_forces=True, mean=cls.linear_mean(self.options)))
+        worker = MonteCarloWorker(self.engine, scenario, self.options, self.discretisation, setup.grid, sizing, system)
+        return RunPlan(files=self.files, tasks=tasks, identity=identity, state=state, worker=worker,
+                       desc=f"Monte Carlo ({self.engine})")
+
+    def _tasks(self, cls: Any, execution: Execution, sampler: ProfileSampler, n: int, seed: int
+               ) -> tuple[list[tuple[int, int]], list[Task]]:
+        """The sample blocks and their tasks: one sample per task on an engine that runs columns
+        separately, else the mean task and blocks in proportion to the slices (the module docstring)."""
+        if cls.single_columns:
+            check_task_count(n, self.where, "n_samples", n, "fewer samples, or a linear engine ('batched')")
+            blocks = [(k, k + 1) for k in range(n)]
+            return blocks, [Task(f"mc-{a:07d}", SampleTask(seed, a, b, self.keep_samples)) for a, b in blocks]
+        n_kinds = len({kind for kind, _ in sampler.kinds})
         largest = max(2, TASK_PROFILE_BYTES // ProfileColumns.profile_bytes(sampler.n_points, n_kinds))
         weights = default_slices(execution.cores) if execution.slices is None else execution.slices
         blocks = sample_blocks(n, weights, largest)
         tasks = [Task("mcl-mean", MeanTask())]
-        tasks += [Task(f"mcl-{a:07d}-{b - 1:07d}", SampleTask(seed, a, b, keep_samples)) for a, b in blocks]
-    table = 2 * sampler.n_points * sampler.n_frequencies
-    sizing = McSizing(
-        n_samples=n, task_samples=max(b - a for a, b in blocks), keep_samples=keep_samples,
-        profile_bytes=ProfileColumns.profile_bytes(sampler.n_points, n_kinds),
-        table_bytes=8 * table if discretisation == "pem_grid" and table <= TRIG_TABLE_MAX else 0,
-        workers=execution.worker_processes(len(tasks)), limit=execution.worker_limit(), where=scenario_where(scenario))
-    state: dict[str, Any] = {"n": 0, "run_times": []}
-    min_force = np.full(n, math.nan)
-    samples: np.ndarray | None = None
-    model = setup.model
-    plan = model_plan(model, wheel_forces=True)  # the workers' engines have the same outputs
-    extremes = (np.full((n, len(plan.names)), np.nan), np.full((n, len(plan.names)), np.nan))
+        tasks += [Task(f"mcl-{a:07d}-{b - 1:07d}", SampleTask(seed, a, b, self.keep_samples)) for a, b in blocks]
+        return blocks, tasks
 
-    def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
-        nonlocal samples
+    def _sizing(self, sampler: ProfileSampler, n: int, blocks: list[tuple[int, int]], workers: int,
+                execution: Execution) -> McSizing:
+        n_kinds = len({kind for kind, _ in sampler.kinds})
+        table = 2 * sampler.n_points * sampler.n_frequencies
+        return McSizing(
+            n_samples=n, task_samples=max(b - a for a, b in blocks), keep_samples=self.keep_samples,
+            profile_bytes=ProfileColumns.profile_bytes(sampler.n_points, n_kinds),
+            table_bytes=8 * table if self.discretisation == "pem_grid" and table <= TRIG_TABLE_MAX else 0,
+            workers=workers, limit=execution.worker_limit(), where=scenario_where(self.scenario))
+
+    def reduce(self, state: McState, i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         if isinstance(task.data, MeanTask):
-            state["det"] = result
-            state["offsets"] = sample_offsets(plan, result["mean"])
+            state.det = result
+            state.offsets = sample_offsets(state.plan, result["mean"])
             for message in result["warnings"]:
-                warnings.warn(str(message), stacklevel=4)
+                warnings.warn(str(message), stacklevel=5)
             return
         st: SampleTask = task.data
         nb, mean_b, m2_b = int(result["n"]), result["mean"], result["m2"]
-        if "names" not in state:
-            state["names"], state["units"] = result["names"], result["units"]
-            state["warnings"] = [str(w) for w in result["warnings"]]
-            state["time"] = result.get("time")
-            if not linear:
-                for message in state["warnings"]:
-                    warnings.warn(message, stacklevel=4)
-        det = state.get("det")
-        extremes[0][st.start:st.stop] = result["sample_min"]
-        extremes[1][st.start:st.stop] = result["sample_max"]
+        if state.first is None:
+            state.first = {"names": result["names"], "units": result["units"], "time": result.get("time"),
+                           "warnings": [str(w) for w in result["warnings"]]}
+            if not state.linear:
+                for message in state.first["warnings"]:
+                    warnings.warn(message, stacklevel=5)
+        det = state.det
+        state.extremes[0][st.start:st.stop] = result["sample_min"]
+        state.extremes[1][st.start:st.stop] = result["sample_max"]
         if nb != st.stop - st.start or (det is not None and mean_b.shape != det["mean"].shape):
             raise RuntimeError(f"task {task.key}: {nb} samples of shape {mean_b.shape}, expected {st.stop - st.start}")
-        na = state["n"]
-        if na == 0:
-            state["mean"], state["m2"] = mean_b.copy(), m2_b.copy()
-        else:  # Chan, Golub & LeVeque's pairwise update, in task order
-            delta = mean_b - state["mean"]
-            state["mean"] += delta * (nb / (na + nb))
-            state["m2"] += m2_b + delta * delta * (na * nb / (na + nb))
-        state["n"] = na + nb
-        min_force[st.start:st.stop] = result["min_force"]  # NaN: a model without vertical wheel forces
-        if keep_samples:
-            if samples is None:
-                samples = np.empty((n,) + mean_b.shape)
-            samples[st.start:st.stop] = result["samples"] if det is None else state["offsets"][None] + result["samples"]
-        state["describe"] = json.loads(str(result["describe"]))
+        _merge(state, nb, mean_b, m2_b)
+        state.min_force[st.start:st.stop] = result["min_force"]  # NaN: a model without vertical wheel forces
+        if self.keep_samples:
+            if state.samples is None:
+                state.samples = np.empty((state.n_samples,) + mean_b.shape)
+            state.samples[st.start:st.stop] = (result["samples"] if det is None
+                                               else state.offsets[None] + result["samples"])  # type: ignore[index]
+        state.describe = json.loads(str(result["describe"]))
         if "run_times" in result:
-            state["run_times"] += result["run_times"].tolist()
+            state.run_times += result["run_times"].tolist()
 
-    files = RunFiles("mc_linear" if linear else "mc", "checkpoint-mc-linear" if linear else "checkpoint-mc")
-    with execution.claim(files) as out:
-        checkpoint = execution.checkpoint(files.checkpoint, identity)  # type: ignore[arg-type]
-        stats = execution.run(tasks, setup=_setup, setup_args=(engine, scenario, options, discretisation, setup.grid,
-                                                               sizing),
-                              work=_work, reduce=reduce, checkpoint=checkpoint, desc=f"Monte Carlo ({engine})")
-        det = state.get("det")
-        mean = state["mean"] if det is None else state["offsets"] + state["mean"]
-        std, mean_ci, std_ci = sample_statistics(mean, state["m2"], n)
-        lost = warn_loss_of_contact(min_force)
+    def finish(self, state: McState, stats: dict[str, Any]) -> RandomResponse:
+        scenario, det, n = self.scenario, state.det, state.n_samples
+        assert state.mean is not None and state.m2 is not None and state.first is not None
+        mean = state.mean if det is None else state.offsets + state.mean
+        std, mean_ci, std_ci = sample_statistics(mean, state.m2, n)
+        lost = warn_loss_of_contact(state.min_force)
+        provenance = self._provenance(state, lost, stats)
+        return RandomResponse(
+            method="monte_carlo_linear" if state.linear else "monte_carlo",
+            time=state.first["time"] if det is None else det["time"],
+            channels=tuple(str(c) for c in state.first["names"]), units=tuple(str(u) for u in state.first["units"]),
+            mean=mean, std=std, band=tuple(float(b) for b in state.sampler.band),  # type: ignore[arg-type]
+            scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=state.seed)),
+            types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
+            min_wheel_force=state.min_force, samples=state.samples, provenance=provenance,
+            sample_min=state.extremes[0], sample_max=state.extremes[1],
+        )
+
+    def _provenance(self, state: McState, lost: IntArray, stats: dict[str, Any]) -> dict[str, Any]:
+        model, n, linear = state.setup.model, state.n_samples, state.linear
         extra: dict[str, Any] = {
-            "method": method,
-            "seconds": _time.perf_counter() - t0,
-            "seed": seed,
+            "method": "monte_carlo_linear" if linear else "monte_carlo",
+            "seconds": _time.perf_counter() - state.t0,
+            "seed": state.seed,
             "n_samples": n,
             "gravity": True,
             "initial_state": "static",
-            "sample_blocks": [list(b) for b in blocks] if linear else f"{n} tasks of one sample",
-            **contact_provenance(min_force, lost),
-            **setup.provenance(),
+            "sample_blocks": [list(b) for b in state.blocks] if linear else f"{n} tasks of one sample",
+            **contact_provenance(state.min_force, lost),
+            **state.setup.provenance(),
             "derived_channels": derived_provenance(model.derived_catalogue, model.derived),
             "extremes": "every sample's minimum and maximum of every channel over the whole record (sample_min, sample_max)",
             **STATISTICS_PROVENANCE,
-            **sampler.describe(),
+            **state.sampler.describe(),
             **stats,
         }
         if linear:
-            extra["linearization"] = scenario.analysis.linearization
-            extra["model"] = ("linear: each sample is Exudyn's deterministic run (gravity, static start) plus the response "
-                              "of the model linearised about " + LINEARIZED_ABOUT[scenario.analysis.linearization] +
+            lin = self.scenario.analysis.linearization
+            extra["linearization"] = lin
+            extra["model"] = ("linear: each sample is the engine's mean run (gravity, static start; mean_engine says "
+                              "whose) plus the response of the model linearised about " + LINEARIZED_ABOUT[lin] +
                               " (M, K, D from Exudyn, the linear wheel-rail contact) to the sample's profiles, integrated "
-                              f"by the {engine} engine; the samples are those of the Exudyn Monte Carlo")
-            provenance = merge_provenance(det, state["describe"], extra)
+                              f"by the {self.engine} engine; the samples are those of the Exudyn Monte Carlo")
+            provenance = merge_provenance(state.det, state.describe, extra)  # type: ignore[arg-type]
         else:
-            provenance = {**state["describe"], **extra, "warnings": state["warnings"],
-                          "sample_run_time_median_s": float(np.median(state["run_times"]))}
-        provenance["warnings"] = list(provenance.get("warnings", [])) + setup.messages()
-        result = RandomResponse(
-            method=method, time=state["time"] if det is None else det["time"],
-            channels=tuple(str(c) for c in state["names"]), units=tuple(str(u) for u in state["units"]),
-            mean=mean, std=std, band=tuple(float(b) for b in sampler.band),  # type: ignore[arg-type]
-            scenario=scenario.replace(analysis=scenario.analysis.replace(n_samples=n, seed=seed)),
-            types=tuple(scenario.track.irregularities), std_ci=std_ci, mean_ci=mean_ci, n_samples=n,
-            min_wheel_force=min_force, samples=samples, provenance=provenance, sample_min=extremes[0],
-            sample_max=extremes[1],
-        )
-        if out is not None:
-            result.save(out / files.result)
-    return result
+            provenance = {**state.describe, **extra, "warnings": state.first["warnings"],  # type: ignore[index]
+                          "sample_run_time_median_s": float(np.median(state.run_times))}
+        provenance["warnings"] = list(provenance.get("warnings", [])) + state.setup.messages()
+        return provenance
+
+    def save(self, result: RandomResponse, out: Path) -> None:
+        result.save(out / self.files.result)
 
 
-__all__ = ["LossOfContactWarning", "McSizing", "SampleReducer", "integrate_samples", "mc_memory", "run",
+def _merge(state: McState, nb: int, mean_b: FloatArray, m2_b: FloatArray) -> None:
+    """A block's mean and sum of squared deviations into the state's (Chan, Golub & LeVeque's pairwise
+    update, in task order)."""
+    na = state.n
+    if na == 0:
+        state.mean, state.m2 = mean_b.copy(), m2_b.copy()
+    else:
+        assert state.mean is not None and state.m2 is not None
+        delta = mean_b - state.mean
+        state.mean += delta * (nb / (na + nb))
+        state.m2 += m2_b + delta * delta * (na * nb / (na + nb))
+    state.n = na + nb
+
+
+def run(scenario: Scenario, engine: str, execution: Execution, *, n_samples: int | None = None,
+        seed: int | None = None, keep_samples: bool = False, discretisation: Discretisation = "pem_grid",
+        options: Any = None, where: str = "run_monte_carlo") -> RandomResponse:
+    """Monte Carlo of ``scenario`` on ``engine`` (:class:`MonteCarloMethod` through the driver); see
+    :func:`tb_exudyn.run_monte_carlo`."""
+    return drive(MonteCarloMethod(scenario, engine, n_samples, seed, keep_samples, discretisation, options, where),
+                 execution)
+
+
+__all__ = ["LossOfContactWarning", "McSizing", "McState", "MonteCarloMethod", "MonteCarloWorker", "SampleReducer",
+           "integrate_samples", "mc_memory", "run",
            "sample_blocks", "sample_statistics", "warn_loss_of_contact"]

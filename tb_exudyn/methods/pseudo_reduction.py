@@ -73,7 +73,8 @@ class RowMap:
 
 
 class PseudoReduction:
-    """PEM's sums over a task's columns at every output time (module docstring); ``result()`` returns
+    """PEM's sums over a task's columns at every output time (module docstring), a
+    :class:`~tb_exudyn.engines.protocols.Reducer` (``record(i, Y, ext)``, ``result()``); ``result()`` returns
     the raw sums, which :func:`~tb_exudyn.methods.reduction.finish_pem_task` turns into per-channel arrays.
     f_col : (m,) excitation frequency [Hz] of each column; type_index : (m,) its irregularity type;
     n_types : types of the scenario; n_freq : frequencies of the task (columns frequency-major, all

@@ -197,8 +197,7 @@ def engine_plan(engine: Any) -> ReductionPlan:
     """The plan of an engine's outputs and its model's selection (cached on the engine)."""
     plan = getattr(engine, "_reduction_plan", None)
     if plan is None:
-        model = engine.model
-        plan = reduction_plan(engine.outputs.names, [(c.name, c.unit) for c in model.selected], model.derived)
+        plan = reduction_plan(engine.outputs.names, list(engine.selected), engine.derived)
         engine._reduction_plan = plan
     return plan
 
@@ -383,7 +382,8 @@ def sample_offsets(plan: ReductionPlan, mean: FloatArray) -> FloatArray:
 
 
 class SampleReduction:
-    """Monte Carlo's reduction of a task's samples (module docstring): per output time the mean and
+    """Monte Carlo's reduction of a task's samples (module docstring), a
+    :class:`~tb_exudyn.engines.protocols.Reducer`: per output time the mean and
     the sum of squared deviations (from ``offsets``) of every result channel, per sample its minimum and
     maximum over the record and its smallest vertical wheel force, and, if asked, the samples.
 

@@ -1,4 +1,4 @@
-"""The speeds of a sweep: the series of the command line (START:STOP:STEP, a comma list, EN 1991-2's
+"""The speeds of a sweep: a series as text (START:STOP:STEP, a comma list, EN 1991-2's
 series up to 1.2 x the line speed), each checked as a scenario's speed_kmh, and a speed's folder
 name (used by :mod:`tb_exudyn.methods.sweep`, which re-exports them)."""
 
@@ -28,12 +28,9 @@ SPEED_CHECK = next(f.metadata["check"] for f in dataclasses.fields(Scenario) if 
 MAX_SPEEDS = 1000
 
 
-def _keys(where: str) -> dict[str, str]:
-    """How to name the speeds' arguments in a message: command-line options, or function arguments."""
-    if where == "command line":
-        return {"speeds": "--speeds-kmh", "line": "--line-speed-kmh", "step": "--speed-step-kmh",
-                "start": "start_kmh"}  # (no option sets the start)
-    return {"speeds": "speeds_kmh", "line": "line_speed_kmh", "step": "step_kmh", "start": "start_kmh"}
+#: the speeds' arguments, as a message names them (the library's keys; the command line maps them to
+#: its flags when it prints)
+KEYS = {"speeds": "speeds_kmh", "line": "line_speed_kmh", "step": "step_kmh", "start": "start_kmh"}
 
 
 def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | None = None,
@@ -41,7 +38,7 @@ def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | N
     """The speeds of a sweep [km/h] as floats, checked before any work (SettingError naming ``where``
     and ``key``, showing ``shown``, default the speeds): at most :data:`MAX_SPEEDS`, each within
     :data:`SPEED_CHECK`, no two with the same :func:`speed_label` (the folder and task key of a speed)."""
-    key = key or _keys(where)["speeds"]
+    key = key or KEYS["speeds"]
     shown = list(speeds) if shown is None else shown
     allowed = f"1 to {MAX_SPEEDS} distinct speeds, each {SPEED_CHECK.describe()} km/h"
     if len(speeds) > MAX_SPEEDS:
@@ -64,10 +61,11 @@ def _is_number(x: Any) -> bool:
     return isinstance(x, (int, float, np.integer, np.floating)) and not isinstance(x, (bool, np.bool_))
 
 
-def parse_speeds(text: str, where: str = "command line") -> tuple[float, ...]:
+def parse_speeds(text: str, where: str = "parse_speeds") -> tuple[float, ...]:
     """'START:STOP:STEP' (km/h, STOP included) or a comma list '160,220,300', checked by
-    :func:`check_speeds` (the count before the list is made)."""
-    key = _keys(where)["speeds"]
+    :func:`check_speeds` (the count before the list is made); errors name ``where`` (the caller) and
+    ``speeds_kmh``."""
+    key = KEYS["speeds"]
     allowed = (f"START:STOP:STEP with 0 < START <= STOP <= {SPEED_CHECK.high:g} and STEP > 0, or speeds separated "
                f"by commas, each {SPEED_CHECK.describe()} km/h; at most {MAX_SPEEDS} speeds")
     try:
@@ -108,9 +106,9 @@ def en1991_speeds(line_speed_kmh: float, step_kmh: float = 10.0, start_kmh: floa
     """EN 1991-2 (6.4.6.2): a series of speeds up to 1.2 x the maximum line speed, in steps of
     ``step_kmh`` from ``start_kmh`` (default: half the line speed, rounded to a step) [km/h]; the
     last speed is 1.2 x the line speed itself. Checked before the series is made (SettingError naming
-    ``where`` and the argument, or the option with ``where="command line"``): the top speed within
+    ``where`` and the argument): the top speed within
     :data:`SPEED_CHECK`, the step finite and > 0, at most :data:`MAX_SPEEDS` speeds."""
-    keys = _keys(where)
+    keys = KEYS
     top_high = SPEED_CHECK.high / EN1991_SPEED_FACTOR
     line_allowed = f"a line speed V > 0 and <= {top_high:g} km/h (so that {EN1991_SPEED_FACTOR:g} V is " \
                    f"{SPEED_CHECK.describe()} km/h)"

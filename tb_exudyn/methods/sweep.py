@@ -62,7 +62,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from ..builder.model import build_model
-from ..engines import check_engine
+from ..engines import DEFAULT_ENGINE, check_engine
 from ..errors import ResourceError, ScenarioError, SettingError
 from ..execution import Execution, RunFiles, Task
 from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
@@ -75,7 +75,8 @@ from ..scenario.model import KMH, Analysis
 from ..scenario.speed_rule import RULE, at_speed, capped
 from ..structure import modal_bridge
 from ..system.modes import DIRECTIONS, nth_frequency
-from .common import analysis_setup, fingerprint_identity
+from .common import analysis_high, analysis_setup, fingerprint_identity, whole_number
+from .driver import RunPlan, drive
 from .speed_series import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds, parse_speeds,
                            range_count, speed_label, speed_range)
 from .pem import GRID_ERROR_TOLERANCE, default_slices, prepare_sweep
@@ -226,24 +227,28 @@ class SpeedTask:
     keep_checkpoint: bool = field(default=False, repr=False)
 
 
-def _setup() -> None:
-    return None
+@dataclass(frozen=True)
+class SpeedWorker:
+    """A sweep's worker (:class:`~tb_exudyn.methods.driver.Worker`): each task a speed's whole PEM."""
 
+    def setup(self) -> None:
+        return None
 
-def _work(_: Any, task: Task) -> dict[str, np.ndarray]:
-    st: SpeedTask = task.data
-    execution = Execution(workers=1, out=st.out, resume=st.resume, progress=False, slices=st.slices, where="run_sweep",
-                          overwrite=st.overwrite and not st.resume, keep_checkpoint=st.keep_checkpoint)
-    with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
-        warnings.simplefilter("always")
-        result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
-                         least_count=st.scenario.analysis.freq_spacing == "adaptive")
-    summary = speed_summary(result)
-    seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
-                          f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)
-    summary["warnings"] = np.array([m for m, _ in seen], dtype=str).reshape(-1)
-    summary["warning_kinds"] = np.array([k for _, k in seen], dtype=str).reshape(-1)
-    return summary
+    def work(self, _: Any, task: Task) -> dict[str, np.ndarray]:
+        """The PEM of the task's speed (its own driver run, in this worker) and its summary."""
+        st: SpeedTask = task.data
+        execution = Execution(workers=1, out=st.out, resume=st.resume, progress=False, slices=st.slices, where="run_sweep",
+                              overwrite=st.overwrite and not st.resume, keep_checkpoint=st.keep_checkpoint)
+        with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
+            warnings.simplefilter("always")
+            result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
+                             least_count=st.scenario.analysis.freq_spacing == "adaptive")
+        summary = speed_summary(result)
+        seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
+                              f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)
+        summary["warnings"] = np.array([m for m, _ in seen], dtype=str).reshape(-1)
+        summary["warning_kinds"] = np.array([k for _, k in seen], dtype=str).reshape(-1)
+        return summary
 
 
 def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
@@ -298,7 +303,7 @@ def check_columns(result: RandomResponse) -> dict[str, Any]:
     return out
 
 
-def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str = "batched",
+def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str = DEFAULT_ENGINE,
                 channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
                 freq_spacing: str | None = None) -> tuple[float, ...]:
     """What :func:`run_sweep` checks before it creates its output folder, with the same arguments and
@@ -321,6 +326,7 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
         raise SettingError("run_sweep", "speeds_kmh", speeds_kmh, f"at most {MAX_SPEEDS} speeds",
                            f"more than {MAX_SPEEDS} speeds")
     speeds = check_speeds(items, "run_sweep", "speeds_kmh")
+    n_freq = None if n_freq is None else whole_number(n_freq, "run_sweep", "n_freq", 1, analysis_high("n_freq"))
     if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
@@ -333,11 +339,81 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     return speeds, quantities, cls, scenarios, left_out
 
 
-def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = "batched", workers: int | None = None,
-              executor: Any = None, out: str | Path | None = None, resume: bool = False, progress: bool = True,
-              channels: Sequence[str] | None = None, n_freq: int | None = None, options: Any = None,
-              keep_psd: bool = False, slices: Sequence[float] | None = None, overwrite: bool = False,
-              keep_checkpoint: bool = False, freq_spacing: str | None = None) -> SweepResult:
+@dataclass
+class SweepState:
+    """What the sweep's plan checked (speeds, quantities, scenarios, left out) and each speed's summary."""
+
+    speeds: tuple[float, ...]
+    quantities: Any
+    scenarios: list[Scenario]
+    left_out: tuple[Any, ...]
+    summaries: list[dict[str, np.ndarray]]
+    t0: float
+
+
+@dataclass(frozen=True)
+class SweepMethod:
+    """The speed sweep as a :class:`~tb_exudyn.methods.driver.Method`; see :func:`run_sweep` (the
+    same arguments)."""
+
+    scenario: Scenario
+    speeds_kmh: Any
+    engine: str = DEFAULT_ENGINE
+    channels: Sequence[str] | None = None
+    n_freq: int | None = None
+    options: Any = None
+    keep_psd: bool = False
+    slices: Sequence[float] | None = None
+    freq_spacing: str | None = None
+
+    def plan(self, execution: Execution) -> RunPlan:
+        t0 = _time.perf_counter()
+        default_limits()  # the limit files of check_columns, read and checked before any speed runs
+        scenario = self.scenario
+        speeds, quantities, cls, scenarios, left_out = _plan(scenario, self.speeds_kmh, self.engine, self.channels,
+                                                             self.n_freq, self.options, self.freq_spacing)
+        root = execution.output_folder()
+        cuts = tuple(self.slices) if self.slices is not None else tuple(default_slices(execution.cores))
+        tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(
+            sc, self.engine, self.options, None if root is None else str(root / speed_label(v)), execution.resume,
+            cuts, self.keep_psd, execution.overwrite, execution.keep_checkpoint)) for v, sc in zip(speeds, scenarios)]
+        identity = fingerprint_identity(
+            scenario_to_toml(scenario), method="pem_sweep", engine=self.engine,
+            engine_options=cls.describe_options(self.options),
+            method_options={"keep_psd": self.keep_psd, "channels": [q[1] for q in quantities], "n_freq": self.n_freq,
+                            "freq_spacing": self.freq_spacing, "slices": list(cuts), "speeds_kmh": list(speeds)},
+            spectra=scenario.track.irregularities)
+        state = SweepState(speeds=speeds, quantities=quantities, scenarios=scenarios, left_out=left_out,
+                           summaries=[{} for _ in tasks], t0=t0)
+        return RunPlan(files=RunFiles(SWEEP_TABLE, "checkpoint-sweep", drawn=(SWEEP_FIGURE, SWEEP_PAGE)), tasks=tasks,
+                       identity=identity, state=state, worker=SpeedWorker(), desc=f"speed sweep ({self.engine})")
+
+    def reduce(self, state: SweepState, i: int, task: Task, result: dict[str, np.ndarray]) -> None:
+        state.summaries[i] = result  # its warnings: grouped by kind once every speed is in
+
+    def finish(self, state: SweepState, stats: dict[str, Any]) -> SweepResult:
+        scenario, speeds = self.scenario, state.speeds
+        cut = [v for v, sc in zip(speeds, state.scenarios) if capped(scenario, sc)]
+        result = SweepResult(base=scenario, speeds=speeds, summaries=tuple(state.summaries),
+                             quantities=state.quantities,
+                             resonances=tuple(resonance_speeds(scenario)),
+                             provenance={"seconds": _time.perf_counter() - state.t0, "engine": self.engine,
+                                         "speed_rule": RULE, "base_speed_kmh": scenario.speed_kmh,
+                                         "band_capped_kmh": cut, "quantities_left_out": [q[1] for q in state.left_out],
+                                         **stats})
+        for category, message in grouped_warnings(result):
+            warnings.warn(message, category, stacklevel=2)
+        return result
+
+    def save(self, result: SweepResult, out: Path) -> None:
+        write_sweep(result, out)
+
+
+def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = DEFAULT_ENGINE,
+              workers: int | None = None, executor: Any = None, out: str | Path | None = None, resume: bool = False,
+              progress: bool = True, channels: Sequence[str] | None = None, n_freq: int | None = None,
+              options: Any = None, keep_psd: bool = False, slices: Sequence[float] | None = None,
+              overwrite: bool = False, keep_checkpoint: bool = False, freq_spacing: str | None = None) -> SweepResult:
     """PEM of ``scenario`` at each of ``speeds_kmh`` (see the module docstring).
 
     Parameters
@@ -359,43 +435,10 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     keep_checkpoint : keep ``out/checkpoint-sweep`` (and each speed's checkpoint) after the results are
         written (default: removed)
     """
-    t0 = _time.perf_counter()
-    default_limits()  # the limit files of check_columns, read and checked before any speed runs
-    speeds, quantities, cls, scenarios, left_out = _plan(scenario, speeds_kmh, engine, channels, n_freq, options,
-                                                         freq_spacing)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
-    root = execution.output_folder()
-    cuts = tuple(slices) if slices is not None else tuple(default_slices(execution.cores))
-    tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(sc, engine, options, None if root is None else
-                                                        str(root / speed_label(v)), resume, cuts, keep_psd, overwrite,
-                                                        keep_checkpoint))
-             for v, sc in zip(speeds, scenarios)]
-    identity = fingerprint_identity(
-        scenario_to_toml(scenario), method="pem_sweep", engine=engine, engine_options=cls.describe_options(options),
-        method_options={"keep_psd": keep_psd, "channels": [q[1] for q in quantities], "n_freq": n_freq,
-                        "freq_spacing": freq_spacing,
-                        "slices": list(cuts), "speeds_kmh": list(speeds)}, spectra=scenario.track.irregularities)
-    summaries: list[dict[str, np.ndarray]] = [{} for _ in tasks]
-
-    def reduce(i: int, task: Task, result: dict[str, np.ndarray]) -> None:
-        summaries[i] = result  # its warnings: grouped by kind once every speed is in
-
-    with execution.claim(RunFiles(SWEEP_TABLE, "checkpoint-sweep", drawn=(SWEEP_FIGURE, SWEEP_PAGE))) as root:
-        checkpoint = execution.checkpoint("checkpoint-sweep", identity)
-        stats = execution.run(tasks, setup=_setup, setup_args=(), work=_work, reduce=reduce, checkpoint=checkpoint,
-                              desc=f"speed sweep ({engine})")
-        cut = [v for v, sc in zip(speeds, scenarios) if capped(scenario, sc)]
-        result = SweepResult(base=scenario, speeds=speeds, summaries=tuple(summaries), quantities=quantities,
-                             resonances=tuple(resonance_speeds(scenario)),
-                             provenance={"seconds": _time.perf_counter() - t0, "engine": engine, "speed_rule": RULE,
-                                         "base_speed_kmh": scenario.speed_kmh, "band_capped_kmh": cut,
-                                         "quantities_left_out": [q[1] for q in left_out], **stats})
-        for category, message in grouped_warnings(result):
-            warnings.warn(message, category, stacklevel=2)
-        if root is not None:
-            write_sweep(result, root)
-    return result
+    return drive(SweepMethod(scenario, speeds_kmh, engine, channels, n_freq, options, keep_psd, slices, freq_spacing),
+                 execution)
 
 
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",

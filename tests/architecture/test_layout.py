@@ -32,7 +32,7 @@ def test_the_import_graph_sees_the_package():
     pairs = {(e.source, e.target) for e in es}
     assert len(modules()) > 60
     assert ("tb_exudyn.engines.batched", "tb_exudyn.engines.base") in pairs
-    assert ("tb_exudyn.methods.pem", "tb_exudyn.engines") in pairs
+    assert ("tb_exudyn.methods.pem.method", "tb_exudyn.engines") in pairs
     assert ("tb_exudyn.report", "tb_exudyn.plotting.files") in pairs
 
 

@@ -36,10 +36,10 @@ def test_speed_series_bounds_at_their_edges():
     assert parse_speeds("1000") == (1000.0,)
     assert len(parse_speeds("1:1000:1")) == MAX_SPEEDS
     with pytest.raises(SettingError, match="1001 speeds") as info:
-        parse_speeds("1:1000:0.999")
-    assert info.value.key == "--speeds-kmh" and info.value.where == "command line"
+        parse_speeds("1:1000:0.999", where="command line")
+    assert info.value.key == "speeds_kmh" and info.value.where == "command line"  # the command line's table: the flag
     for bad in ("1000.001", "0", "-1", "inf", "nan", "200,nan", "1:1000.001:1", "1:2:inf", "1:2:nan", "1:2:-1"):
-        with pytest.raises(SettingError, match="'--speeds-kmh'"):
+        with pytest.raises(SettingError, match="'speeds_kmh'"):
             parse_speeds(bad)
     # equal after the 6 significant digits of the speed folders ('100'), distinct at 100.001
     with pytest.raises(SettingError, match=r"100\.0 and 100\.0000001 are the same speed '100'"):
@@ -67,7 +67,7 @@ def test_en1991_series_bounds_at_their_edges():
     with pytest.raises(SettingError, match="'step_kmh'"):
         en1991_speeds(300.0, step / 2, start_kmh=150.0)
     for bad_step in (0.0, -10.0, math.nan, math.inf):
-        with pytest.raises(SettingError, match="'--speed-step-kmh'"):
+        with pytest.raises(SettingError, match="command line: key 'step_kmh'"):
             en1991_speeds(300.0, bad_step, where="command line")
     assert en1991_speeds(100.0, 500.0) == (120.0,)
 

@@ -101,9 +101,9 @@ class BatchedEngine(Engine):
     full_model = False
     linear_rows = True  # general linear rows (creep) through the coupling's RowMaps
 
-    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False) -> None:
+    def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> None:
         with single_threaded_blas():
-            super().__init__(scenario, options, wheel_forces)
+            super().__init__(scenario, options, wheel_forces, system)
             self.options = _options(options)
             init_linear(self)
             self.components = find_components(self.lin, self.output_time)
@@ -128,6 +128,11 @@ class BatchedEngine(Engine):
     def describe_options(cls, options: Any) -> dict[str, Any]:
         opts = _options(options)
         return {"precision": opts.precision, "mean": opts.mean, "grid_error_precision": opts.grid_error_precision}
+
+    @classmethod
+    def linear_mean(cls, options: Any) -> bool:
+        """Whether the mean may be the linear model's (the parent then builds its inputs once)."""
+        return _options(options).mean in ("linear", "auto")
 
     @classmethod
     def mean_cost_columns(cls, options: Any) -> float | None:

@@ -17,15 +17,16 @@ from typing import Any
 
 import numpy as np
 
-from ...builder import linear_system
 from ...errors import CapabilityError
 from ...system.columns import static_load_columns
 from ...system.components import find_components
+from ..base import exudyn_side
 from .loop import integrate
 
 
 class _MeanRecorder:
-    """The gravity column's outputs at every output time (real part: the column has no imaginary input)."""
+    """The gravity column's outputs at every output time (real part: the column has no imaginary input);
+    a :class:`~tb_exudyn.engines.protocols.Reducer`."""
 
     def __init__(self, n_outputs: int, n_t: int) -> None:
         self.values = np.zeros((n_outputs, n_t))
@@ -42,16 +43,13 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
     form of :meth:`~tb_exudyn.engines.base.Engine.mean` (:meth:`~tb_exudyn.engines.base.Engine.linear_mean_arrays`).
     CapabilityError where the gravity column does not apply (a bridge loaded at t = 0, moving point loads)."""
     start = _time.perf_counter()
-    model = engine.model
-    model.set_excitation(None)
-    model.set_gravity(True)
-    try:
-        static = model.static_state(0.0)
-    finally:
-        model.set_gravity(False)
+    inputs = engine.system.mean  # the static state and the linear system about it, built in the parent
+    if inputs is None:  # a LinearModel made without them: made now (on the model)
+        inputs = exudyn_side().linear_model(engine.model, engine.wheel_forces, mean=True).mean
+    static = inputs.static
     # the deterministic run's linear model is the one about its own static state (the suspensions'
     # preload included), whatever linearization the columns use
-    lin = engine.lin if engine.lin.linearization == "static" else linear_system(model, "static")
+    lin = engine.lin if inputs.lin_static is None else inputs.lin_static
     try:
         source = static_load_columns(lin, static)
     except ValueError as exc:
@@ -75,9 +73,9 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
         "excitation": "none", "steps": engine.n_steps, "time_step_s": engine.alpha.h,
         "end_time_s": engine.n_steps * engine.alpha.h,
         "solver_settings": {"spectral_radius": engine.alpha.rho},
-        "bridge_modes": model.bridge.n_modes, "bridge_model": model.bridge.description,
-        "contact_damping_ratio": model.scenario.analysis.contact_damping_ratio,
-        "warnings": list(model.warnings),
+        "bridge_modes": inputs.bridge_modes, "bridge_model": inputs.bridge_description,
+        "contact_damping_ratio": engine.scenario.analysis.contact_damping_ratio,
+        "warnings": list(engine.warnings),
     }
     return engine.linear_mean_arrays(values, provenance, start)
 
