@@ -133,7 +133,8 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
 def _progress(total: int, initial: int, desc: str, enabled: bool):
     if not enabled:
         return None
-    return tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True)
+    # disable=None: no bar when stderr is not a terminal (a log file would get every redraw)
+    return tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True, disable=None)
 
 
 class _Stored:

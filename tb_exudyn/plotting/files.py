@@ -183,7 +183,7 @@ def draw_jobs(jobs: Sequence[FigureJob], workers: int | None = None, progress: b
     if len(jobs) < MIN_JOBS_FOR_POOL:
         n = 1
     done: dict[int, tuple[Path, ...]] = {}
-    with tqdm(total=len(jobs), unit="figure", desc="figures", disable=not progress, leave=False) as bar:
+    with tqdm(total=len(jobs), unit="figure", desc="figures", disable=None if progress else True, leave=False) as bar:
         if n <= 1:
             for i, job in enumerate(jobs):
                 done[i] = draw_job(job, dpi)
