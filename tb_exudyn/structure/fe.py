@@ -35,7 +35,7 @@ from .assembly import (DOF_NAMES, GIRDER, PIER, FEModel, StructureError, assembl
                        validate_bridge)
 from .beam import SIGN_VERTICAL, cubic_coefficients
 from .size import check_bridge_size
-from .modal import ModalBridge, RailShapes, TrackShapes, track_stations
+from .modal import ModalBridge, ModeSet, RailShapes, TrackShapes, track_stations
 
 #: kinetic-energy groups used to name a mode
 ENERGY_GROUPS = ("vertical", "lateral", "torsion", "longitudinal", "pier")
@@ -55,7 +55,7 @@ _DENSE_LIMIT = 400
 
 
 @dataclass(frozen=True)
-class FEModes:
+class FEModes(ModeSet):
     """Modes of an assembled model.
 
     Attributes
@@ -76,14 +76,6 @@ class FEModes:
     mode_types: tuple[str, ...]
     effective_masses: np.ndarray = field(repr=False)
     total_masses: np.ndarray = field(repr=False)
-
-    @property
-    def n_modes(self) -> int:
-        return int(self.frequencies.size)
-
-    @property
-    def omega(self) -> np.ndarray:
-        return 2.0 * np.pi * self.frequencies
 
 
 def _eigen_dense(k: sp.spmatrix, m: sp.spmatrix, n_wanted: int) -> tuple[np.ndarray, np.ndarray]:

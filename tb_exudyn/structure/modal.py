@@ -81,8 +81,24 @@ def track_stations(names: Sequence[str], x: Sequence[float], tracks: Sequence[Tr
     return tuple(out_names), np.concatenate(rows, axis=0)
 
 
+class ModeSet:
+    """What a set of modes with ``frequencies`` [Hz] (an (n,) array) gives: their number and circular
+    frequencies (shared by :class:`ModalBridge` and the FE model's modes)."""
+
+    frequencies: np.ndarray
+
+    @property
+    def n_modes(self) -> int:
+        return int(self.frequencies.size)
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Circular frequencies [rad/s]."""
+        return 2.0 * np.pi * self.frequencies
+
+
 @dataclass(frozen=True)
-class ModalBridge:
+class ModalBridge(ModeSet):
     """Mass-normalised modal model of a bridge.
 
     Attributes
@@ -146,15 +162,6 @@ class ModalBridge:
         t = self.tracks[self.track - 1]
         where = "" if math.isnan(t.offset) else f" (offset {t.offset:g} m, rail level {t.height:g} m)"
         return f"the train on track {self.track} of {self.n_tracks}{where}"
-
-    @property
-    def n_modes(self) -> int:
-        return int(self.frequencies.size)
-
-    @property
-    def omega(self) -> np.ndarray:
-        """Circular frequencies [rad/s]."""
-        return 2.0 * np.pi * self.frequencies
 
     @property
     def mass_matrix(self) -> np.ndarray:
