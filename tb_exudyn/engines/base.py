@@ -28,7 +28,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from ..scenario.model import LINEAR_ROW_KINDS
-from ..errors import CapabilityError
+from ..errors import CapabilityError, SettingError
 from ..system.derived_values import derived_values
 from ..storage import json_default
 from ..system.channels import OutputMap, evaluate, output_map
@@ -44,6 +44,17 @@ EXUDYN_SIDE = "tb_exudyn.engines.exudyn_runs"
 def exudyn_side() -> Any:
     """:mod:`tb_exudyn.engines.exudyn_runs` (imports Exudyn): loaded when an engine needs the model."""
     return importlib.import_module(EXUDYN_SIDE)
+
+
+def typed_options(options: Any, kind: type) -> Any:
+    """An engine's options: ``kind()`` for None, the object itself if it is a ``kind``, else a
+    SettingError naming the class to use (the linear engines' options dataclasses)."""
+    if options is None:
+        return kind()
+    if not isinstance(options, kind):
+        raise SettingError("engine options", "options", type(options).__name__,
+                           f"a {kind.__name__} ({kind.__module__}.{kind.__name__}) or None")
+    return options
 
 
 class Engine(ABC):
@@ -276,4 +287,4 @@ def _time_stepping(engine: Any, steps: Any, spectral_radius: float) -> None:
     engine.output_time = steps.output_times
 
 
-__all__ = ["EXUDYN_SIDE", "Engine", "exudyn_side", "init_linear", "on_linear_system"]
+__all__ = ["EXUDYN_SIDE", "Engine", "exudyn_side", "init_linear", "on_linear_system", "typed_options"]

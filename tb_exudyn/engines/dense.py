@@ -32,7 +32,7 @@ from scipy.linalg import lu_factor, lu_solve
 from ..errors import SettingError
 from ..execution.threads import single_threaded_blas
 from ..system.columns import linear_row_inputs
-from .base import Engine, exudyn_side, init_linear, on_linear_system
+from .base import Engine, exudyn_side, init_linear, on_linear_system, typed_options
 
 MEANS: tuple[str, ...] = ("exudyn", "linear")
 
@@ -225,12 +225,7 @@ class DenseEngine(Engine):
 
 
 def _options(options: Any) -> DenseOptions:
-    if options is None:
-        return DenseOptions()
-    if not isinstance(options, DenseOptions):
-        raise SettingError("engine options", "options", type(options).__name__,
-                           "a DenseOptions (tb_exudyn.engines.dense.DenseOptions) or None")
-    return options
+    return typed_options(options, DenseOptions)
 
 
 __all__ = ["DenseEngine", "DenseOptions"]

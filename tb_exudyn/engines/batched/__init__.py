@@ -42,7 +42,7 @@ import numpy as np
 from ...errors import CapabilityError, SettingError
 from ...execution.threads import single_threaded_blas
 from ...system.components import find_components
-from ..base import Engine, init_linear, on_linear_system
+from ..base import Engine, init_linear, on_linear_system, typed_options
 from .kernels import PRECISIONS
 from .loop import CHUNK_BYTES, MIN_CHUNK, chunks, integrate
 from .mean import linear_mean
@@ -189,12 +189,7 @@ class BatchedEngine(Engine):
 
 
 def _options(options: Any) -> BatchedOptions:
-    if options is None:
-        return BatchedOptions()
-    if not isinstance(options, BatchedOptions):
-        raise SettingError("engine options", "options", type(options).__name__,
-                           "a BatchedOptions (tb_exudyn.engines.batched.BatchedOptions) or None")
-    return options
+    return typed_options(options, BatchedOptions)
 
 
 __all__ = ["BatchedEngine", "BatchedOptions", "CHUNK_BYTES", "MEANS", "MIN_CHUNK", "chunks", "integrate"]
