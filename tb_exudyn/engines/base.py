@@ -89,6 +89,8 @@ class Engine(ABC):
     linearizations: ClassVar[tuple[str, ...]] = LINEARIZATIONS
     single_columns: ClassVar[bool] = False
     linear_rows: ClassVar[bool] = False
+    #: the options dataclass :meth:`check` accepts (None: the engine checks its options itself)
+    options_type: ClassVar[type | None] = None
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False,
                  system: LinearModel | None = None) -> None:
@@ -145,6 +147,8 @@ class Engine(ABC):
                 "vehicles without general linear contact rows" + (f"; {others}" if others else ""),
                 f"the {cls.name} engine does not integrate the creep rows of {', '.join(kinds)} vehicles",
             )
+        if cls.options_type is not None:
+            typed_options(options, cls.options_type)
         lin = scenario.analysis.linearization
         if lin not in cls.linearizations:
             raise CapabilityError(

@@ -55,6 +55,7 @@ class DenseEngine(Engine):
     name = "dense"
     full_model = False
     linear_rows = True  # general linear rows (creep) through the coupling's RowMaps
+    options_type = DenseOptions
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> None:
         super().__init__(scenario, options, wheel_forces, system)
@@ -69,10 +70,6 @@ class DenseEngine(Engine):
         engine.ci = np.concatenate((lin.bridge, lin.wheel))
         return engine
 
-    @classmethod
-    def check(cls, scenario: Any, options: Any = None, others: str = "") -> None:
-        super().check(scenario, options, others)
-        _options(options)
 
     @classmethod
     def describe_options(cls, options: Any) -> dict[str, Any]:

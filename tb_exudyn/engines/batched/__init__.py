@@ -100,6 +100,7 @@ class BatchedEngine(Engine):
     name = "batched"
     full_model = False
     linear_rows = True  # general linear rows (creep) through the coupling's RowMaps
+    options_type = BatchedOptions
 
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False, system: Any = None) -> None:
         with single_threaded_blas():
@@ -115,10 +116,6 @@ class BatchedEngine(Engine):
         engine.components = find_components(lin, engine.output_time)
         return engine
 
-    @classmethod
-    def check(cls, scenario: Any, options: Any = None, others: str = "") -> None:
-        super().check(scenario, options, others)
-        _options(options)
 
     @classmethod
     def default_options(cls) -> BatchedOptions:
