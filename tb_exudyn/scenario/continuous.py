@@ -64,10 +64,6 @@ class Continuous(_SpanSections):
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
 
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
     def _validate(self, ctx: Context) -> None:
         n = len(self.spans)
         if n < 2:

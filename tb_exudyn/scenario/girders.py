@@ -36,13 +36,8 @@ class SimpleBeam(_SpanSections):
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
 
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
     def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        self.check_spans(ctx)
         check_sections(self, ctx)
         light = min(range(len(self.spans)), key=lambda i: self.sections[i].mass_per_length)
         check_ballast(self.code, self.sections[light].mass_per_length, f"{self.section_key(light)}.mass_per_length", ctx)
@@ -85,13 +80,8 @@ class Frame(_SpanSections):
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
 
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
     def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        self.check_spans(ctx)
         check_sections(self, ctx)
         check_ballast(self.code, self.added_mass.mass_per_length, "added_mass.mass_per_length", ctx)
         check_tracks(self, ctx)

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 from typing import ClassVar
 
 from .schema import ANY, POSITIVE, Context, Validated, described, param, replace
-from .sections import check_tracks, deck_width_param
+from .sections import Spanned, check_tracks, deck_width_param
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -33,7 +33,7 @@ class ModalTrack(Validated):
 
 @dataclass(frozen=True, kw_only=True)
 @described
-class ModalTable(Validated):
+class ModalTable(Validated, Spanned):
     """A bridge given by its modes: frequencies, damping ratios and mass-normalised shapes in CSV
     tables written by any FE program (format: docs/modal_bridge.md; read by
     :mod:`tb_exudyn.structure.imported`). File names relative to the file this table is read from."""
@@ -56,13 +56,8 @@ class ModalTable(Validated):
     #: no EN 1991-2 data (the code check refuses the bridge)
     code: ClassVar[None] = None
 
-    @property
-    def length(self) -> float:
-        return float(sum(self.spans))
-
     def _validate(self, ctx: Context) -> None:
-        if not self.spans:
-            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+        self.check_spans(ctx)
         if not self.modes:
             raise ctx.child("modes").error("", "the name of a CSV file", "no file")
         if self.tracks and self.shapes:

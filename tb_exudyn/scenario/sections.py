@@ -33,7 +33,22 @@ class BeamSection(_Replaceable):
     shear_area_factor: float = param(0.0, unit="-", doc="Timoshenko shear area / area; 0 = Euler-Bernoulli", check=Check(low=0.0, high=1.0, low_inclusive=True))
 
 
-class _SpanSections(_Replaceable):
+class Spanned:
+    """What every bridge of spans in running order (``spans``, m) has: its length and the check that
+    it has a span (simple_beam, frame, continuous, modal_table)."""
+
+    spans: tuple[float, ...]
+
+    @property
+    def length(self) -> float:
+        return float(sum(self.spans))
+
+    def check_spans(self, ctx) -> None:  # noqa: ANN001
+        if not self.spans:
+            raise ctx.child("spans").error([], "at least one span length > 0", "no spans")
+
+
+class _SpanSections(_Replaceable, Spanned):
     """What a bridge of girder spans with one section for all (``girder``) or one per span (``girders``)
     has: the section of each span and its key (simple_beam, frame, continuous)."""
 
