@@ -29,9 +29,18 @@ KMH = 1.0 / 3.6  # m/s per km/h
 # vehicles
 
 
+class _OneAxle:
+    """A vehicle of one axle (the moving force, the sprung mass): no cross-field checks."""
+
+    @property
+    def axle_offsets(self) -> tuple[float, ...]:
+        """Distances of the axles behind the vehicle's first axle [m]."""
+        return (0.0,)
+
+
 @dataclass(frozen=True, kw_only=True)
 @described
-class MovingForce(_Replaceable):
+class MovingForce(_Replaceable, _OneAxle):
     """A constant vertical point load moving along the track (for closed-form checks)."""
 
     kind: ClassVar[str] = "moving_force"
@@ -39,18 +48,10 @@ class MovingForce(_Replaceable):
     force: float = param(unit="N", doc="load acting downward on the rail", check=POSITIVE)
     length: float = param(unit="m", doc="distance from this load to the next vehicle's first axle", check=POSITIVE)
 
-    @property
-    def axle_offsets(self) -> tuple[float, ...]:
-        """Distances of the axles behind the vehicle's first axle [m]."""
-        return (0.0,)
-
-    def _validate(self, ctx: Context) -> None:
-        pass
-
 
 @dataclass(frozen=True, kw_only=True)
 @described
-class SprungMass(_Replaceable):
+class SprungMass(_Replaceable, _OneAxle):
     """One mass on a linear spring-damper over one wheel (the VBI-2D / Yang-Yau vehicle).
 
     With ``wheel_mass = 0`` the spring-damper's lower end follows the rail exactly.
@@ -63,13 +64,6 @@ class SprungMass(_Replaceable):
     damping: float = param(0.0, unit="N s/m", doc="suspension damping", check=VEHICLE_DAMPING)
     wheel_mass: float = param(0.0, unit="kg", doc="unsprung (wheel) mass", check=VEHICLE_MASS_OR_0)
     length: float = param(unit="m", doc="distance from this wheel to the next vehicle's first axle", check=POSITIVE)
-
-    @property
-    def axle_offsets(self) -> tuple[float, ...]:
-        return (0.0,)
-
-    def _validate(self, ctx: Context) -> None:
-        pass
 
 
 @dataclass(frozen=True, kw_only=True)
