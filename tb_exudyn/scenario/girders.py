@@ -9,13 +9,15 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
-from .schema import ANY, NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, described, param
-from .sections import (AddedMass, BeamSection, Pier, TrackLine, _Replaceable, _SpanSections, check_sections,
-                       check_tracks, deck_width_param, girder_param, girders_param, tracks_param)
+from .schema import NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, described, param
+from .sections import (AddedMass, BeamSection, Pier, _Replaceable, _SpanSections, check_sections, check_tracks,
+                       girder_param, girders_param, on_deck)
+from .sections import TrackLine  # noqa: F401 (the type of on_deck's tracks field, resolved in this module)
 
 
 @dataclass(frozen=True, kw_only=True)
 @described
+@on_deck
 class SimpleBeam(_SpanSections):
     """Uniform simply supported spans with ideal supports (for closed-form checks).
 
@@ -28,10 +30,6 @@ class SimpleBeam(_SpanSections):
     girder: BeamSection | None = girder_param()
     girders: tuple[BeamSection, ...] = girders_param()
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
-    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
-    tracks: tuple[TrackLine, ...] = tracks_param()
-    deck_width: float = deck_width_param()
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
                                             "the bridge)")
@@ -59,6 +57,7 @@ class Bearings(_Replaceable):
 
 @dataclass(frozen=True, kw_only=True)
 @described
+@on_deck
 class Frame(_SpanSections):
     """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
 
@@ -71,10 +70,6 @@ class Frame(_SpanSections):
     bearings: Bearings = param(doc="bearings at every girder end")
     added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
     damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    track_offset: float = param(0.0, unit="m", doc="track centre line from the girder axis (+y left)", check=ANY)
-    track_height: float = param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)
-    tracks: tuple[TrackLine, ...] = tracks_param()
-    deck_width: float = deck_width_param()
     elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
     code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "

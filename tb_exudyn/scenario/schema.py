@@ -99,15 +99,22 @@ DESCRIBED_FIELDS = (("description", "one line for listings"), ("source", "citati
                     ("notes", "remarks, values marked [check]"))
 
 
-def described(cls: type) -> type:
-    """Give a data class the fields of :data:`DESCRIBED_FIELDS` (str, default "") after its own, the
-    same three in every file of models/; apply it under ``@dataclass`` (it must run first)."""
-    annotations = cls.__dict__.get("__annotations__", {})
-    for name, doc in DESCRIBED_FIELDS:
-        annotations[name] = "str"
-        setattr(cls, name, param("", doc=doc))
-    cls.__annotations__ = annotations
-    return cls
+def appended_fields(*specs: tuple[str, str, Callable[[], Any]]) -> Callable[[type], type]:
+    """A class decorator that gives a data class the fields ``(name, annotation, make the field)`` after
+    its own; apply it under ``@dataclass`` (it must run first)."""
+    def decorate(cls: type) -> type:
+        annotations = cls.__dict__.get("__annotations__", {})
+        for name, annotation, make in specs:
+            annotations[name] = annotation
+            setattr(cls, name, make())
+        cls.__annotations__ = annotations
+        return cls
+    return decorate
+
+
+#: :data:`DESCRIBED_FIELDS` (str, default "") after a data class's own fields, the same three in every
+#: file of models/
+described = appended_fields(*((name, "str", lambda doc=doc: param("", doc=doc)) for name, doc in DESCRIBED_FIELDS))
 
 
 def unit_of(cls: type, name: str) -> str:

@@ -8,7 +8,7 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
-from .schema import ANY, NONNEGATIVE, POSITIVE, STIFFNESS, Check, Validated, param, replace
+from .schema import ANY, NONNEGATIVE, POSITIVE, STIFFNESS, Check, Validated, appended_fields, param, replace
 
 
 class _Replaceable(Validated):
@@ -123,6 +123,16 @@ def tracks_param():  # noqa: ANN201 - the dataclass field of a bridge's tracks (
 def deck_width_param():  # noqa: ANN201 - the dataclass field of a bridge's deck width
     return param(0.0, unit="m", doc="deck width, centred on the girder axis (0: not given, tracks not checked "
                                     "against it)", check=NONNEGATIVE)
+
+
+#: the track fields of a girder bridge (simple_beam, frame, continuous), after its own and before
+#: description, source and notes: one track by offset and height, or [[tracks]] tables, and the deck width
+on_deck = appended_fields(
+    ("track_offset", "float", lambda: param(0.0, unit="m", doc="track centre line from the girder axis (+y left)",
+                                            check=ANY)),
+    ("track_height", "float", lambda: param(0.0, unit="m", doc="rail level above the girder shear centre", check=ANY)),
+    ("tracks", "tuple[TrackLine, ...]", tracks_param),
+    ("deck_width", "float", deck_width_param))
 
 
 def track_lines(bridge) -> tuple[tuple[float, float], ...]:  # noqa: ANN001
