@@ -152,7 +152,7 @@ def refined_variance(var_trapezoid: NDArray[np.float64], var_midpoint: NDArray[n
 #: the local estimate refines the cells wider than LOCAL_RATIO times the spacing the adaptive grid's
 #: rules require there (:func:`estimate_cells`; measured in docs/speed.md, "The grid-error estimate at
 #: a fraction of its cost")
-LOCAL_RATIO = 1.0
+LOCAL_RATIO = 1.5
 
 
 def estimate_cells(grid: FrequencyGrid, problem: GridProblem, ratio: float = LOCAL_RATIO,

@@ -38,7 +38,7 @@ from .grid import LOCAL_RATIO, refined_variance
 #: every cell's midpoint (as many columns again); "local", only the cells coarser than the adaptive
 #: grid's rules (:func:`~.grid.estimate_cells`): their midpoints and nodes (docs/speed.md measures both)
 GRID_ESTIMATES = ("midpoints", "local")
-DEFAULT_GRID_ESTIMATE = "midpoints"
+DEFAULT_GRID_ESTIMATE = "local"
 
 
 def local_method(chosen: int, cells: int) -> str:

@@ -43,19 +43,20 @@ def test_local_estimate_matches_the_closed_form_trapezoid_error():
     the trapezoid sum is 8.4 % high (its error is the aliasing of the peak, about 2 exp(-2 pi zeta fn /
     h) of the integral). The local estimate refines only the cells wider than the adaptive grid's rules
     ask (run of 1e4 s: the rule there is zeta fn / 1 = 0.02 Hz, graded away from the mode; below 1 Hz
-    5 % of f): 29 of 1000, all below 1.5 Hz.
+    5 % of f; LOCAL_RATIO 1.5): 23 of 1000, all below 1.5 Hz.
 
     Reference: the true error sigma_h - sigma_exact from the closed form EXACT. An estimate from the
     grid refined once (h / 2) is the true error less the refined grid's own error, so the expected
     ratio estimate / true is 1 - E(h/2) / E(h) = 0.9222 (both from the closed form); the full midpoint
-    estimate gives it to 1e-4. Tolerance 1e-3 on that ratio: the cells the local estimate leaves out
-    (the smooth flanks, 971 cells) change it by their midpoint-trapezoid differences, 1.0e-4 here.
+    estimate gives it to 1e-4. Tolerance 3e-3 on that ratio: the cells the local estimate leaves out
+    (the smooth flanks, 977 cells) change it by their midpoint-trapezoid differences, 1.15e-3 here
+    (1.0e-4 with LOCAL_RATIO 1, 29 cells); a wrong weight of the local sweeps changes it by O(1).
     """
     n = 1001
     g = frequency_grid(0.0, F_MAX, n, 1.0)
     var = float(np.sum(sdof_psd(g.f) * g.df))
     cells = estimate_cells(g, grid_problem(1e-6, F_MAX, [(FN, ZETA)], duration=1e4))
-    assert cells.sum() == 29  # 3 % of the cells: the mode's and, below 1 Hz, where the background
+    assert cells.sum() == 23  # 2 % of the cells: the mode's and, below 1 Hz, where the background
     f_mid = (g.f[1:] + g.f[:-1])[cells] / 2  # rule (5 % of f) is finer than the grid
     assert np.all(f_mid < 1.5)
     mid, nodes = local_grids(g, cells)
@@ -63,7 +64,7 @@ def test_local_estimate_matches_the_closed_form_trapezoid_error():
     estimate = math.sqrt(var) - math.sqrt(float(locally_refined_variance(var, m, t)))
     true, true_half = _trapezoid_sigma(n) - math.sqrt(EXACT), _trapezoid_sigma(2 * n - 1) - math.sqrt(EXACT)
     assert true / math.sqrt(EXACT) == pytest.approx(0.0845, abs=1e-3)  # the problem as stated
-    assert abs(estimate / true - (1 - true_half / true)) < 1e-3
+    assert abs(estimate / true - (1 - true_half / true)) < 3e-3
 
 
 def test_local_estimate_with_every_cell_is_the_midpoint_estimate():
@@ -121,5 +122,5 @@ def test_an_unknown_estimate_is_one_clear_error():
         _estimate("coarse", Together, "run_pem")
     text = str(info.value)
     assert "grid_error" in text and "'midpoints'" in text and "'local'" in text
-    assert _estimate(None, Together, "run_pem") == ("midpoints", True)
+    assert _estimate(None, Together, "run_pem") == ("local", True)
     assert _estimate("local", Together, "run_pem") == ("local", True)
