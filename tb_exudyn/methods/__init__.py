@@ -81,7 +81,7 @@ def run_pem(
     linearization: str | None = None,
     options: Any = None,
     slices: Any = None,
-    grid_error: bool | None = None,
+    grid_error: bool | str | None = None,
     psd_channels: Any = "key",
     overwrite: bool = False,
     keep_checkpoint: bool = False,
@@ -116,7 +116,9 @@ def run_pem(
     slices : relative task sizes of a linear engine (see :class:`~tb_exudyn.execution.Execution`)
     grid_error : estimate the frequency grid's error per channel from a sweep on the cell midpoints
         (None: with the engines that integrate all columns at once, where it is cheap); stored in
-        ``provenance["grid_error"]`` and warned about above 1 % of a channel's max sigma
+        ``provenance["grid_error"]`` and warned about above 1 % of a channel's max sigma; or the
+        estimate's name: "local" (what True and None give: only the cells coarser than the adaptive
+        grid's rules, :mod:`tb_exudyn.methods.grid_error`) or "midpoints" (every cell's midpoint)
     overwrite : replace the result and checkpoint of an earlier run in ``out`` (without it or
         ``resume``, a run into a folder holding them is refused: OutputFolderError); a folder another
         run is using is always refused

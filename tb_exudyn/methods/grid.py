@@ -21,7 +21,8 @@ from ..errors import SettingError
 from ..scenario import Scenario, ScenarioError
 from ..system.conventions import spatial_frequency
 from ..track import quadrature_weights
-from .adaptive_grid import GridProblem, GridResolution, Mode, adaptive_nodes, points_needed, scenario_grid_problem
+from .adaptive_grid import (GridProblem, GridResolution, Mode, adaptive_nodes, points_needed, required_spacing,
+                            scenario_grid_problem)
 
 
 @dataclass(frozen=True)
@@ -146,6 +147,55 @@ def refined_variance(var_trapezoid: NDArray[np.float64], var_midpoint: NDArray[n
     if a.shape != b.shape:
         raise ValueError(f"variance shapes differ: {a.shape} and {b.shape}")
     return (a + b) / 2
+
+
+#: the local estimate refines the cells wider than LOCAL_RATIO times the spacing the adaptive grid's
+#: rules require there (:func:`estimate_cells`; measured in docs/speed.md, "The grid-error estimate at
+#: a fraction of its cost")
+LOCAL_RATIO = 1.5
+
+
+def estimate_cells(grid: FrequencyGrid, problem: GridProblem, ratio: float = LOCAL_RATIO,
+                   resolution: GridResolution = GridResolution()) -> NDArray[np.bool_]:
+    """(n - 1,) True for the cells of a trapezoid grid that the local estimate refines: those wider than
+    ``ratio`` times :func:`~.adaptive_grid.required_spacing` at their midpoint, i.e. where the grid is
+    coarser than the rules of docs/adaptive_grid.md ask for (a damped mode's peak, the run's length near
+    a lightly damped one: the aliasing regime). A cell that meets the rules is taken as converged."""
+    if grid.rule != "trapezoid" or grid.f.size < 2:
+        raise ValueError("estimate_cells needs a trapezoid grid of at least 2 nodes")
+    f = np.asarray(grid.f, dtype=float)
+    return np.diff(f) > ratio * required_spacing(problem, (f[1:] + f[:-1]) / 2, resolution)
+
+
+def local_grids(grid: FrequencyGrid, cells: NDArray[np.bool_]) -> tuple[FrequencyGrid, FrequencyGrid]:
+    """The midpoints of the chosen ``cells`` (each with its cell's width) and the nodes of those cells
+    with the trapezoid weights of the chosen cells alone (half of each chosen neighbour cell): a sweep
+    on each gives the chosen cells' midpoint and trapezoid sums, M and T, and the grid refined on those
+    cells only has the variance var(grid) + (M - T) / 2 (:func:`locally_refined_variance`)."""
+    f = np.asarray(grid.f, dtype=float)
+    cells = np.asarray(cells, dtype=bool)
+    if grid.rule != "trapezoid" or cells.shape != (f.size - 1,):
+        raise ValueError("local_grids needs a trapezoid grid and one flag per cell")
+    h = np.diff(f)
+    half = np.where(cells, h / 2, 0.0)
+    w = np.zeros(f.size)
+    w[:-1] += half
+    w[1:] += half
+    nodes = w > 0
+    return (FrequencyGrid(f=(f[1:] + f[:-1])[cells] / 2, df=h[cells], speed=grid.speed, rule="midpoint"),
+            FrequencyGrid(f=f[nodes], df=w[nodes], speed=grid.speed, rule="trapezoid"))
+
+
+def locally_refined_variance(var_grid: NDArray[np.float64], var_mid: NDArray[np.float64],
+                             var_nodes: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Variance on the grid with the midpoints of some cells added, from the grid's variance and the
+    sweeps on :func:`local_grids` (any matching shapes): var_grid + (M - T) / 2, at least 0 (M and T
+    may come in a lower precision than the grid's own columns). With every cell chosen, T is the grid's
+    own sum and this is :func:`refined_variance`."""
+    a, m, t = (np.asarray(x, dtype=float) for x in (var_grid, var_mid, var_nodes))
+    if not a.shape == m.shape == t.shape:
+        raise ValueError(f"variance shapes differ: {a.shape}, {m.shape} and {t.shape}")
+    return np.maximum(a + (m - t) / 2, 0.0)
 
 
 def refined_grid(grid: FrequencyGrid) -> FrequencyGrid:

@@ -12,6 +12,11 @@ the spacing resolves the run's length near a lightly damped mode: the aliasing e
 away), the estimate lies within a factor of 2 of the true error; docs/adaptive_grid.md measures it.
 The refined result is the better one; the estimate bounds its error from above in that regime.
 
+The local estimate ("local" of :data:`GRID_ESTIMATES`) refines only the cells wider than the spacing
+the adaptive grid's rules ask for there (:func:`~.grid.estimate_cells`): a sweep on their midpoints
+(M) and one on their nodes with those cells' trapezoid weights (T) give var_refined = var_grid +
+(M - T) / 2 (:func:`~.grid.locally_refined_variance`); the other cells are taken as converged.
+
 Per channel the result states the relative error of max over time of sigma, (max sigma_grid -
 max sigma_refined) / max sigma_refined, and the largest deviation over time, max_t |e(t)| / max
 sigma_refined, with the time where it occurs.
@@ -27,7 +32,19 @@ from numpy.typing import NDArray
 
 from ..results.random_response import RandomResponse
 from ..track import quadrature_weights
-from .grid import refined_variance
+from .grid import LOCAL_RATIO, refined_variance
+
+#: the estimates (``run_pem(grid_error=...)``, the method option's one home): "midpoints", the sweep on
+#: every cell's midpoint (as many columns again); "local", only the cells coarser than the adaptive
+#: grid's rules (:func:`~.grid.estimate_cells`): their midpoints and nodes (docs/speed.md measures both)
+GRID_ESTIMATES = ("midpoints", "local")
+DEFAULT_GRID_ESTIMATE = "local"
+
+
+def local_method(chosen: int, cells: int) -> str:
+    """The ``method`` of the local estimate refining ``chosen`` of the grid's ``cells``."""
+    return (f"refined locally: the midpoints of the {chosen} of {cells} cells wider than {LOCAL_RATIO:g} x the "
+            f"adaptive grid's required spacing, the other cells taken as converged")
 
 
 @dataclass(frozen=True)

@@ -185,7 +185,8 @@ def grid_section(result: Any, tolerance: float) -> str:
            f"<p>Each speed's scenario follows the speed rule, as tb-exudyn run --speed-kmh does, from the base at "
            f"v0 = {format_number(result.base.speed_kmh)} km/h: {esc(str(result.provenance.get('speed_rule', RULE)))}"
            f"{'; spacing ' + ', '.join(sorted(spacing)) if spacing else ''}. "
-           f"The grid error of a channel is estimated from the same sweep on the cells' midpoints: a channel whose "
+           f"The grid error of a channel is estimated from the same sweep on cell midpoints (by default those of the "
+           f"cells wider than the adaptive grid's rules ask for, docs/adaptive_grid.md): a channel whose "
            f"estimate exceeds {100 * tolerance:g} % changes by more than that when the grid is refined, so its numbers "
            "above depend on the grid.</p>"]
     everywhere = [np.asarray(s.get("grid_error", np.array([math.nan])), dtype=float) for s in result.summaries]

@@ -24,8 +24,11 @@ from ...scenario import Scenario, scenario_to_toml
 from ...system.derived import derived_provenance
 from ..common import AnalysisSetup, MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from ..driver import RunPlan, drive
-from ..grid import band_mask, check_grid_against_spectra, midpoint_grid, refined_variance
-from ..grid_error import GridError, grid_error_from_sigma
+from ...errors import SettingError
+from ..grid import (band_mask, check_grid_against_spectra, estimate_cells, local_grids, locally_refined_variance,
+                    midpoint_grid, refined_variance)
+from ..adaptive_grid import scenario_grid_problem
+from ..grid_error import DEFAULT_GRID_ESTIMATE, GRID_ESTIMATES, GridError, grid_error_from_sigma, local_method
 from ..reduction import (REDUCTION_FORMAT, ReductionPlan, engine_plan, finish_pem, finish_pem_task, mean_rows,
                          model_plan, ratio_coefficients)
 from .channels import GridErrorWarning, check_psd_channels, grid_error_messages, prepare_sweep, psd_rows, psd_z_rows
@@ -41,7 +44,8 @@ class PemState:
     The set-up's part (``setup`` ... ``psd_names``) is known before the run; the mean task's result
     gives ``mean``, ``rows``, ``coef`` and the shapes of ``var`` (sigma^2 per type, (n_types, n_ch,
     n_t)), ``sums`` (the Rice rate's, the ratios' and Sperling's sums) and ``psd`` (the kept maps);
-    every column task adds to them, the grid error's midpoint tasks to ``var_mid``."""
+    every column task adds to them, the grid error's midpoint tasks to ``var_mid`` and, for the local
+    estimate (``estimate`` "local", ``cells``: chosen of all), its node tasks to ``var_nodes``."""
 
     setup: AnalysisSetup
     plan: ReductionPlan
@@ -56,6 +60,9 @@ class PemState:
     coef: Any = None
     var: np.ndarray | None = None
     var_mid: np.ndarray | None = None
+    var_nodes: np.ndarray | None = None
+    estimate: str = DEFAULT_GRID_ESTIMATE
+    cells: tuple[int, int] = (0, 0)
     sums: dict[str, np.ndarray] = field(default_factory=dict)
     psd: np.ndarray | None = None
     describe: dict[str, Any] | None = None
@@ -72,7 +79,7 @@ class PemMethod:
     options: Any = None
     keep_psd: bool = True
     psd_channels: Any = "key"
-    grid_error: bool | None = None
+    grid_error: bool | str | None = None  # or the estimate's name (GRID_ESTIMATES)
     least_count: bool = False
 
     # ------------------------------------------------------------------ in this process, before the run
@@ -85,14 +92,23 @@ class PemMethod:
         setup = analysis_setup(scenario, least_count=self.least_count)
         scenario, grid = setup.scenario, setup.grid
         check_grid_against_spectra(grid, scenario, spectra)
-        grid_error = (not cls.single_columns) if self.grid_error is None else self.grid_error  # cheap when together
-        grid_error = bool(grid_error) and grid.rule == "trapezoid" and grid.f.size > 1
+        estimate, grid_error = _estimate(self.grid_error, cls, execution.where)
+        grid_error = grid_error and grid.rule == "trapezoid" and grid.f.size > 1
+        mid_grids, cells = [], (0, 0)
+        if grid_error and estimate == "local":
+            table = setup.modes.of_kind("vehicle", "bridge")  # the modes at t = 0
+            problem = scenario_grid_problem(scenario, list(zip(table.frequency, table.damping_ratio)))
+            chosen = estimate_cells(grid, problem)
+            mid_grids, cells = list(zip(("pemm", "pemn"), local_grids(grid, chosen))), (int(chosen.sum()), chosen.size)
+        elif grid_error:
+            mid_grids = [("pemm", midpoint_grid(grid))]
         psd_spec = tuple(self.psd_channels) if isinstance(self.psd_channels, (list, tuple)) else self.psd_channels
         check_psd_channels(None, psd_spec, execution.where)  # the form, before anything is built
         identity = fingerprint_identity(
             scenario_to_toml(scenario), method="pem", engine=self.engine,
             engine_options=cls.describe_options(self.options),
             method_options={"keep_psd": self.keep_psd, "psd_channels": psd_spec, "grid_error": grid_error,
+                            **({"grid_estimate": estimate} if grid_error and estimate != "midpoints" else {}),
                             "grid": grid.f.tolist(), "reduction": REDUCTION_FORMAT},
             spectra=scenario.track.irregularities)
         plan = model_plan(setup.model)  # the workers' engines have the same outputs and derived channels
@@ -102,7 +118,7 @@ class PemMethod:
         z_kept = psd_z_rows(plan, rows_kept)
         psd_z = tuple(int(z) for z in z_kept) if self.keep_psd and z_kept is not None else None
         ptasks = pem_tasks(scenario, grid)
-        tasks = self._tasks(cls, execution, ptasks, pem_tasks(scenario, midpoint_grid(grid)) if grid_error else [],
+        tasks = self._tasks(cls, execution, ptasks, [(prefix, pem_tasks(scenario, g)) for prefix, g in mid_grids],
                             psd_z)
         sizing = PemSizing(
             n_freq=int(grid.f.size), n_types=len(spectra), keep_psd=self.keep_psd,
@@ -111,29 +127,32 @@ class PemMethod:
             output_step=scenario.analysis.output_step, limit=execution.worker_limit(), where=scenario_where(scenario),
             psd_channels=len(rows_kept), psd_task_rows=None if psd_z is None else len(psd_z))
         state = PemState(setup=setup, plan=plan, spectra=spectra, grid_error=grid_error, rows_kept=rows_kept,
-                         ptasks=len(ptasks), t0=t0, scenario=scenario)
+                         ptasks=len(ptasks), t0=t0, scenario=scenario, estimate=estimate, cells=cells)
         system = (None if cls.full_model else  # a linear engine's system, built once here for every worker
                   linear_model(setup.model, wheel_forces=False, mean=cls.linear_mean(self.options)))
         return RunPlan(files=RunFiles("pem", "checkpoint"), tasks=tasks, identity=identity, state=state,
                        worker=PemWorker(self.engine, scenario, self.options, sizing, system), desc=f"PEM ({self.engine})")
 
-    def _tasks(self, cls: Any, execution: Execution, ptasks: Sequence[PemTask], mid_tasks: Sequence[PemTask],
-               psd_z: tuple[int, ...] | None) -> list[Task]:
+    def _tasks(self, cls: Any, execution: Execution, ptasks: Sequence[PemTask],
+               mid_tasks: Sequence[tuple[str, Sequence[PemTask]]], psd_z: tuple[int, ...] | None) -> list[Task]:
         """The mean task first, then the columns: one task per column on an engine that runs them
-        separately, else slices (the package docstring); the midpoint sweep's after them."""
+        separately, else slices (the package docstring); the grid error's sweeps after them (``mid_tasks``:
+        (key prefix, columns), "pemm" the midpoints, "pemn" the local estimate's nodes)."""
         keep_psd = self.keep_psd
         tasks = [Task("pem-mean", MeanTask())]
         if cls.single_columns:
             tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_z=psd_z))
                       for p in ptasks]
-            tasks += [Task(f"pemm-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True)) for p in mid_tasks]
+            tasks += [Task(f"{prefix}-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True))
+                      for prefix, sweep in mid_tasks for p in sweep]
             return tasks
         weights = (slice_weights(cls, self.options, execution.cores, len(ptasks)) if execution.slices is None
                    else execution.slices)
         tasks += column_slices(ptasks, weights, keep_psd, psd_z=psd_z)
-        if mid_tasks:  # after the loads are level: equal slices
-            mid_weights = [1.0] * max(1, execution.cores) if execution.slices is None else execution.slices
-            tasks += column_slices(mid_tasks, mid_weights, False, "pemm", True)
+        mid_weights = [1.0] * max(1, execution.cores) if execution.slices is None else execution.slices
+        for prefix, sweep in mid_tasks:  # after the loads are level: equal slices
+            if sweep:
+                tasks += column_slices(sweep, mid_weights, False, prefix, True)
         return tasks
 
     # ------------------------------------------------------------------ in this process, task by task
@@ -145,10 +164,11 @@ class PemMethod:
                                               None if task.data.midpoints else state.rows_kept)}
         var_t = result["var_t"]
         assert state.var is not None
-        if task.data.midpoints:  # the grid error's sweep: sigma^2 only
-            if state.var_mid is None:
-                state.var_mid = np.zeros_like(state.var)
-            state.var_mid += var_t.transpose(1, 2, 0)
+        if task.data.midpoints:  # the grid error's sweeps: sigma^2 only
+            name = "var_nodes" if task.key.startswith("pemn") else "var_mid"
+            if getattr(state, name) is None:
+                setattr(state, name, np.zeros_like(state.var))
+            getattr(state, name)[...] += var_t.transpose(1, 2, 0)
             return
         for key, total in state.sums.items():
             total += result[key]
@@ -256,11 +276,17 @@ def _grid_error(state: PemState, channels: tuple[str, ...]) -> GridError | None:
     """The grid error from the midpoint sweep (None: not estimated), warned about above the tolerance."""
     if not state.grid_error:
         return None
-    assert state.var is not None and state.var_mid is not None and state.mean is not None
-    plain = np.sqrt(state.var.sum(axis=0))
-    refined = np.sqrt(refined_variance(state.var.sum(axis=0), state.var_mid.sum(axis=0)))
+    assert state.var is not None and state.mean is not None
+    var = state.var.sum(axis=0)
+    plain = np.sqrt(var)
+    if state.estimate == "local":
+        mid, nodes = (np.zeros_like(var) if v is None else v.sum(axis=0) for v in (state.var_mid, state.var_nodes))
+        refined, method = np.sqrt(locally_refined_variance(var, mid, nodes)), local_method(*state.cells)
+    else:
+        assert state.var_mid is not None
+        refined, method = np.sqrt(refined_variance(var, state.var_mid.sum(axis=0))), GridError.method
     precision = (state.describe or {}).get("grid_error_precision")
-    method = GridError.method + (f" (the midpoints in {precision})" if precision else "")
+    method += f" (the midpoints in {precision})" if precision else ""
     error = grid_error_from_sigma(state.mean["time"], channels, plain, refined, method)
     for message in grid_error_messages(error):
         warnings.warn(message, GridErrorWarning, stacklevel=6)
@@ -294,8 +320,21 @@ def _result(scenario: Scenario, state: PemState, extra: dict[str, Any], engine: 
     )
 
 
+def _estimate(value: Any, cls: Any, where: str) -> tuple[str, bool]:
+    """The grid-error estimate asked for by ``grid_error`` (None: on with the engines that integrate all
+    columns at once, where it is cheap; True: the default estimate; or an estimate's name) and whether
+    it is made. SettingError naming ``grid_error`` for anything else."""
+    if value is None:
+        return DEFAULT_GRID_ESTIMATE, not cls.single_columns
+    if isinstance(value, (bool, np.bool_)):
+        return DEFAULT_GRID_ESTIMATE, bool(value)
+    if isinstance(value, str) and value in GRID_ESTIMATES:
+        return value, True
+    raise SettingError(where, "grid_error", value, "true, false or one of " + ", ".join(f"'{e}'" for e in GRID_ESTIMATES))
+
+
 def run(scenario: Scenario, engine: str, execution: Execution, *, options: Any = None, keep_psd: bool = True,
-        psd_channels: str | Sequence[str] = "key", grid_error: bool | None = None,
+        psd_channels: str | Sequence[str] = "key", grid_error: bool | str | None = None,
         least_count: bool = False) -> RandomResponse:
     """The PEM sweep of ``scenario`` on ``engine`` (:class:`PemMethod` through the driver)."""
     return drive(PemMethod(scenario, engine, options, keep_psd, psd_channels, grid_error, least_count), execution)
