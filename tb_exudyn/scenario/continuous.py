@@ -13,6 +13,7 @@ from .schema import NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, des
 from .sections import (AddedMass, BeamSection, Pier, _Replaceable, _SpanSections, check_sections, check_tracks,
                        girder_param, girders_param, on_deck)
 from .sections import TrackLine  # noqa: F401 (the type of on_deck's tracks field, resolved in this module)
+from .girders import girder_on_piers
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -39,6 +40,7 @@ CONTINUOUS_SUPPORTS = ("pier", "rigid")
 @dataclass(frozen=True, kw_only=True)
 @described
 @on_deck
+@girder_on_piers
 class Continuous(_SpanSections):
     """One girder continuous over all its spans, on bearings at both abutments (rigid ground) and at
     every intermediate support, each a pier (``supports`` entry 'pier', the bearings on its top) or
@@ -55,12 +57,6 @@ class Continuous(_SpanSections):
             "or 'rigid' (bearings on rigid ground)")
     pier: Pier | None = param(None, doc="every pier of the supports 'pier' (needed if there is one)")
     bearings: ContinuousBearings = param(ContinuousBearings(), doc="bearings at every support line")
-    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
-    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
-                                            "the bridge)")
 
     def _validate(self, ctx: Context) -> None:
         n = len(self.spans)

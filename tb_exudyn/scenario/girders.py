@@ -9,15 +9,41 @@ from dataclasses import dataclass
 from typing import ClassVar, Literal
 
 from .code_data import CodeData, check_ballast
-from .schema import NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, described, param
+from .schema import NONNEGATIVE, POSITIVE, RATIO, STIFFNESS, Check, Context, appended_fields, described, param
 from .sections import (AddedMass, BeamSection, Pier, _Replaceable, _SpanSections, check_sections, check_tracks,
                        girder_param, girders_param, on_deck)
 from .sections import TrackLine  # noqa: F401 (the type of on_deck's tracks field, resolved in this module)
 
 
+def _damping() -> object:
+    return param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
+
+
+def _elements(default: int, where: str) -> object:
+    return param(default, doc=f"beam elements per {where}", check=Check(low=1.0, low_inclusive=True, high=1000.0))
+
+
+def _code() -> object:
+    return param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses the bridge)")
+
+
+#: the model fields of a girder bridge after its own (before the track fields of ``on_deck``): modal damping,
+#: mesh and EN 1991-2 data; ``girder_on_piers`` adds the non-structural mass and the pier mesh (frame, continuous)
+beam_fields = appended_fields(("damping_ratio", "float", _damping),
+                              ("elements_per_span", "int", lambda: _elements(16, "span")),
+                              ("code", "CodeData | None", _code))
+girder_on_piers = appended_fields(("added_mass", "AddedMass",
+                                   lambda: param(AddedMass(), doc="non-structural mass on the girder")),
+                                  ("damping_ratio", "float", _damping),
+                                  ("elements_per_span", "int", lambda: _elements(16, "span")),
+                                  ("elements_per_pier", "int", lambda: _elements(8, "pier")),
+                                  ("code", "CodeData | None", _code))
+
+
 @dataclass(frozen=True, kw_only=True)
 @described
 @on_deck
+@beam_fields
 class SimpleBeam(_SpanSections):
     """Uniform simply supported spans with ideal supports (for closed-form checks).
 
@@ -29,10 +55,6 @@ class SimpleBeam(_SpanSections):
     spans: tuple[float, ...] = param(unit="m", doc="span lengths in running order", check=POSITIVE)
     girder: BeamSection | None = girder_param()
     girders: tuple[BeamSection, ...] = girders_param()
-    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
-                                            "the bridge)")
 
     def _validate(self, ctx: Context) -> None:
         self.check_spans(ctx)
@@ -58,6 +80,7 @@ class Bearings(_Replaceable):
 @dataclass(frozen=True, kw_only=True)
 @described
 @on_deck
+@girder_on_piers
 class Frame(_SpanSections):
     """Simply supported girders on bearings, carried by piers between spans and abutments at the ends."""
 
@@ -68,12 +91,6 @@ class Frame(_SpanSections):
     girders: tuple[BeamSection, ...] = girders_param()
     pier: Pier = param(doc="every intermediate pier")
     bearings: Bearings = param(doc="bearings at every girder end")
-    added_mass: AddedMass = param(AddedMass(), doc="non-structural mass on the girder")
-    damping_ratio: float = param(0.0, unit="-", doc="modal damping ratio of every mode", check=RATIO)
-    elements_per_span: int = param(16, doc="beam elements per span", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    elements_per_pier: int = param(8, doc="beam elements per pier", check=Check(low=1.0, low_inclusive=True, high=1000.0))
-    code: CodeData | None = param(None, doc="EN 1991-2 data: construction type and ballast (none: the code check refuses "
-                                            "the bridge)")
 
     def _validate(self, ctx: Context) -> None:
         self.check_spans(ctx)
