@@ -52,6 +52,8 @@ from .mean import linear_mean
 LINEAR_MEAN_COLUMNS = 32.0
 #: where a linear engine's mean comes from
 MEANS: tuple[str, ...] = ("auto", "exudyn", "linear")
+#: how a step of harmonic columns is computed (:class:`BatchedOptions`)
+STEPS: tuple[str, ...] = ("compiled", "numpy")
 
 
 @dataclass(frozen=True)
@@ -78,17 +80,24 @@ class BatchedOptions:
         on the reference study the refined sigma within 1.1e-5 of each channel's largest sigma of
         the float64 sweep, three orders below the 1 % the estimate is read against, and the midpoint
         sweep 17 % faster: docs/speed.md) or "float64"
+    step : how a step of harmonic (PEM) columns is computed: "compiled" (default: a block of steps per
+        call of a Numba function, :mod:`.compiled`, making the numpy step's BLAS calls in its order:
+        the same numbers to round-off, docs/speed.md) or "numpy" (a Python call per product; no
+        Numba import). Monte Carlo samples and the linear mean always take the numpy step.
     """
 
     precision: str = "float64"
     mean: str = "auto"
     grid_error_precision: str = "float32"
+    step: str = "compiled"
 
     def __post_init__(self) -> None:
         if self.precision not in PRECISIONS:
             raise SettingError("BatchedOptions", "precision", self.precision, " or ".join(map(repr, PRECISIONS)))
         if self.mean not in MEANS:
             raise SettingError("BatchedOptions", "mean", self.mean, " or ".join(map(repr, MEANS)))
+        if self.step not in STEPS:
+            raise SettingError("BatchedOptions", "step", self.step, " or ".join(map(repr, STEPS)))
         if self.grid_error_precision not in PRECISIONS:
             raise SettingError("BatchedOptions", "grid_error_precision", self.grid_error_precision,
                                " or ".join(map(repr, PRECISIONS)))
@@ -124,7 +133,8 @@ class BatchedEngine(Engine):
     @classmethod
     def describe_options(cls, options: Any) -> dict[str, Any]:
         opts = _options(options)
-        return {"precision": opts.precision, "mean": opts.mean, "grid_error_precision": opts.grid_error_precision}
+        return {"precision": opts.precision, "mean": opts.mean, "grid_error_precision": opts.grid_error_precision,
+                "step": opts.step}
 
     @classmethod
     def linear_mean(cls, options: Any) -> bool:
@@ -148,6 +158,7 @@ class BatchedEngine(Engine):
             "linearization": self.lin.linearization,
             "precision": self.precision,
             "grid_error_precision": self.options.grid_error_precision,
+            "step": self.options.step,
             "generalized_alpha": {"spectral_radius": ga.rho, "alpha_m": ga.alpha_m, "alpha_f": ga.alpha_f,
                                   "gamma": ga.gamma, "beta": ga.beta, "time_step_s": ga.h, "steps": self.n_steps},
             "components": [{"coordinates": c.size, "bridge_modes": c.n_bridge, "contacts": int(c.rows.size),
@@ -158,12 +169,12 @@ class BatchedEngine(Engine):
 
     def integrate(self, source: Any, reducer: Any) -> dict[str, np.ndarray]:
         with single_threaded_blas():
-            return integrate(self, source, reducer)
+            return integrate(self, source, reducer, step=self.options.step)
 
     def integrate_estimate(self, source: Any, reducer: Any) -> dict[str, np.ndarray]:
         """:meth:`integrate` in ``options.grid_error_precision`` (columns that only feed an estimate)."""
         with single_threaded_blas():
-            return integrate(self, source, reducer, precision=self.options.grid_error_precision)
+            return integrate(self, source, reducer, precision=self.options.grid_error_precision, step=self.options.step)
 
     def mean(self) -> dict[str, np.ndarray]:
         if self._mean is not None:
@@ -189,4 +200,4 @@ def _options(options: Any) -> BatchedOptions:
     return typed_options(options, BatchedOptions)
 
 
-__all__ = ["BatchedEngine", "BatchedOptions", "CHUNK_BYTES", "MEANS", "MIN_CHUNK", "chunks", "integrate"]
+__all__ = ["BatchedEngine", "BatchedOptions", "CHUNK_BYTES", "MEANS", "STEPS", "MIN_CHUNK", "chunks", "integrate"]

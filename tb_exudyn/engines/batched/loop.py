@@ -30,7 +30,7 @@ def chunks(cols: np.ndarray, n: int, itemsize: int) -> list[np.ndarray]:
 
 
 def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = None, lin: Any = None,
-              components: Any = None) -> dict[str, np.ndarray]:
+              components: Any = None, step: str = "compiled") -> dict[str, np.ndarray]:
     """Integrate the columns of ``source`` over the crossing, handing the outputs of every output
     time to ``reducer.record(i, Y, ext)``; returns ``reducer.result()``.
 
@@ -42,7 +42,9 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     and its components (the linear mean's static linearization). The steps go in blocks (:mod:`.steps`): per block the
     components' per-step operators are prepared, then each chunk of columns (:func:`chunks`) runs
     through the block's steps; the outputs of the block's output times are buffered and handed to
-    the reducer in time order once every chunk has passed them.
+    the reducer in time order once every chunk has passed them. ``step``: "compiled" (the runs of
+    harmonic columns by :mod:`.compiled`, the others by numpy calls) or "numpy" (every run by numpy
+    calls, :meth:`.run._Run.solve` and :meth:`.run._Run.update`).
     """
     ga, cm = engine.alpha, engine.outputs
     lin = engine.lin if lin is None else lin
@@ -82,11 +84,11 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     cdtype = PRECISIONS[precision][1]
     harmonic = isinstance(source, HarmonicColumns)
 
-    def shared(block: Any) -> list[Any]:
+    def shared(block: Any) -> Any:
         """Every step's shared inputs of the block: exp(i Omega v t) of the harmonic columns (one
-        call for the block), the profiles at the axles (None where every input is zero)."""
+        call for the block: (T, m)), the profiles at the axles (None where every input is zero)."""
         if harmonic:
-            return list(shared_inputs(source, block.t, False, block.x, cp.speed, cdtype))
+            return shared_inputs(source, block.t, False, block.x, cp.speed, cdtype)
         if not isinstance(source, ProfileColumns):
             return [None] * block.size
         live = np.flatnonzero(~block.zero)
@@ -100,6 +102,12 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
 
     coef = ga.update_coefficients()
     h = ga.h
+    if step == "compiled" and harmonic and runs:
+        from .jit import blas_pointers, compiled
+
+        module, blas = compiled(), blas_pointers(np.dtype(runs[0].dtype))
+        for run in runs:
+            run.compile(module, blas, source, coef, h)
     shapes = {o.shape_key: mode_shapes(cp.bridge, o.modes) for o in operators if o.nb}
     block = step_block(cp, 0, 1, h, shapes)
     Y = pool[0]
@@ -119,6 +127,9 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
         for Yb in buffers.values():
             Yb[shared_rows] = 0.0
         for run, out in zip(runs, outs):
+            if run.kernel is not None:
+                run.run_block(block, sh, buffers, out, ga)
+                continue
             for k in range(block.size):
                 rec = k in buffers
                 run.solve(k, block, sh[k], rec)

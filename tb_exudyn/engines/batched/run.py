@@ -152,6 +152,54 @@ class _Operators:
         for i, v in enumerate(self.vehicles):
             self.row_vehicle[v.r0:v.r1] = i
         self.block: dict[str, Any] | None = None
+        self.compiled = False  # whether prepare() also packs the block for the compiled step
+        self.kblock: tuple[Any, ...] | None = None
+        self._ktables: tuple[Any, ...] | None = None
+
+    def vehicle_tables(self) -> tuple[Any, ...]:
+        """The vehicles' operators for the compiled step (:mod:`.compiled`): (vt, vo, bl, fo, vbuf),
+        vt[j] = v0, v1, r0, r1; vo[j] = the offsets of J_q, J_v, A0^-1 G^a^T, T_i and H0^-1 in vbuf;
+        bl / fo rows = vehicle, b0, b1 and the offsets of a dense block's -A0^-1 K0, -A0^-1 D0 / T_q, T_v."""
+        parts: list[np.ndarray] = []
+        size = 0
+
+        def put(X: np.ndarray) -> int:
+            nonlocal size
+            parts.append(np.ascontiguousarray(X, dtype=self.dtype).reshape(-1))
+            size += X.size
+            return size - X.size
+
+        vt = [[v.v0, v.v1, v.r0, v.r1] for v in self.vehicles]
+        vo = [[put(v.Jq), put(v.Jv), put(v.Gi), put(v.Ti), put(v.H0inv)] for v in self.vehicles]
+        bl = [[j, b0, b1, put(mPk), put(mPd)] for j, v in enumerate(self.vehicles) for b0, b1, mPk, mPd in v.blocks]
+        fo = [[j, b0, b1, put(Tq), put(Tv)] for j, v in enumerate(self.vehicles) for b0, b1, Tq, Tv in v.folded]
+
+        def table(rows: list[list[int]], width: int) -> IntArray:
+            return np.array(rows, dtype=np.int64).reshape(len(rows), width)
+
+        vbuf = np.concatenate(parts) if parts else np.zeros(1, dtype=self.dtype)
+        return table(vt, 4), table(vo, 5), table(bl, 5), table(fo, 5), vbuf
+
+    def _pack(self, block: StepBlock) -> None:
+        """The block's per-step operators for the compiled step: st[k] = has, i, r0, r1, R0, R1, j0, j1,
+        L_q, L_v, S^a / diag(A0) (k, rows, n_b), the inverses one after another (hbuf, offsets hoff)."""
+        T = block.size
+        st = np.zeros((T, 8), dtype=np.int64)
+        hoff = np.zeros(T, dtype=np.int64)
+        blk = self.block
+        empty = np.zeros((1, 1, max(self.nb, 1)), dtype=self.dtype)
+        if blk is None:
+            self.kblock = (st, empty, empty, empty, np.zeros(1, dtype=self.dtype), hoff, 0)
+            return
+        parts, size = [], 0
+        for k, step in enumerate(blk["per_step"]):
+            if step is not None:
+                i, r0, r1, R0, R1, _, vs, Hinv = step
+                st[k] = (1, i, r0, r1, R0, R1, vs.start, vs.stop)
+                hoff[k] = size
+                parts.append(Hinv.reshape(-1))
+                size += Hinv.size
+        self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], np.concatenate(parts), hoff, int(blk["a0"]))
 
     def prepare(self, block: StepBlock) -> None:
         """The bridge parts of the operators at every step of ``block`` with an axle of this
@@ -162,6 +210,8 @@ class _Operators:
         some step of the block are evaluated."""
         nb = self.nb
         self.block = None
+        if self.compiled:
+            self._pack(block)
         rails = block.rails.get(self.shape_key) if nb else None
         if rails is None:
             return
@@ -193,6 +243,8 @@ class _Operators:
         dt = self.dtype
         self.block = {"per_step": per_step, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
                       "SaS": in_precision(SaS, dt), "Cb": Cb}
+        if self.compiled:
+            self._pack(block)
 
 
 class _Run:
@@ -220,6 +272,7 @@ class _Run:
         self.F = np.zeros((rows.size, 2 * m), dtype=dt)
         self.qdd0 = np.zeros((n, 2 * m))
         self.bridge_moving = False
+        self.kernel: Any = None  # the compiled step, when compile() applies
         # the vehicles' products, prepared on this run's arrays
         self.calls_rhs, self.calls_on, self.calls_off, self.calls_forces = zip(
             *(v.calls(self.QP, self.VP, self.DL, self.G, self.F) for v in ops.vehicles)) if ops.vehicles else ((),) * 4
@@ -332,6 +385,53 @@ class _Run:
                     run_calls(self.calls_forces[j])
         if self.force_delta is not None:
             DL += self.force_delta
+
+    def compile(self, module: Any, blas: IntArray, source: Any, coef: tuple[float, ...], h: float) -> bool:
+        """Use the compiled step (:mod:`.compiled`, ``module``; ``blas``: :func:`.jit.blas_pointers`)
+        for this run: harmonic (PEM) columns without a constant force. Returns whether it applies."""
+        if self.force_delta is not None or not hasattr(self.input, "Qss"):
+            return False
+        self.kernel = module.run_steps
+        self.ops.compiled = True
+        if self.ops._ktables is None:
+            self.ops._ktables = self.ops.vehicle_tables()
+        self._kconst = (blas, np.zeros(8, dtype=np.int32), np.zeros(4, dtype=self.dtype),
+                        np.frombuffer(b"NT", dtype=np.uint8).copy())
+        self._kstate = (self.QP, self.VP, self.AP, self.DL, self.Gc, self.G, self.F, self.R)
+        self._kcoef = np.array([*coef, h], dtype=np.float64)
+        self._kpk = np.ascontiguousarray(self.ops.pk_c.reshape(-1))
+        self._kpd = np.ascontiguousarray(self.ops.pd_c.reshape(-1))
+        self._kcols = np.ascontiguousarray(self.cols, dtype=np.int64)
+        return True
+
+    def run_block(self, block: StepBlock, z: ComplexArray, buffers: dict[int, Any], out: Any, ga: GeneralizedAlpha) -> None:
+        """Every step of ``block`` by the compiled step (after :meth:`compile`); the outputs of the
+        block's output steps (``buffers``: step -> channel buffer) written by ``out``."""
+        T = block.size
+        n_active, moving, rows_end = (np.zeros(T, dtype=np.int64), np.zeros(T, dtype=np.bool_),
+                                      np.zeros(T, dtype=np.int64))
+        per_step = None if self.ops.block is None else self.ops.block["per_step"]
+        for k in range(T):  # the same order of activation as solve()
+            self._activate(k, block)
+            self.bridge_moving |= per_step is not None and per_step[k] is not None
+            n_active[k], moving[k], rows_end[k] = self.n_active, self.bridge_moving, self.rows_end
+        rec = np.zeros(T, dtype=np.bool_)
+        rec[list(buffers)] = True
+        inp = self.input
+        inputs = (inp.Qss, inp.Qd, z, self._kcols, np.ascontiguousarray(block.w), np.ascontiguousarray(block.dw),
+                  block.steady, block.zero, np.ascontiguousarray(self.axle))
+        st, Lq, Lv, SaS, hbuf, hoff, a0 = self.ops.kblock
+        bridge = (self._kpk, self._kpd, st, Lq, Lv, SaS, hbuf, hoff, a0)
+        schedule = (n_active, moving, rows_end)
+        blas, ib, sb, ch = self._kconst
+        k, pending = 0, False
+        while True:
+            k = self.kernel(k, T, pending, rec, blas, ib, sb, ch, self._kstate, inputs, bridge, schedule,
+                            self.ops._ktables, self._kcoef)
+            if k >= T:
+                return
+            out.write(self, buffers[k], ga, False)
+            k, pending = k + 1, True
 
     def update(self, coef: tuple[float, ...], h: float) -> None:
         """Corrector of this step fused with the predictor of the next, in place (only the rows

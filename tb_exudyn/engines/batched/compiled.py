@@ -1,0 +1,257 @@
+"""The compiled step of the batched engine (Numba): a run's steps of a block in one call.
+
+The same step as :meth:`.run._Run.solve` and :meth:`.run._Run.update` for harmonic (PEM) columns: the
+inputs f_in, the bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles'
+products on and off the bridge (their forces at output steps) and the generalized-alpha update, but
+without a Python call per product: every product is the same BLAS call (gemm, axpy, scal of scipy's
+BLAS through their addresses, :func:`.jit.blas_pointers`) on the same arrays in the same order, so
+the state it leaves is the numpy step's to round-off (the inputs' complex products are formed in
+compiled code; tests/engines/test_compiled_step.py). A call runs the steps k0 .. k1 - 1 of the block
+and returns at the first output step (before its update, so that the outputs see that step's Delta),
+or k1.
+
+Arrays are C-contiguous; a matrix's place is an offset into a flat array and its leading dimension
+(the operator tables of :class:`.run._Operators`). Import through :func:`.jit.compiled` (Numba's cache
+directory is set there).
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
+
+from . import jit
+
+#: cache on disk only in the directory jit.compiled() points Numba at (never next to this file)
+CACHE = jit.CACHE and bool(numba.config.CACHE_DIR)
+
+
+@intrinsic
+def _call13(typingctx, fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13):  # noqa: ANN001, ANN202
+    """Call the C function at address ``fn`` with 13 pointer arguments given as integers (Fortran
+    BLAS gemm takes every argument by reference)."""
+    sig = types.void(fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13)
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        i8p = ir.IntType(8).as_pointer()
+        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 13).as_pointer())
+        builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _call6(typingctx, fn, a1, a2, a3, a4, a5, a6):  # noqa: ANN001, ANN202
+    """Call the C function at address ``fn`` with 6 pointer arguments (BLAS axpy)."""
+    sig = types.void(fn, a1, a2, a3, a4, a5, a6)
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        i8p = ir.IntType(8).as_pointer()
+        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 6).as_pointer())
+        builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _call4(typingctx, fn, a1, a2, a3, a4):  # noqa: ANN001, ANN202
+    """Call the C function at address ``fn`` with 4 pointer arguments (BLAS scal)."""
+    sig = types.void(fn, a1, a2, a3, a4)
+
+    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
+        i8p = ir.IntType(8).as_pointer()
+        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 4).as_pointer())
+        builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(cache=CACHE)
+def _addr(a, offset):  # noqa: ANN001, ANN202
+    """The address of element ``offset`` of the flat array ``a``."""
+    return np.int64(a.ctypes.data) + offset * a.itemsize
+
+
+@njit(cache=CACHE)
+def _mm(blas, ib, sb, ch, c, ci, a, ai, lda, b, bi, r, k, w, alpha, beta, ta):  # noqa: ANN001, ANN202
+    """out (r x w) = alpha op(A) @ B + beta out for row-major (C) arrays: ``out`` starts at flat
+    element ``ci`` of ``c``, B (k x w) at ``bi`` of ``b`` (both of leading dimension w), A at ``ai``
+    of ``a`` with leading dimension ``lda`` (r x k, or k x r when ``ta``). As column-major BLAS:
+    out^T = B^T op(A)^T (gemm('N', ta ? 'T' : 'N', w, r, k, alpha, B, w, A, lda, beta, out, w)),
+    the call :func:`.kernels.gemm_call` prepares."""
+    if r == 0 or w == 0:
+        return
+    if k == 0:
+        if beta == 0.0:
+            c.reshape(-1)[ci:ci + r * w] = 0.0
+        return
+    ib[0] = w
+    ib[1] = r
+    ib[2] = k
+    ib[3] = w
+    ib[4] = lda
+    ib[5] = w
+    sb[0] = alpha
+    sb[1] = beta
+    p = np.int64(ib.ctypes.data)
+    s = np.int64(sb.ctypes.data)
+    n = np.int64(ch.ctypes.data)
+    _call13(blas[0], n, n + 1 if ta else n, p, p + 4, p + 8, s, _addr(b.reshape(-1), bi), p + 12,
+            _addr(a, ai), p + 16, s + sb.itemsize, _addr(c.reshape(-1), ci), p + 20)
+
+
+@njit(cache=CACHE)
+def _axpy(blas, ib, sb, n, alpha, x, y):  # noqa: ANN001, ANN202
+    """y += alpha x over n elements from the addresses x, y (BLAS axpy)."""
+    ib[6] = n
+    ib[7] = 1
+    sb[2] = alpha
+    p = np.int64(ib.ctypes.data)
+    _call6(blas[1], p + 24, np.int64(sb.ctypes.data) + 2 * sb.itemsize, x, p + 28, y, p + 28)
+
+
+@njit(cache=CACHE)
+def _scal(blas, ib, sb, n, alpha, x):  # noqa: ANN001, ANN202
+    """x *= alpha over n elements from the address x (BLAS scal)."""
+    ib[6] = n
+    ib[7] = 1
+    sb[3] = alpha
+    p = np.int64(ib.ctypes.data)
+    _call4(blas[2], p + 24, np.int64(sb.ctypes.data) + 3 * sb.itemsize, x, p + 28)
+
+
+@njit(cache=CACHE)
+def _update(blas, ib, sb, QP, VP, AP, DL, r0, r1, coef):  # noqa: ANN001, ANN202
+    """Corrector of a step fused with the predictor of the next on the rows [r0, r1) (the seven
+    BLAS calls of :func:`.kernels.advance`, in its order)."""
+    if r1 <= r0:
+        return
+    w = QP.shape[1]
+    n = (r1 - r0) * w
+    q, v = _addr(QP.reshape(-1), r0 * w), _addr(VP.reshape(-1), r0 * w)
+    a, d = _addr(AP.reshape(-1), r0 * w), _addr(DL.reshape(-1), r0 * w)
+    nu_a, nu_d, rho_a, rho_d, mu_a, mu_d, h = coef[0], coef[1], coef[2], coef[3], coef[4], coef[5], coef[6]
+    _axpy(blas, ib, sb, n, h, v, q)
+    _axpy(blas, ib, sb, n, nu_a, a, q)
+    _axpy(blas, ib, sb, n, nu_d, d, q)
+    _axpy(blas, ib, sb, n, rho_a, a, v)
+    _axpy(blas, ib, sb, n, rho_d, d, v)
+    _scal(blas, ib, sb, n, mu_a, a)
+    _axpy(blas, ib, sb, n, mu_d, d, a)
+
+
+@njit(cache=CACHE)
+def _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle):  # noqa: ANN001, ANN202
+    """f_in of the harmonic columns at step k (:class:`.inputs._HarmonicInputs`):
+    (Qss z) w + w' (Qd z) at each row's axle."""
+    nr, m = Gc.shape
+    if zero[k]:
+        Gc[:, :] = 0.0
+        return
+    for r in range(nr):
+        for j in range(m):
+            Gc[r, j] = Qss[r, j] * z[k, cols[j]]
+    if steady[k]:
+        return
+    for r in range(nr):
+        wr = w[k, axle[r]]
+        d = dw[k, axle[r]]
+        for j in range(m):
+            x = Gc[r, j] * wr
+            if d != 0.0:
+                x += d * (Qd[r, j] * z[k, cols[j]])
+            Gc[r, j] = x
+
+
+@njit(cache=CACHE)
+def _on_bridge(k, blas, ib, sb, ch, QP, VP, DL, G, F, st, Lq, Lv, SaS, hbuf, hoff, a0, vt, vo, bl, vbuf):  # noqa: ANN001, ANN202
+    """The Woodbury step of the vehicles with an axle on the bridge (:meth:`.run._Run.solve`)."""
+    w = QP.shape[1]
+    nb = Lq.shape[2]
+    nrow = Lq.shape[1]
+    i, r0, r1, R0, R1, j0, j1 = st[k, 1], st[k, 2], st[k, 3], st[k, 4], st[k, 5], st[k, 6], st[k, 7]
+    for j in range(j0, j1):  # g += J_q q~ + J_v v~ of the vehicles
+        v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
+    at = (i * nrow + r0 - a0) * nb
+    _mm(blas, ib, sb, ch, G, r0 * w, Lq.reshape(-1), at, nb, QP, 0, r1 - r0, nb, w, 1.0, 1.0, False)
+    _mm(blas, ib, sb, ch, G, r0 * w, Lv.reshape(-1), at, nb, VP, 0, r1 - r0, nb, w, 1.0, 1.0, False)
+    F[R0:R1, :] = 0.0  # then beta = 1, as the numpy step
+    _mm(blas, ib, sb, ch, F, R0 * w, hbuf, hoff[k], R1 - R0, G, R0 * w, R1 - R0, R1 - R0, w, 1.0, 1.0, False)
+    _mm(blas, ib, sb, ch, DL, 0, SaS.reshape(-1), at, nb, F, r0 * w, nb, r1 - r0, w, -1.0, 1.0, True)
+    for j in range(j0, j1):  # Delta = Y0 + A0^-1 G^a^T f of the vehicles
+        for e in range(bl.shape[0]):
+            if bl[e, 0] == j:
+                b0, b1 = bl[e, 1], bl[e, 2]
+                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, False)
+                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, False)
+        v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
+        _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 2], s1 - s0, F, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, False)
+
+
+@njit(cache=CACHE)
+def _off_bridge(j, record, blas, ib, sb, ch, QP, VP, DL, G, F, vt, vo, fo, vbuf):  # noqa: ANN001, ANN202
+    """The folded step of vehicle j off the bridge, and its contact forces when recording."""
+    w = QP.shape[1]
+    v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
+    for e in range(fo.shape[0]):
+        if fo[e, 0] == j:
+            b0, b1 = fo[e, 1], fo[e, 2]
+            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, False)
+            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, False)
+    _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 3], s1 - s0, G, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, False)
+    if record:
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
+        _mm(blas, ib, sb, ch, F, s0 * w, vbuf, vo[j, 4], s1 - s0, G, s0 * w, s1 - s0, s1 - s0, w, 1.0, 0.0, False)
+
+
+@njit(cache=CACHE)
+def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, bridge, schedule, vehicles, coef):  # noqa: ANN001, ANN201
+    """Steps k0 .. k1 - 1 of a block for one run; returns the first output step (after its solve,
+    before its update) or k1. ``update_first``: the update of step k0 - 1 is still to do.
+
+    state = (QP, VP, AP, DL, Gc, G, F, R): the run's arrays (G, the real view of Gc, the contact
+    right-hand sides; R, f_in at output steps); inputs = (Qss, Qd, z, cols, w, dw, steady, zero,
+    axle); bridge = (pk, pd, st, Lq, Lv, SaS, hbuf, hoff, a0): the bridge's diagonal terms and the
+    block's per-step operators (st[k] = has, i, r0, r1, R0, R1, j0, j1); schedule = (n_active,
+    moving, rows_end) per step; vehicles = (vt, vo, bl, fo, vbuf); coef = the update's six
+    coefficients and h."""
+    QP, VP, AP, DL, Gc, G, F, R = state
+    Qss, Qd, z, cols, w, dw, steady, zero, axle = inputs
+    pk, pd, st, Lq, Lv, SaS, hbuf, hoff, a0 = bridge
+    n_active, moving, rows_end = schedule
+    vt, vo, bl, fo, vbuf = vehicles
+    nb = pk.shape[0]
+    if update_first:
+        _update(blas, ib, sb, QP, VP, AP, DL, 0 if moving[k0 - 1] else nb, rows_end[k0 - 1], coef)
+    for k in range(k0, k1):
+        _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle)
+        if rec[k]:
+            R[:, :] = Gc
+        if nb and moving[k]:
+            for r in range(nb):
+                for c in range(QP.shape[1]):
+                    DL[r, c] = QP[r, c] * (-pk[r])
+                    DL[r, c] -= VP[r, c] * pd[r]
+        j0, j1 = 0, 0
+        if st[k, 0]:
+            j0, j1 = st[k, 6], st[k, 7]
+            _on_bridge(k, blas, ib, sb, ch, QP, VP, DL, G, F, st, Lq, Lv, SaS, hbuf, hoff, a0, vt, vo, bl, vbuf)
+        for j in range(n_active[k]):
+            if j < j0 or j >= j1:
+                _off_bridge(j, rec[k], blas, ib, sb, ch, QP, VP, DL, G, F, vt, vo, fo, vbuf)
+        if rec[k]:
+            return k
+        _update(blas, ib, sb, QP, VP, AP, DL, 0 if moving[k] else nb, rows_end[k], coef)
+    return k1
+
+
+__all__ = ["run_steps"]

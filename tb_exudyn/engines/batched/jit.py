@@ -1,0 +1,89 @@
+"""Where the compiled step comes from: Numba, imported on first use, its code cached per user.
+
+The compiled step (:mod:`.compiled`) is imported only by a process that integrates with it, so that
+importing the package (and every command that does not integrate) does not pay Numba's import
+(about 0.25 s here). Its functions are cached in the user's cache directory (:func:`cache_dir`): a
+process compiles them once per installed version (about 10 s here, counted in
+``benchmarks/bench_speed.py``) and every later process, e.g. each worker of a run, loads them from
+there. Nothing is written into the installed package or an output folder: where the cache directory
+cannot be written, the functions are compiled in memory in every process (with a warning).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+from pathlib import Path
+from types import ModuleType
+
+from numpy.typing import NDArray
+import numpy as np
+
+_MODULE: ModuleType | None = None
+#: whether the compiled functions are cached on disk (set when :mod:`.compiled` is imported)
+CACHE = True
+
+
+def cache_dir() -> Path:
+    """The directory of tb_exudyn's compiled code: ``$NUMBA_CACHE_DIR`` if the user set one, else the
+    platform's user cache directory (``$XDG_CACHE_HOME`` or ``~/.cache`` on Linux,
+    ``~/Library/Caches`` on macOS, ``%LOCALAPPDATA%`` on Windows) + ``tb_exudyn/numba``."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"])
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "tb_exudyn" / "numba"
+
+
+def _writable(path: Path) -> bool:
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = path / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+        return True
+    except OSError:
+        return False
+
+
+def compiled() -> ModuleType:
+    """The compiled step's module (:mod:`.compiled`), imported on the first call with Numba's cache
+    pointed at :func:`cache_dir` for its functions only (``numba.config.CACHE_DIR`` is restored after
+    they are declared: other Numba code in the process keeps its own cache location)."""
+    global _MODULE, CACHE
+    if _MODULE is None:
+        import numba
+
+        path = cache_dir()
+        CACHE = _writable(path)
+        if not CACHE:
+            warnings.warn(f"the compiled step's cache directory {path} cannot be written: its functions are "
+                          "compiled in every process (about 10 s each); set NUMBA_CACHE_DIR to a writable folder",
+                          RuntimeWarning, stacklevel=2)
+        before = numba.config.CACHE_DIR
+        numba.config.CACHE_DIR = str(path)
+        try:
+            from . import compiled as module
+        finally:
+            numba.config.CACHE_DIR = before
+        _MODULE = module
+    return _MODULE
+
+
+def blas_pointers(dtype: np.dtype) -> NDArray[np.int64]:
+    """The addresses of the BLAS gemm, axpy and scal of ``dtype`` (float64: d, float32: s) in scipy's
+    BLAS (``scipy.linalg.cython_blas``: the library behind ``scipy.linalg.blas``, so the compiled
+    step makes the numpy step's very calls)."""
+    from numba.extending import get_cython_function_address
+
+    p = "d" if np.dtype(dtype) == np.float64 else "s"
+    return np.array([get_cython_function_address("scipy.linalg.cython_blas", p + name)
+                     for name in ("gemm", "axpy", "scal")], dtype=np.int64)
+
+
+__all__ = ["CACHE", "blas_pointers", "cache_dir", "compiled"]
