@@ -19,9 +19,12 @@ so both see the same load. Printed:
 2. the integration's floating-point rate: the flops of every BLAS product of the batched engine's
    step (counted by wrapping the gemm kernels in a separate run; the per-block set-up and the output
    products are not counted) over the time of one integration of all 600 columns in one process
-   (no reducer), against a plain gemm of the same shapes (each distinct shape timed on its own with
-   the engine's own call, weighted by its flops): the fraction of the machine's limit;
-3. the dense engine (naive baseline, :mod:`tb_exudyn.engines.dense`) and the Exudyn engine
+   (no reducer), with the numpy step and the compiled one, against a plain gemm of the same shapes
+   (each distinct shape timed on its own with the engine's own call, weighted by its flops): the
+   fraction of the machine's limit;
+3. the compile time of the compiled step: a small run in a fresh process with an empty cache
+   of compiled code, then with it warm (the difference: what the first run after an install pays);
+4. the dense engine (naive baseline, :mod:`tb_exudyn.engines.dense`) and the Exudyn engine
    extrapolated from reduced grids (2 and 6 frequencies: time = a + b x columns, fitted) to the
    full study, in one process.
 
@@ -122,7 +125,8 @@ def _all_columns(sc):  # noqa: ANN001, ANN202
 
 
 def child_flops(precision: str) -> dict:
-    """Flops of the batched step (counted), the time of one integration of all columns, and the time
+    """Flops of the batched step (counted on the numpy step, whose gemm calls the compiled step makes
+    in the same order), the time of one integration of all columns with each step, and the time
     plain gemms of the same shapes take (the machine's limit for this work)."""
     import numpy as np
 
@@ -130,7 +134,9 @@ def child_flops(precision: str) -> dict:
     from tb_exudyn.engines.batched import BatchedEngine, BatchedOptions, kernels
 
     sc = tbx.load_scenario("li_zhu_2011")
-    engine = BatchedEngine(sc, BatchedOptions(precision=precision))
+    steps = ("numpy", "compiled") if "step" in BatchedOptions.__dataclass_fields__ else (None,)
+    engines = {s: BatchedEngine(sc, BatchedOptions(precision=precision, **({"step": s} if s else {}))) for s in steps}
+    engine = engines[steps[0]]
     cols = _all_columns(sc)
     shapes: dict[tuple, int] = {}
     originals = dict(kernels._GEMM)
@@ -148,12 +154,16 @@ def child_flops(precision: str) -> dict:
     finally:
         kernels._GEMM.update(originals)
     flops = sum(2 * m * n * k * count for (m, n, k, _, _), count in shapes.items())
-    times = []
-    for _ in range(2):
-        t0 = time.process_time()
-        engine.integrate(cols, _Null())
-        times.append(time.process_time() - t0)
-    t_int = min(times)
+    t_steps = {}
+    for s, eng in engines.items():
+        eng.integrate(cols, _Null()) if s == "compiled" else None  # loads (or compiles) the compiled code
+        times = []
+        for _ in range(2):
+            t0 = time.process_time()
+            eng.integrate(cols, _Null())
+            times.append(time.process_time() - t0)
+        t_steps[str(s)] = min(times)
+    t_int = t_steps[str(steps[-1])]
     # plain gemm of the same shapes: each shape on its own, the engine's own positional call
     rng = np.random.default_rng(0)
     t_gemm = 0.0
@@ -172,7 +182,24 @@ def child_flops(precision: str) -> dict:
             best = min(best, (time.perf_counter() - t0) / reps)
         t_gemm += best * count
     return {"flops": flops, "integration_s": t_int, "gemm_s": t_gemm, "calls": sum(shapes.values()),
-            "shapes": len(shapes), "load": os.getloadavg()[0]}
+            "shapes": len(shapes), "load": os.getloadavg()[0], "by_step": t_steps}
+
+
+def child_compile(cache: str) -> dict:
+    """Wall time of a small PEM run (quick, 2 frequencies, no grid error) in this fresh process with
+    the compiled code's cache at ``cache``: with an empty cache it includes compiling (float64 and
+    float32), with a warm one loading it."""
+    os.environ["NUMBA_CACHE_DIR"] = cache
+    import tb_exudyn as tbx
+    from tb_exudyn.engines.batched import BatchedOptions
+    from tb_exudyn.methods import run_pem
+
+    sc = tbx.load_scenario("quick")
+    sc = sc.replace(analysis=sc.analysis.replace(n_freq=2, freq_spacing="linear"))
+    t0 = time.perf_counter()
+    for precision in ("float64", "float32"):
+        run_pem(sc, workers=1, progress=False, grid_error=False, options=BatchedOptions(precision=precision))
+    return {"wall": time.perf_counter() - t0}
 
 
 def child_reduced(engine_name: str) -> dict:
@@ -222,7 +249,7 @@ def main() -> None:
     warnings.simplefilter("ignore")
     if a.child:
         fn = {"full": lambda: child_full(int(a.args[0]), *a.args[1:]), "flops": lambda: child_flops(a.args[0]),
-              "reduced": lambda: child_reduced(a.args[0])}[a.child]
+              "reduced": lambda: child_reduced(a.args[0]), "compile": lambda: child_compile(a.args[0])}[a.child]
         print(json.dumps(fn()))
         return
 
@@ -247,13 +274,23 @@ def main() -> None:
         b, t = runs["base"], runs["this"]
         print(f"  ratio base / this: wall {_med(b, 'wall') / _med(t, 'wall'):.2f} (median), "
               f"{min(r['wall'] for r in b) / min(r['wall'] for r in t):.2f} (min); CPU {_med(b, 'cpu') / _med(t, 'cpu'):.2f}")
-    # 2. flop rate
+    # 2. compile time of the compiled step (an empty cache, then the same cache warm, then again)
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as cache:
+        cold, warm, warm2 = (run_child(THIS, "compile", cache)["wall"] for _ in range(3))
+    print(f"compiled step: a small PEM run (float64 and float32) in a fresh process {cold:.1f} s with an empty "
+          f"cache, {min(warm, warm2):.1f} s with the cache warm: compiling costs about {cold - min(warm, warm2):.1f} s, "
+          "once per install (the cache is the user's, jit.cache_dir)")
+    # 3. flop rate
     f = run_child(THIS, "flops", a.precision)
     print(f"integration ({a.precision}, all 600 columns in one process, no reducer): {f['flops'] / 1e9:.1f} GFlop in "
           f"{f['calls']} gemm calls of {f['shapes']} shapes; {f['integration_s']:.2f} s CPU = "
           f"{f['flops'] / f['integration_s'] / 1e9:.1f} GFlop/s; plain gemm of the same shapes {f['gemm_s']:.2f} s = "
           f"{f['flops'] / f['gemm_s'] / 1e9:.1f} GFlop/s; fraction {f['gemm_s'] / f['integration_s']:.0%} (load {f['load']:.2f})")
-    # 3. dense and Exudyn, extrapolated
+    for step, t in f.get("by_step", {}).items():
+        print(f"  step {step}: {t:.2f} s CPU = {f['flops'] / t / 1e9:.1f} GFlop/s, {f['gemm_s'] / t:.0%} of plain gemm")
+    # 4. dense and Exudyn, extrapolated
     t_this = _med(runs["this"], "wall")
     for eng, skip in (("dense", a.skip_dense), ("exudyn", a.skip_exudyn)):
         if skip:

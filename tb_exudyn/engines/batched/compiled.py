@@ -23,10 +23,9 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-from . import jit
-
-#: cache on disk only in the directory jit.compiled() points Numba at (never next to this file)
-CACHE = jit.CACHE and bool(numba.config.CACHE_DIR)
+#: cache on disk only in the directory jit.compiled() points Numba at (never next to this file: with
+#: no directory set, or one that cannot be written, the functions are compiled in memory)
+CACHE = bool(numba.config.CACHE_DIR)
 
 
 @intrinsic
@@ -254,4 +253,55 @@ def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, bridge
     return k1
 
 
-__all__ = ["run_steps"]
+
+
+
+@njit(cache=CACHE)
+def _state_value(o, QP, VP, DL, gp, bp, r, j):  # noqa: ANN001, ANN202
+    """(q, v, qdd)[o] = (q~ + Delta, v~ + gamma' Delta, beta' Delta) at row r, column j, in the state's
+    precision (``gp``, ``bp``: (1,) arrays of the state's dtype)."""
+    if o == 0:
+        return QP[r, j] + DL[r, j]
+    if o == 1:
+        return DL[r, j] * gp[0] + VP[r, j]
+    return DL[r, j] * bp[0]
+
+
+@njit(cache=CACHE)
+def write_outputs(blas64, ib, sb64, ch, QP, VP, DL, F, R, gp, bp, Yf, c0, nodes, btab, brows, bbuf,
+                  crows, cloc, shared, has_shared, xb, tb):  # noqa: ANN001, ANN201
+    """A run's part of the outputs at an output step (:meth:`.outputs._Outputs.write` for a run whose
+    columns are contiguous, from column c0 of Y's float view ``Yf``): node channels written
+    (nodes[i] = order, Y row, local row), bridge channels added (per order o: btab[o] = offset of
+    its station shapes in bbuf, their number, offset of their Y rows in brows; the product by gemm
+    on the float64 rows of the modes, xb), contact forces added (minus the shared input's repeats)."""
+    w = QP.shape[1]
+    nb = xb.shape[0]
+    for i in range(nodes.shape[0]):
+        o, row, r = nodes[i, 0], nodes[i, 1], nodes[i, 2]
+        for j in range(w):
+            Yf[row, c0 + j] = _state_value(o, QP, VP, DL, gp, bp, r, j)
+    for o in range(3):
+        n = btab[o, 1]
+        if n == 0:
+            continue
+        for r in range(nb):
+            for j in range(w):
+                xb[r, j] = _state_value(o, QP, VP, DL, gp, bp, r, j)
+        _mm(blas64, ib, sb64, ch, tb, 0, bbuf, btab[o, 0], nb, xb, 0, n, nb, w, 1.0, 0.0, False)
+        for i in range(n):
+            row = brows[btab[o, 2] + i]
+            for j in range(w):
+                Yf[row, c0 + j] += tb[i, j]
+    m = w // 2
+    for i in range(crows.shape[0]):
+        row, r = crows[i], cloc[i]
+        for j in range(m):
+            re, im = np.float64(F[r, 2 * j]), np.float64(F[r, 2 * j + 1])
+            if has_shared:
+                re -= shared[i, j] * np.float64(R[r, j].real)
+                im -= shared[i, j] * np.float64(R[r, j].imag)
+            Yf[row, c0 + 2 * j] += re
+            Yf[row, c0 + 2 * j + 1] += im
+
+__all__ = ["run_steps", "write_outputs"]

@@ -66,7 +66,7 @@ def compiled() -> ModuleType:
                           "compiled in every process (about 10 s each); set NUMBA_CACHE_DIR to a writable folder",
                           RuntimeWarning, stacklevel=2)
         before = numba.config.CACHE_DIR
-        numba.config.CACHE_DIR = str(path)
+        numba.config.CACHE_DIR = str(path) if CACHE else ""  # read by .compiled when it is imported
         try:
             from . import compiled as module
         finally:

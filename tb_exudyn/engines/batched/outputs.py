@@ -53,6 +53,47 @@ class _Outputs:
         self.shared = (n - 1.0) / np.maximum(n, 1.0) if np.any(n > 1) else None
         self.x = np.zeros((3, *run.QP.shape), dtype=run.QP.dtype)  # (q, v, qdd) of the component
         self.same = run.QP.dtype == np.float64  # node channels gathered straight into Y
+        self._kargs: tuple[tuple, tuple] | None = None  # write_compiled's tables, built on first use
+
+    def write_compiled(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha) -> None:
+        """:meth:`write` (not the first output) by the compiled step's :func:`.compiled.write_outputs`, for
+        a run whose columns are contiguous (else :meth:`write`): no (q, v, qdd) copies of the state, only
+        the rows the channels read."""
+        if not isinstance(run.sel, slice):
+            self.write(run, Y, ga, False)
+            return
+        if self._kargs is None:
+            self._kargs = self._compiled_tables(run, ga)
+        head, tail = self._kargs
+        run.kwrite(*head, run.QP, run.VP, run.DL, run.F, run.R, *tail[:2], Y.view(np.float64), 2 * run.sel.start,
+                   *tail[2:])
+
+    def _compiled_tables(self, run: Any, ga: GeneralizedAlpha) -> tuple[tuple, tuple]:
+        """The arguments of :func:`.compiled.write_outputs` that stay: the BLAS scratch of float64 and
+        the channels' tables (module docstring of :mod:`.compiled`)."""
+        from .jit import blas_pointers
+
+        dt = run.QP.dtype
+        nodes = [(o, s + i, int(r)) for o, (s, e, loc, _, _) in enumerate(self.orders) if e > s for i, r in enumerate(loc)]
+        btab = np.zeros((3, 3), dtype=np.int64)
+        parts, rows, size, nrow = [], [], 0, 0
+        for o, (_, _, _, brows, shapes) in enumerate(self.orders):
+            btab[o] = (size, brows.size, nrow)
+            if brows.size:
+                parts.append(np.ascontiguousarray(shapes, dtype=np.float64).reshape(-1))
+                rows.append(brows)
+                size, nrow = size + shapes.size, nrow + brows.size
+        nb, w = max(run.nb, 1), run.QP.shape[1]
+        crows, cloc = self.contact
+        head = (blas_pointers(np.float64), np.zeros(8, dtype=np.int32), np.zeros(4), np.frombuffer(b"NT", dtype=np.uint8).copy())
+        tail = (np.array([ga.gamma_p], dtype=dt), np.array([ga.beta_p], dtype=dt),
+                np.array(nodes, dtype=np.int64).reshape(-1, 3), btab,
+                np.concatenate(rows).astype(np.int64) if rows else np.zeros(1, dtype=np.int64),
+                np.concatenate(parts) if parts else np.zeros(1),
+                np.ascontiguousarray(crows, dtype=np.int64), np.ascontiguousarray(cloc, dtype=np.int64),
+                np.ascontiguousarray(self.shared) if self.shared is not None else np.zeros((crows.size, w // 2)),
+                self.shared is not None, np.zeros((nb, w)), np.zeros((max(int(btab[:, 1].max()), 1), w)))
+        return head, tail
 
     def write(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha, first: bool) -> None:
         """Write (node channels) or add (bridge, contact) the component's part at this output time."""

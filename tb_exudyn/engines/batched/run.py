@@ -391,7 +391,7 @@ class _Run:
         for this run: harmonic (PEM) columns without a constant force. Returns whether it applies."""
         if self.force_delta is not None or not hasattr(self.input, "Qss"):
             return False
-        self.kernel = module.run_steps
+        self.kernel, self.kwrite = module.run_steps, module.write_outputs
         self.ops.compiled = True
         if self.ops._ktables is None:
             self.ops._ktables = self.ops.vehicle_tables()
@@ -430,7 +430,7 @@ class _Run:
                             self.ops._ktables, self._kcoef)
             if k >= T:
                 return
-            out.write(self, buffers[k], ga, False)
+            out.write_compiled(self, buffers[k], ga)
             k, pending = k + 1, True
 
     def update(self, coef: tuple[float, ...], h: float) -> None:
