@@ -4,7 +4,8 @@ Every PEM worker (spawned) imports tb_exudyn.methods.pem and the batched engine 
 task, and so does every command. scipy's fft, interpolate, optimize, special, stats and signal
 packages cost about 0.7 s at import on the project's machine (measured with ``python -X importtime``:
 1.35 s -> 0.62 s for these two imports) and are needed only by some runs (Monte Carlo profiles, creep
-cars, exceedance statistics, comfort filters), which import them on first use.
+cars, exceedance statistics, comfort filters), which import them on first use. Numba (about 0.25 s)
+is imported by the first integration with the compiled step (engines/batched/jit.py), not before.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ import subprocess
 import sys
 
 HEAVY = ("scipy.fft", "scipy.interpolate", "scipy.optimize", "scipy.special", "scipy.stats", "scipy.signal",
-         "matplotlib")
+         "matplotlib", "numba")
 
 
 def test_a_pem_worker_imports_no_heavy_scipy_package():

@@ -8,6 +8,7 @@ import numpy as np
 
 from ...system.columns import HarmonicColumns, ProfileColumns
 from .inputs import shared_inputs
+from .jit import blas_pointers, compiled
 from .kernels import PRECISIONS
 from .outputs import _Outputs
 from .run import _Operators, _Run
@@ -103,8 +104,6 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     coef = ga.update_coefficients()
     h = ga.h
     if step == "compiled" and harmonic and runs:
-        from .jit import blas_pointers, compiled
-
         module, blas = compiled(), blas_pointers(np.dtype(runs[0].dtype))
         for run in runs:
             run.compile(module, blas, source, coef, h)

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..alpha import GeneralizedAlpha
+from .jit import blas_pointers
 
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
@@ -71,8 +72,6 @@ class _Outputs:
     def _compiled_tables(self, run: Any, ga: GeneralizedAlpha) -> tuple[tuple, tuple]:
         """The arguments of :func:`.compiled.write_outputs` that stay: the BLAS scratch of float64 and
         the channels' tables (module docstring of :mod:`.compiled`)."""
-        from .jit import blas_pointers
-
         dt = run.QP.dtype
         nodes = [(o, s + i, int(r)) for o, (s, e, loc, _, _) in enumerate(self.orders) if e > s for i, r in enumerate(loc)]
         btab = np.zeros((3, 3), dtype=np.int64)
