@@ -92,6 +92,11 @@ class Engine(ABC):
     #: the options dataclass :meth:`check` accepts (None: the engine checks its options itself)
     options_type: ClassVar[type | None] = None
 
+    def code_bytes(self, harmonic: bool) -> int:
+        """Memory a worker holds for the engine's compiled code while it integrates (``harmonic``:
+        PEM columns) [bytes]; none unless an engine says otherwise."""
+        return 0
+
     def __init__(self, scenario: Any, options: Any = None, wheel_forces: bool = False,
                  system: LinearModel | None = None) -> None:
         self.scenario = scenario

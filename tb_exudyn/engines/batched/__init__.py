@@ -50,6 +50,10 @@ from .mean import linear_mean
 #: the linear mean's cost in columns of the sweep: measured on the reference study (2026-12-02, one
 #: process) 0.9 s against 6.8 s for 240 columns, i.e. about 32 columns; used only to size the slices
 LINEAR_MEAN_COLUMNS = 32.0
+#: resident memory of the compiled step in a process (Numba and llvmlite imported, the code loaded
+#: from the cache): measured 110 MB (2026-12-03: 82 -> 140 MB on import, -> 250 MB after the first
+#: run against 195 MB for the numpy step; quick with 1000 frequencies: peak 197 -> 293 MB)
+COMPILED_STEP_BYTES = 100 * 10**6
 #: where a linear engine's mean comes from
 MEANS: tuple[str, ...] = ("auto", "exudyn", "linear")
 #: how a step of harmonic columns is computed (:class:`BatchedOptions`)
@@ -146,6 +150,11 @@ class BatchedEngine(Engine):
         """The linear mean (static state, its linear system and components, one column): about
         LINEAR_MEAN_COLUMNS columns; Exudyn's run: not known."""
         return LINEAR_MEAN_COLUMNS if _options(options).mean in ("linear", "auto") else None
+
+    def code_bytes(self, harmonic: bool) -> int:
+        """The compiled step's memory in a worker integrating harmonic columns with it: Numba, llvmlite
+        and the loaded code, COMPILED_STEP_BYTES."""
+        return COMPILED_STEP_BYTES if harmonic and self.options.step == "compiled" else 0
 
     @property
     def precision(self) -> str:

@@ -304,4 +304,57 @@ def write_outputs(blas64, ib, sb64, ch, QP, VP, DL, F, R, gp, bp, Yf, c0, nodes,
             Yf[row, c0 + 2 * j] += re
             Yf[row, c0 + 2 * j + 1] += im
 
-__all__ = ["run_steps", "write_outputs"]
+
+
+@njit(cache=CACHE)
+def contact_inverses(blas64, ib, sb64, ch, row_vehicle, vrows, steps, on, H0, Cb, SaS, a0, st, hbuf, hoff, tiny):  # noqa: ANN001, ANN201
+    """Per step k of ``steps`` (the block's steps with an axle on the bridge): the rows on the bridge
+    [r0, r1), the vehicles they belong to [j0, j1) and their rows [R0, R1), and the inverse of the
+    contact matrix H = H0[R0:R1, R0:R1] + C_b S^a^T / diag(A0) on [r0, r1) (:meth:`.run._Operators.prepare`),
+    written into ``hbuf`` from hoff[k] (entries below ``tiny`` in magnitude set to zero: float32's
+    subnormals, :func:`.kernels.in_precision`); st[k] = 1, i, r0, r1, R0, R1, j0, j1."""
+    nrow, nb = Cb.shape[1], Cb.shape[2]
+    size = 0
+    for i in range(steps.shape[0]):
+        k = steps[i]
+        r0, r1 = -1, -1
+        for r in range(on.shape[1]):
+            if on[k, r]:
+                if r0 < 0:
+                    r0 = r
+                r1 = r + 1
+        j0, j1 = row_vehicle[r0], row_vehicle[r1 - 1] + 1
+        R0, R1 = vrows[j0, 0], vrows[j1 - 1, 1]
+        n, nr = R1 - R0, r1 - r0
+        T = np.zeros((nr, nr))
+        # T = C_b S^T (row-major) = column-major gemm('T', 'N', nr, nr, nb, 1, S, nb, C_b, nb, 0, T, nr)
+        ib[0] = nr
+        ib[1] = nr
+        ib[2] = nb
+        ib[3] = nb
+        ib[4] = nb
+        ib[5] = nr
+        sb64[0] = 1.0
+        sb64[1] = 0.0
+        p, s, c = np.int64(ib.ctypes.data), np.int64(sb64.ctypes.data), np.int64(ch.ctypes.data)
+        at = (i * nrow + r0 - a0) * nb
+        _call13(blas64[0], c + 1, c, p, p + 4, p + 8, s, _addr(SaS.reshape(-1), at), p + 12,
+                _addr(Cb.reshape(-1), at), p + 16, s + 8, _addr(T.reshape(-1), 0), p + 20)
+        H = np.empty((n, n))
+        H[:, :] = H0[R0:R1, R0:R1]
+        for a in range(nr):
+            for b in range(nr):
+                H[r0 - R0 + a, r0 - R0 + b] += T[a, b]
+        Hi = np.linalg.inv(H)
+        for a in range(n):
+            for b in range(n):
+                v = Hi[a, b]
+                hbuf[size + a * n + b] = 0.0 if abs(v) < tiny else v
+        st[k, 0], st[k, 1], st[k, 2], st[k, 3] = 1, i, r0, r1
+        st[k, 4], st[k, 5], st[k, 6], st[k, 7] = R0, R1, j0, j1
+        hoff[k] = size
+        size += n * n
+    return size
+
+
+__all__ = ["contact_inverses", "run_steps", "write_outputs"]

@@ -30,7 +30,8 @@ from numpy.typing import NDArray
 
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
-from .inputs import run_inputs
+from .inputs import _HarmonicInputs, run_inputs
+from .jit import blas_pointers
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
 from .steps import StepBlock
 
@@ -152,7 +153,9 @@ class _Operators:
         for i, v in enumerate(self.vehicles):
             self.row_vehicle[v.r0:v.r1] = i
         self.block: dict[str, Any] | None = None
-        self.compiled = False  # whether prepare() also packs the block for the compiled step
+        self.compiled = False  # whether prepare() packs the block for the compiled step (_kernels)
+        self._kernels: Any = None
+        self._kinv: tuple[Any, ...] | None = None
         self.kblock: tuple[Any, ...] | None = None
         self._ktables: tuple[Any, ...] | None = None
 
@@ -180,26 +183,34 @@ class _Operators:
         vbuf = np.concatenate(parts) if parts else np.zeros(1, dtype=self.dtype)
         return table(vt, 4), table(vo, 5), table(bl, 5), table(fo, 5), vbuf
 
-    def _pack(self, block: StepBlock) -> None:
-        """The block's per-step operators for the compiled step: st[k] = has, i, r0, r1, R0, R1, j0, j1,
-        L_q, L_v, S^a / diag(A0) (k, rows, n_b), the inverses one after another (hbuf, offsets hoff)."""
+    def _pack(self, block: StepBlock, steps: IntArray | None = None, on: Any = None, Cb: Any = None,
+              SaS: Any = None, a0: int = 0) -> None:
+        """The block's per-step operators for the compiled step (``self.kblock``): st[k] = has, i, r0, r1,
+        R0, R1, j0, j1, L_q, L_v, S^a / diag(A0) (k, rows, n_b), the inverses of the contact matrices one
+        after another (hbuf, offsets hoff), formed by :func:`.compiled.contact_inverses` (no step with
+        an axle on the bridge: ``steps`` None)."""
         T = block.size
         st = np.zeros((T, 8), dtype=np.int64)
         hoff = np.zeros(T, dtype=np.int64)
-        blk = self.block
-        empty = np.zeros((1, 1, max(self.nb, 1)), dtype=self.dtype)
-        if blk is None:
+        if steps is None:
+            empty = np.zeros((1, 1, max(self.nb, 1)), dtype=self.dtype)
             self.kblock = (st, empty, empty, empty, np.zeros(1, dtype=self.dtype), hoff, 0)
             return
-        parts, size = [], 0
-        for k, step in enumerate(blk["per_step"]):
-            if step is not None:
-                i, r0, r1, R0, R1, _, vs, Hinv = step
-                st[k] = (1, i, r0, r1, R0, R1, vs.start, vs.stop)
-                hoff[k] = size
-                parts.append(Hinv.reshape(-1))
-                size += Hinv.size
-        self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], np.concatenate(parts), hoff, int(blk["a0"]))
+        if self._kinv is None:
+            self._kinv = (blas_pointers(np.float64), np.zeros(8, dtype=np.int32), np.zeros(4),
+                          np.frombuffer(b"NT", dtype=np.uint8).copy(), np.ascontiguousarray(self.row_vehicle),
+                          np.array([[v.r0, v.r1] for v in self.vehicles], dtype=np.int64).reshape(-1, 2))
+        n_r = self.rows.size
+        hbuf = np.empty(steps.size * n_r * n_r, dtype=self.dtype)
+        tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # in_precision's rule
+        try:
+            self._kernels.contact_inverses(*self._kinv, steps, np.ascontiguousarray(on), self.H0,
+                                           np.ascontiguousarray(Cb), np.ascontiguousarray(SaS), a0,
+                                           st, hbuf, hoff, tiny)
+        except np.linalg.LinAlgError:
+            raise np.linalg.LinAlgError("singular contact matrix in the batched engine") from None
+        blk = self.block
+        self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], hbuf, hoff, a0)
 
     def prepare(self, block: StepBlock) -> None:
         """The bridge parts of the operators at every step of ``block`` with an axle of this
@@ -210,14 +221,12 @@ class _Operators:
         some step of the block are evaluated."""
         nb = self.nb
         self.block = None
-        if self.compiled:
-            self._pack(block)
         rails = block.rails.get(self.shape_key) if nb else None
-        if rails is None:
-            return
-        on = block.on[:, self.axle]  # (T, n_r)
-        steps = np.flatnonzero(on.any(axis=1))
-        if not steps.size:
+        on = None if rails is None else block.on[:, self.axle]  # (T, n_r)
+        steps = None if on is None else np.flatnonzero(on.any(axis=1))
+        if steps is None or not steps.size:
+            if self.compiled:
+                self._pack(block)
             return
         used = np.flatnonzero(on[steps].any(axis=0))
         a0, a1 = int(used[0]), int(used[-1]) + 1  # rows evaluated: [a0, a1)
@@ -228,6 +237,12 @@ class _Operators:
         Lq = Sk - Cb * self.pk
         Lv = Sd - Cb * self.pd
         SaS = Sa / self.a0b
+        dt = self.dtype
+        if self.compiled:  # the per-step contact matrices and their inverses in compiled code
+            self.block = {"per_step": None, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
+                          "SaS": in_precision(SaS, dt), "Cb": Cb}
+            self._pack(block, steps, on, Cb, SaS, a0)
+            return
         per_step: list[Any] = [None] * block.size
         H0 = self.H0
         for i, k in enumerate(steps):
@@ -240,11 +255,8 @@ class _Operators:
             H = H0[R0:R1, R0:R1].copy()
             H[r0 - R0:r1 - R0, r0 - R0:r1 - R0] += Cb[i, r0 - a0:r1 - a0] @ SaS[i, r0 - a0:r1 - a0].T
             per_step[k] = (i, r0, r1, R0, R1, on_veh, vs, in_precision(_inv(H), self.dtype))
-        dt = self.dtype
         self.block = {"per_step": per_step, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
                       "SaS": in_precision(SaS, dt), "Cb": Cb}
-        if self.compiled:
-            self._pack(block)
 
 
 class _Run:
@@ -389,10 +401,10 @@ class _Run:
     def compile(self, module: Any, blas: IntArray, source: Any, coef: tuple[float, ...], h: float) -> bool:
         """Use the compiled step (:mod:`.compiled`, ``module``; ``blas``: :func:`.jit.blas_pointers`)
         for this run: harmonic (PEM) columns without a constant force. Returns whether it applies."""
-        if self.force_delta is not None or not hasattr(self.input, "Qss"):
+        if self.force_delta is not None or not isinstance(self.input, _HarmonicInputs):
             return False
         self.kernel, self.kwrite = module.run_steps, module.write_outputs
-        self.ops.compiled = True
+        self.ops.compiled, self.ops._kernels = True, module
         if self.ops._ktables is None:
             self.ops._ktables = self.ops.vehicle_tables()
         self._kconst = (blas, np.zeros(8, dtype=np.int32), np.zeros(4, dtype=self.dtype),
@@ -410,11 +422,14 @@ class _Run:
         T = block.size
         n_active, moving, rows_end = (np.zeros(T, dtype=np.int64), np.zeros(T, dtype=np.bool_),
                                       np.zeros(T, dtype=np.int64))
-        per_step = None if self.ops.block is None else self.ops.block["per_step"]
-        for k in range(T):  # the same order of activation as solve()
-            self._activate(k, block)
-            self.bridge_moving |= per_step is not None and per_step[k] is not None
-            n_active[k], moving[k], rows_end[k] = self.n_active, self.bridge_moving, self.rows_end
+        has_step = self.ops.kblock[0][:, 0]
+        if self.n_active == len(self.ops.vehicles) and self.bridge_moving:  # nothing left to start
+            n_active[:], moving[:], rows_end[:] = self.n_active, True, self.rows_end
+        else:
+            for k in range(T):  # the same order of activation as solve()
+                self._activate(k, block)
+                self.bridge_moving |= bool(has_step[k])
+                n_active[k], moving[k], rows_end[k] = self.n_active, self.bridge_moving, self.rows_end
         rec = np.zeros(T, dtype=np.bool_)
         rec[list(buffers)] = True
         inp = self.input

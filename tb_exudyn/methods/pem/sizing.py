@@ -67,6 +67,7 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
         Part(f"the reduction's buffers of a task's {m} columns", m * reducer_column_bytes(engine_plan(engine), n_ch),
              *n_f, remedy),
         Part("the model", model_bytes(engine)),
+        Part("the engine's compiled code", engine.code_bytes(True)),
         Part("the interpreter and its libraries", PROCESS_BYTES),
     )
     return MemoryEstimate(parent, worker, s.workers)
