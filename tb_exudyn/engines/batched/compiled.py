@@ -28,47 +28,35 @@ from numba.extending import intrinsic
 CACHE = bool(numba.config.CACHE_DIR)
 
 
-@intrinsic
-def _call13(typingctx, fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13):  # noqa: ANN001, ANN202
-    """Call the C function at address ``fn`` with 13 pointer arguments given as integers (Fortran
-    BLAS gemm takes every argument by reference)."""
-    sig = types.void(fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13)
+def _pointer_call(n: int):  # noqa: ANN202
+    """Code generation of a call of the C function whose address is the first argument with ``n``
+    pointer arguments given as integers (Fortran BLAS takes every argument by reference)."""
 
     def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
         i8p = ir.IntType(8).as_pointer()
-        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 13).as_pointer())
+        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * n).as_pointer())
         builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
         return context.get_dummy_value()
 
-    return sig, codegen
+    return codegen
+
+
+@intrinsic
+def _call13(typingctx, fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13):  # noqa: ANN001, ANN202
+    """fn(a1, ..., a13) with pointer arguments (BLAS gemm)."""
+    return types.void(fn, a1, a2, a3, a4, a5, a6, a7, a8, a9, a10, a11, a12, a13), _pointer_call(13)
 
 
 @intrinsic
 def _call6(typingctx, fn, a1, a2, a3, a4, a5, a6):  # noqa: ANN001, ANN202
-    """Call the C function at address ``fn`` with 6 pointer arguments (BLAS axpy)."""
-    sig = types.void(fn, a1, a2, a3, a4, a5, a6)
-
-    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
-        i8p = ir.IntType(8).as_pointer()
-        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 6).as_pointer())
-        builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
-        return context.get_dummy_value()
-
-    return sig, codegen
+    """fn(a1, ..., a6) with pointer arguments (BLAS axpy)."""
+    return types.void(fn, a1, a2, a3, a4, a5, a6), _pointer_call(6)
 
 
 @intrinsic
 def _call4(typingctx, fn, a1, a2, a3, a4):  # noqa: ANN001, ANN202
-    """Call the C function at address ``fn`` with 4 pointer arguments (BLAS scal)."""
-    sig = types.void(fn, a1, a2, a3, a4)
-
-    def codegen(context, builder, signature, args):  # noqa: ANN001, ANN202
-        i8p = ir.IntType(8).as_pointer()
-        f = builder.inttoptr(args[0], ir.FunctionType(ir.VoidType(), [i8p] * 4).as_pointer())
-        builder.call(f, [builder.inttoptr(a, i8p) for a in args[1:]])
-        return context.get_dummy_value()
-
-    return sig, codegen
+    """fn(a1, ..., a4) with pointer arguments (BLAS scal)."""
+    return types.void(fn, a1, a2, a3, a4), _pointer_call(4)
 
 
 @njit(cache=CACHE)
@@ -90,19 +78,25 @@ def _mm(blas, ib, sb, ch, c, ci, a, ai, lda, b, bi, r, k, w, alpha, beta, ta):  
         if beta == 0.0:
             c.reshape(-1)[ci:ci + r * w] = 0.0
         return
-    ib[0] = w
-    ib[1] = r
+    _gemm(blas, ib, sb, ch, False, ta, w, r, k, alpha, _addr(b.reshape(-1), bi), w, _addr(a, ai), lda, beta,
+          _addr(c.reshape(-1), ci), w)
+
+
+@njit(cache=CACHE)
+def _gemm(blas, ib, sb, ch, ta, tb, m, n, k, alpha, pa, lda, pb, ldb, beta, pc, ldc):  # noqa: ANN001, ANN202
+    """Column-major BLAS gemm: C (m x n) = alpha op(A) op(B) + beta C at the addresses pa, pb, pc
+    (``ib``, ``sb``: scratch for the arguments passed by reference; ``ch``: the characters N, T)."""
+    ib[0] = m
+    ib[1] = n
     ib[2] = k
-    ib[3] = w
-    ib[4] = lda
-    ib[5] = w
+    ib[3] = lda
+    ib[4] = ldb
+    ib[5] = ldc
     sb[0] = alpha
     sb[1] = beta
-    p = np.int64(ib.ctypes.data)
-    s = np.int64(sb.ctypes.data)
-    n = np.int64(ch.ctypes.data)
-    _call13(blas[0], n, n + 1 if ta else n, p, p + 4, p + 8, s, _addr(b.reshape(-1), bi), p + 12,
-            _addr(a, ai), p + 16, s + sb.itemsize, _addr(c.reshape(-1), ci), p + 20)
+    p, s, c = np.int64(ib.ctypes.data), np.int64(sb.ctypes.data), np.int64(ch.ctypes.data)
+    _call13(blas[0], c + 1 if ta else c, c + 1 if tb else c, p, p + 4, p + 8, s, pa, p + 12, pb, p + 16,
+            s + sb.itemsize, pc, p + 20)
 
 
 @njit(cache=CACHE)
@@ -328,18 +322,9 @@ def contact_inverses(blas64, ib, sb64, ch, row_vehicle, vrows, steps, on, H0, Cb
         n, nr = R1 - R0, r1 - r0
         T = np.zeros((nr, nr))
         # T = C_b S^T (row-major) = column-major gemm('T', 'N', nr, nr, nb, 1, S, nb, C_b, nb, 0, T, nr)
-        ib[0] = nr
-        ib[1] = nr
-        ib[2] = nb
-        ib[3] = nb
-        ib[4] = nb
-        ib[5] = nr
-        sb64[0] = 1.0
-        sb64[1] = 0.0
-        p, s, c = np.int64(ib.ctypes.data), np.int64(sb64.ctypes.data), np.int64(ch.ctypes.data)
         at = (i * nrow + r0 - a0) * nb
-        _call13(blas64[0], c + 1, c, p, p + 4, p + 8, s, _addr(SaS.reshape(-1), at), p + 12,
-                _addr(Cb.reshape(-1), at), p + 16, s + 8, _addr(T.reshape(-1), 0), p + 20)
+        _gemm(blas64, ib, sb64, ch, True, False, nr, nr, nb, 1.0, _addr(SaS.reshape(-1), at), nb,
+              _addr(Cb.reshape(-1), at), nb, 0.0, _addr(T.reshape(-1), 0), nr)
         H = np.empty((n, n))
         H[:, :] = H0[R0:R1, R0:R1]
         for a in range(nr):
