@@ -1,11 +1,10 @@
 """Feasibility of a compiled step: the batched engine's step on the reference study's shapes, as
 per-step numpy/BLAS calls (like engines/batched/run.py) and as one compiled loop over the steps.
 
-Not part of the package and not run by the tests: it needs Numba, which is not a dependency. Run it
-in a separate environment, e.g.
+The prototype that led to the compiled step now in the package (engines/batched/compiled.py,
+docs/speed.md section 6); kept for its measurements. Not run by the tests:
 
-    python -m venv /tmp/nbvenv && /tmp/nbvenv/bin/pip install numba scipy
-    OPENBLAS_NUM_THREADS=1 /tmp/nbvenv/bin/python benchmarks/proto_compiled_step.py 600 480
+    OPENBLAS_NUM_THREADS=1 python benchmarks/proto_compiled_step.py 600 480
 
 Problem: one chunk of W real columns (480 = the 240 complex columns of a reference-study task),
 52 bridge modes, 4 vehicles of 27 coordinates in dense blocks of 17 and 10, 12 contact rows per
