@@ -86,4 +86,12 @@ def blas_pointers(dtype: np.dtype) -> NDArray[np.int64]:
                      for name in ("gemm", "axpy", "scal")], dtype=np.int64)
 
 
-__all__ = ["CACHE", "blas_pointers", "cache_dir", "compiled"]
+def blas_scratch(dtype: np.dtype) -> tuple[NDArray[np.int64], NDArray[np.int32], np.ndarray, NDArray[np.uint8]]:
+    """What a compiled function calling BLAS of ``dtype`` takes first: the addresses
+    (:func:`blas_pointers`), scratch for the integer and scalar arguments passed by reference, and the
+    characters N, T."""
+    return (blas_pointers(dtype), np.zeros(8, dtype=np.int32), np.zeros(4, dtype=dtype),
+            np.frombuffer(b"NT", dtype=np.uint8).copy())
+
+
+__all__ = ["CACHE", "blas_pointers", "blas_scratch", "cache_dir", "compiled"]

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...system.columns import HarmonicColumns, ProfileColumns
 from .inputs import shared_inputs
-from .jit import blas_pointers, compiled
+from .jit import compiled
 from .kernels import PRECISIONS
 from .outputs import _Outputs
 from .run import _Operators, _Run
@@ -104,9 +104,9 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     coef = ga.update_coefficients()
     h = ga.h
     if step == "compiled" and harmonic and runs:
-        module, blas = compiled(), blas_pointers(np.dtype(runs[0].dtype))
+        module = compiled()
         for run in runs:
-            run.compile(module, blas, source, coef, h)
+            run.compile(module, coef, h)
     shapes = {o.shape_key: mode_shapes(cp.bridge, o.modes) for o in operators if o.nb}
     block = step_block(cp, 0, 1, h, shapes)
     Y = pool[0]

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..alpha import GeneralizedAlpha
-from .jit import blas_pointers
+from .jit import blas_scratch
 
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
@@ -84,7 +84,7 @@ class _Outputs:
                 size, nrow = size + shapes.size, nrow + brows.size
         nb, w = max(run.nb, 1), run.QP.shape[1]
         crows, cloc = self.contact
-        head = (blas_pointers(np.float64), np.zeros(8, dtype=np.int32), np.zeros(4), np.frombuffer(b"NT", dtype=np.uint8).copy())
+        head = blas_scratch(np.dtype(np.float64))
         tail = (np.array([ga.gamma_p], dtype=dt), np.array([ga.beta_p], dtype=dt),
                 np.array(nodes, dtype=np.int64).reshape(-1, 3), btab,
                 np.concatenate(rows).astype(np.int64) if rows else np.zeros(1, dtype=np.int64),

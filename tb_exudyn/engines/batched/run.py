@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
 from .inputs import _HarmonicInputs, run_inputs
-from .jit import blas_pointers
+from .jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
 from .steps import StepBlock
 
@@ -197,8 +197,7 @@ class _Operators:
             self.kblock = (st, empty, empty, empty, np.zeros(1, dtype=self.dtype), hoff, 0)
             return
         if self._kinv is None:
-            self._kinv = (blas_pointers(np.float64), np.zeros(8, dtype=np.int32), np.zeros(4),
-                          np.frombuffer(b"NT", dtype=np.uint8).copy(), np.ascontiguousarray(self.row_vehicle),
+            self._kinv = (*blas_scratch(np.dtype(np.float64)), np.ascontiguousarray(self.row_vehicle),
                           np.array([[v.r0, v.r1] for v in self.vehicles], dtype=np.int64).reshape(-1, 2))
         n_r = self.rows.size
         hbuf = np.empty(steps.size * n_r * n_r, dtype=self.dtype)
@@ -398,17 +397,16 @@ class _Run:
         if self.force_delta is not None:
             DL += self.force_delta
 
-    def compile(self, module: Any, blas: IntArray, source: Any, coef: tuple[float, ...], h: float) -> bool:
-        """Use the compiled step (:mod:`.compiled`, ``module``; ``blas``: :func:`.jit.blas_pointers`)
-        for this run: harmonic (PEM) columns without a constant force. Returns whether it applies."""
+    def compile(self, module: Any, coef: tuple[float, ...], h: float) -> bool:
+        """Use the compiled step (:mod:`.compiled`, ``module``) for this run: harmonic (PEM) columns
+        without a constant force. Returns whether it applies."""
         if self.force_delta is not None or not isinstance(self.input, _HarmonicInputs):
             return False
         self.kernel, self.kwrite = module.run_steps, module.write_outputs
         self.ops.compiled, self.ops._kernels = True, module
         if self.ops._ktables is None:
             self.ops._ktables = self.ops.vehicle_tables()
-        self._kconst = (blas, np.zeros(8, dtype=np.int32), np.zeros(4, dtype=self.dtype),
-                        np.frombuffer(b"NT", dtype=np.uint8).copy())
+        self._kconst = blas_scratch(np.dtype(self.dtype))
         self._kstate = (self.QP, self.VP, self.AP, self.DL, self.Gc, self.G, self.F, self.R)
         self._kcoef = np.array([*coef, h], dtype=np.float64)
         self._kpk = np.ascontiguousarray(self.ops.pk_c.reshape(-1))
