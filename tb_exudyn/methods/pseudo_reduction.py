@@ -14,6 +14,15 @@ in preallocated buffers. sigma^2, the PSD maps and the ratios' sums are the plai
 ``L @ y[ext]``, bitwise; the derivative's sums are bitwise the same for any row order of the engine,
 and within 1.3e-15 of each channel's max of those before this module (which divided the complex
 derivative by a real step with numpy's complex division instead of on the float view).
+
+By default the sums are taken in compiled code (:mod:`.compiled_reduction`, issue 28): the z rows are
+formed into a ring of three preallocated times (no new arrays), every row's sums by type, weighted,
+per frequency (the PSD map) and the Sperling inputs' power come from one pass over its columns, the
+derivative's sums from one pass over the neighbouring times, and the PSD rows of 16 output times are
+written into the map together. The same sums to round-off of their order (1e-13 of each quantity's
+largest value, tests/methods/test_compiled_reduction.py); measured on the reference study's 240-column
+task in the integration: 4.0 -> 1.15 s (docs/speed.md section 6). ``compiled=False`` keeps the numpy
+passes below, the reference.
 """
 
 from __future__ import annotations
@@ -24,6 +33,7 @@ import numpy as np
 import scipy.sparse as sp
 from numpy.typing import NDArray
 
+from .. import jit
 from ..system.comfort import sperling_power_weights, weighting_response
 
 FloatArray = NDArray[np.float64]
@@ -32,6 +42,9 @@ IntArray = NDArray[np.int64]
 
 #: precision of a task's PSD map on its way to the parent (see tb_exudyn.methods.pem.PSD_TRANSPORT)
 PSD_TRANSPORT = np.float32
+#: output times whose PSD rows the compiled path gathers before it writes them into the (rows, n_freq,
+#: n_t) map (a map row's 16 float32 times are one 64-byte cache line)
+PSD_BLOCK = 16
 
 
 def permuted_columns(A: sp.csr_matrix, rows: IntArray, ext: IntArray) -> sp.csr_matrix:
@@ -83,11 +96,16 @@ class PseudoReduction:
     variance_only : only what sigma^2 needs (sigma^2 by type and the ratios' cross sums by type: the
     grid error's midpoint sweep); the other sums stay zero. On the reference study this takes the
     reduction of an output time from 4.7 to 1.9 ms (300 columns).
+    compiled : the sums in compiled code (:mod:`.compiled_reduction`, one pass per row; the default),
+    or by the numpy passes below (the reference the compiled path is tested against). The compiled
+    path needs the columns frequency-major with the same types in the same order at every frequency
+    (what :func:`~tb_exudyn.methods.pem.harmonic_columns` makes) and real maps; other layouts take the
+    numpy path.
     """
 
     def __init__(self, plan: Any, f_col: FloatArray, type_index: IntArray, n_types: int, n_freq: int,
                  df: FloatArray, n_t: int, dt: float, keep_psd: bool, psd_z: IntArray | None = None,
-                 variance_only: bool = False) -> None:
+                 variance_only: bool = False, compiled: bool = True) -> None:
         m = f_col.size
         self.variance_only = bool(variance_only)
         self.plan, self.n_t, self.dt, self.n_f, self.m = plan, n_t, float(dt), n_freq, m
@@ -139,6 +157,7 @@ class PseudoReduction:
         self.sp_rows = at[np.array([s[1] for s in plan.sperling], dtype=np.int64)]
         self.sp_w = np.array([sperling_power_weights(f_col, s[2]) for s in plan.sperling]).reshape(-1, m)  # type: ignore[arg-type]
         self.sp = np.zeros((n_t, len(plan.sperling)))
+        self.kernels = self._compiled_setup(np.asarray(type_index)) if compiled else None
 
     def _freq_sum(self, p: FloatArray) -> FloatArray:
         """(rows, m) -> (rows, n_freq) summed over the types of each frequency, per Hz."""
@@ -155,6 +174,9 @@ class PseudoReduction:
         return self.maps[1], self.maps[2]
 
     def record(self, i: int, Y: ComplexArray, ext: IntArray) -> None:
+        if self.kernels is not None:
+            self._record_compiled(i, Y, ext)
+            return
         L, Ld = self._maps(ext)
         Z = L(Y)
         if self.w_at.size:
@@ -170,7 +192,7 @@ class PseudoReduction:
             return
         self.lam[i] = (P @ self.w12).T
         if self.psd is not None:
-            self.psd[:, :, i] = self._freq_sum(P if self.psd_z is None else P[self.psd_at])
+            self.psd[:, :, i] = self._freq_sum(P[self.psd_at])  # the kept z rows, in their order
         if self.ratio_n.size:
             X = (Z[self.ratio_n].conj() * Z[self.ratio_d]).real
             self.nd_type[i] = (X @ self.type_sum).T
@@ -234,7 +256,106 @@ class PseudoReduction:
             out[~rec] = pseudo.view(np.float64)[rows[~rec] - nr]
         return out
 
+    # ------------------------------------------------------------------ the compiled path
+    def _compiled_setup(self, type_index: IntArray) -> Any:
+        """The compiled path's tables and buffers, or None where it does not apply (the class
+        docstring): the type of each column position of a frequency, the weighted rows, the Sperling
+        entries by row, a ring of the last three times' z rows, the PSD rows of PSD_BLOCK times."""
+        m, n_f, plan = self.m, self.n_f, self.plan
+        if not n_f or m % n_f or np.iscomplexobj(plan.L.data) or np.iscomplexobj(plan.Ld.data):
+            return None
+        pos = type_index.reshape(n_f, m // n_f)
+        if not (pos == pos[:1]).all() or np.unique(pos[0]).size != pos.shape[1]:
+            return None
+        k = jit.load("tb_exudyn.methods.compiled_reduction")
+        nz, nr = plan.n_z, self.n_rec
+        self.c_pos = np.ascontiguousarray(pos[0], dtype=np.int64)
+        self.c_w1, self.c_w2 = self.omega.copy(), self.omega * self.omega
+        self.c_Wz = np.ascontiguousarray(self.W, dtype=complex)
+        self.c_wd = np.array([j for j, _ in self.w_rec], dtype=np.int64)
+        self.c_Wd = np.ascontiguousarray(self.W[[wj for _, wj in self.w_rec]], dtype=complex).reshape(-1, m)
+        self.c_psd_of = -np.ones(nz, dtype=np.int64)  # the PSD map row of each internal row (-1: none)
+        if self.psd is not None:
+            self.c_psd_of[self.psd_at] = np.arange(self.psd_at.size)
+        self.c_rows = np.arange(nz, dtype=np.int64)
+        self.c_sp_w = np.ascontiguousarray(self.sp_w, dtype=float).reshape(-1, m)
+        self.c_nd_of = (np.arange(self.ratio_n.size) if self.nd_psd is not None else -np.ones(self.ratio_n.size)).astype(np.int64)
+        self.c_ring = np.zeros((3, nz, m), dtype=complex)  # z (internal order) of the last three times
+        self.c_ring_d = np.zeros((3, nr, m), dtype=complex)  # their recorded derivatives
+        self.c_d = np.zeros((self.n_d - nr, m), dtype=complex)  # the pseudo-derivative at one time
+        self.c_rot = np.ascontiguousarray(self.rot).view(np.float64)
+        n_psd = 0 if self.psd is None else self.psd.shape[0]
+        self.c_block = (np.zeros((PSD_BLOCK, n_psd, n_f), dtype=PSD_TRANSPORT),
+                        np.zeros((PSD_BLOCK, 0 if self.nd_psd is None else self.nd_psd.shape[0], n_f), dtype=PSD_TRANSPORT))
+        self.c_blocked = [0, 0]  # first time and count of the times in the block
+        self.c_maps: tuple[Any, ...] | None = None
+        return k
+
+    def _compiled_maps(self, ext: IntArray) -> tuple[Any, ...]:
+        """(ptr, idx, coef) of L and Ld in the internal row order on the engine's rows, once per ext."""
+        if self.c_maps is None or not (self.c_maps[0] is ext or np.array_equal(self.c_maps[0], ext)):
+            out: list[Any] = [ext]
+            for A, rows in ((self.plan.L, self.order), (self.plan.Ld, self.order[:self.n_rec])):
+                B = permuted_columns(A.tocsr(), rows, ext)
+                out.append((B.indptr.astype(np.int64), B.indices.astype(np.int64), B.data.astype(np.float64)))
+            self.c_maps = tuple(out)
+        return self.c_maps[1:]
+
+    def _record_compiled(self, i: int, Y: ComplexArray, ext: IntArray) -> None:
+        k, full = self.kernels, not self.variance_only
+        (ptr, idx, coef), (dptr, didx, dcoef) = self._compiled_maps(ext)
+        Yf = np.ascontiguousarray(Y, dtype=np.complex128).view(np.float64)
+        Z, Zf = self.c_ring[i % 3], self.c_ring[i % 3].view(np.float64)
+        k.form_rows(Yf, ptr, idx, coef, Zf)
+        if self.w_at.size:
+            k.weight_rows(Z, self.w_at, self.c_Wz)
+        b0, bn = self.c_blocked
+        if bn and i != b0 + bn:  # not the next time: the block so far goes first
+            self._flush()
+        if not self.c_blocked[1]:
+            self.c_blocked[0] = i
+        t, pos, w1, w2, inv_df = self.c_blocked[1], self.c_pos, self.c_w1, self.c_w2, self.inv_df
+        k.pair_sums(Zf, self.c_rows, self.c_rows, pos, w1, w2, inv_df, self.c_psd_of, self.c_block[0][t],
+                    self.var[i], self.lam[i], full)
+        if self.ratio_n.size:
+            k.pair_sums(Zf, self.ratio_n, self.ratio_d, pos, w1, w2, inv_df, self.c_nd_of, self.c_block[1][t],
+                        self.nd_type[i], self.nd_lam[i], full)
+        if full and self.sp_rows.size:
+            k.weighted_power(Zf, self.sp_rows, self.c_sp_w, self.sp[i])
+        self.c_blocked[1] += 1
+        if self.c_blocked[1] == PSD_BLOCK or i == self.n_t - 1:
+            self._flush()
+        if not full or not self.n_d:
+            return
+        if self.n_rec:
+            k.form_rows(Yf, dptr, didx, dcoef, self.c_ring_d[i % 3].view(np.float64))
+            if self.c_wd.size:
+                k.weight_rows(self.c_ring_d[i % 3], self.c_wd, self.c_Wd)
+        if i >= 1:
+            self._derivative_compiled(i - 1, i)
+        if i == self.n_t - 1:
+            self._derivative_compiled(i, i)
+
+    def _derivative_compiled(self, j: int, latest: int) -> None:
+        """The derivative's sums at time j (latest: the newest time recorded), compiled."""
+        k, nr, nd = self.kernels, self.n_rec, self.n_d
+        mode = (0 if j < latest else 3) if j == 0 else (1 if j < latest else 2)
+        ring = self.c_ring.view(np.float64)
+        k.derivative_sums(ring[j % 3, :nd], ring[(j - 1) % 3, :nd], ring[(j + 1) % 3, :nd], mode, self.c_rot,
+                          self.omega, self.dt, self.c_ring_d[j % 3].view(np.float64), self.c_d.view(np.float64),
+                          self.ratio_nd, self.ratio_dd, self.dvar[j], self.dcov[j], self.nd_pairs[j])
+
+    def _flush(self) -> None:
+        """The block's PSD rows into the maps (times c_blocked[0] ..)."""
+        i0, n = self.c_blocked
+        for block, out in zip(self.c_block, (self.psd, self.nd_psd)):
+            if n and out is not None and not self.variance_only:
+                self.kernels.flush_psd(block, n, out, i0)
+        self.c_blocked[1] = 0
+
     def result(self) -> dict[str, np.ndarray]:
+        if self.kernels is not None and self.c_blocked[1]:
+            self._flush()
         at = self.at
         dz = at[self.d_rows]  # the plan's order of the derivative rows (recorded, pseudo)
         out = {"var_z": self.var[:, :, at], "lam_z": self.lam[:, :, at], "dvar_z": self.dvar[:, dz], "dcov_z": self.dcov[:, dz],
@@ -251,7 +372,9 @@ def reducer_column_bytes(plan: Any, n_out: int) -> int:
     """Bytes per complex column of :class:`PseudoReduction` at an output time: the z rows of the last
     three times and the one being formed (complex), the squares of their float view and |z|^2, the
     pseudo-derivative and its buffer (complex), the recorded derivatives of the last three times and
-    the one being formed. ``n_out``, the engine's outputs, are the engine's (counted there)."""
+    the one being formed (the numpy path; the compiled path holds less: three times of z rows and of
+    the recorded derivatives, one pseudo-derivative, and the kept PSD rows of 16 output times per
+    frequency in float32, less than the numpy path's squares). ``n_out``, the engine's outputs, are the engine's (counted there)."""
     n_z, n_rec = plan.n_z, plan.recorded.size
     n_ps = plan.pseudo.size
     return 16 * 4 * n_z + 16 * n_z + 8 * n_z + 16 * 2 * n_ps + 16 * 4 * n_rec

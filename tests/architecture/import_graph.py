@@ -8,7 +8,7 @@ sub-module (``a`` and ``a.b`` before ``a.b.c``) are not edges: they are the pack
 dependency of the importing module's code.
 
 A load by name is an edge too (``by_name``): ``importlib.import_module("tb_exudyn.x")`` (or
-``import_module``), ``importlib.import_module(".x", __name__)`` / ``(".x", "tb_exudyn.pkg")`` resolved
+``import_module``, or ``jit.load``, which imports a module of compiled functions), ``importlib.import_module(".x", __name__)`` / ``(".x", "tb_exudyn.pkg")`` resolved
 against its package; and where the name is not a literal (a registry: ``import_module(module)``),
 every string literal of that module that names one of the package's modules, since any of them may
 be what it loads (an over-count is safe for a test that allows no cycle). Such a dependency is as
@@ -61,12 +61,14 @@ def _resolve(current: str, level: int, module: str | None, mods: dict[str, Path]
 
 
 def _is_import_module(node: ast.AST) -> bool:
-    """``importlib.import_module(...)`` or ``import_module(...)``."""
+    """``importlib.import_module(...)``, ``import_module(...)`` or ``jit.load(...)`` (tb_exudyn.jit's
+    loader of compiled modules)."""
     if not isinstance(node, ast.Call):
         return False
     f = node.func
-    return (isinstance(f, ast.Attribute) and f.attr == "import_module" and isinstance(f.value, ast.Name)
-            and f.value.id == "importlib") or (isinstance(f, ast.Name) and f.id == "import_module")
+    return (isinstance(f, ast.Attribute) and isinstance(f.value, ast.Name)
+            and (f.attr, f.value.id) in {("import_module", "importlib"), ("load", "jit")}) or (
+        isinstance(f, ast.Name) and f.id == "import_module")
 
 
 def _string(node: ast.AST | None) -> str | None:

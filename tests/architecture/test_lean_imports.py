@@ -5,7 +5,8 @@ task, and so does every command. scipy's fft, interpolate, optimize, special, st
 packages cost about 0.7 s at import on the project's machine (measured with ``python -X importtime``:
 1.35 s -> 0.62 s for these two imports) and are needed only by some runs (Monte Carlo profiles, creep
 cars, exceedance statistics, comfort filters), which import them on first use. Numba (about 0.25 s)
-is imported by the first integration with the compiled step (engines/batched/jit.py), not before.
+is imported by the first integration with the compiled step or the compiled PEM reducer
+(tb_exudyn/jit.py), not before.
 """
 
 from __future__ import annotations

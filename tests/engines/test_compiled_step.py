@@ -102,7 +102,7 @@ def test_step_option_is_checked():
 def test_cache_directory_follows_the_platform_and_the_user(monkeypatch, tmp_path):
     """Problem: where the compiled code goes. Reference: jit.cache_dir's rule (NUMBA_CACHE_DIR if
     set, else $XDG_CACHE_HOME/tb_exudyn/numba on Linux). Exact (paths)."""
-    from tb_exudyn.engines.batched.jit import cache_dir
+    from tb_exudyn.jit import cache_dir
 
     monkeypatch.delenv("NUMBA_CACHE_DIR", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))

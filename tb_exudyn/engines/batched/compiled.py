@@ -4,14 +4,14 @@ The same step as :meth:`.run._Run.solve` and :meth:`.run._Run.update` for harmon
 inputs f_in, the bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles'
 products on and off the bridge (their forces at output steps) and the generalized-alpha update, but
 without a Python call per product: every product is the same BLAS call (gemm, axpy, scal of scipy's
-BLAS through their addresses, :func:`.jit.blas_pointers`) on the same arrays in the same order, so
+BLAS through their addresses, :func:`tb_exudyn.jit.blas_pointers`) on the same arrays in the same order, so
 the state it leaves is the numpy step's to round-off (the inputs' complex products are formed in
 compiled code; tests/engines/test_compiled_step.py). A call runs the steps k0 .. k1 - 1 of the block
 and returns at the first output step (before its update, so that the outputs see that step's Delta),
 or k1.
 
 Arrays are C-contiguous; a matrix's place is an offset into a flat array and its leading dimension
-(the operator tables of :class:`.run._Operators`). Import through :func:`.jit.compiled` (Numba's cache
+(the operator tables of :class:`.run._Operators`). Import through :func:`tb_exudyn.jit.load` (Numba's cache
 directory is set there).
 """
 
@@ -23,7 +23,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-#: cache on disk only in the directory jit.compiled() points Numba at (never next to this file: with
+#: cache on disk only in the directory tb_exudyn.jit.load points Numba at (never next to this file: with
 #: no directory set, or one that cannot be written, the functions are compiled in memory)
 CACHE = bool(numba.config.CACHE_DIR)
 

@@ -6,9 +6,9 @@ from typing import Any
 
 import numpy as np
 
+from ... import jit
 from ...system.columns import HarmonicColumns, ProfileColumns
 from .inputs import shared_inputs
-from .jit import compiled
 from .kernels import PRECISIONS
 from .outputs import _Outputs
 from .run import _Operators, _Run
@@ -104,7 +104,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     coef = ga.update_coefficients()
     h = ga.h
     if step == "compiled" and harmonic and runs:
-        module = compiled()
+        module = jit.load("tb_exudyn.engines.batched.compiled")
         for run in runs:
             run.compile(module, coef, h)
     shapes = {o.shape_key: mode_shapes(cp.bridge, o.modes) for o in operators if o.nb}

@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ..alpha import GeneralizedAlpha
-from .jit import blas_scratch
+from ...jit import blas_scratch
 
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]

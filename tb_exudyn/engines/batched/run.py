@@ -31,7 +31,7 @@ from numpy.typing import NDArray
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
 from .inputs import _HarmonicInputs, run_inputs
-from .jit import blas_scratch
+from ...jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
 from .steps import StepBlock
 

@@ -106,10 +106,11 @@ class PsdReducer(PseudoReduction):
 
     def __init__(self, columns: HarmonicColumns, plan: ReductionPlan, f_col: NDArray[np.float64], n_t: int,
                  n_types: int, dt: float, keep_psd: bool, psd_z: Sequence[int] | None = None,
-                 variance_only: bool = False) -> None:
+                 variance_only: bool = False, compiled: bool = True) -> None:
         self.columns = columns
         super().__init__(plan, f_col, columns.type_index, n_types, columns.freq_index.size, columns.df, n_t, dt,
-                         keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64), variance_only)
+                         keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64), variance_only,
+                         compiled)
 
     def result(self) -> dict[str, np.ndarray]:
         return {**super().result(), "freq_index": self.columns.freq_index}

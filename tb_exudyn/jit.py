@@ -1,16 +1,19 @@
-"""Where the compiled step comes from: Numba, imported on first use, its code cached per user.
+"""Compiled code: Numba, imported on first use, its code cached per user.
 
-The compiled step (:mod:`.compiled`) is imported only by a process that integrates with it, so that
-importing the package (and every command that does not integrate) does not pay Numba's import
-(about 0.25 s here). Its functions are cached in the user's cache directory (:func:`cache_dir`): a
-process compiles them once per installed version (about 10 s here, counted in
-``benchmarks/bench_speed.py``) and every later process, e.g. each worker of a run, loads them from
-there. Nothing is written into the installed package or an output folder: where the cache directory
-cannot be written, the functions are compiled in memory in every process (with a warning).
+The modules of compiled functions (the batched engine's step, :mod:`tb_exudyn.engines.batched.compiled`,
+and the PEM reducer's kernels, :mod:`tb_exudyn.methods.compiled_reduction`) are imported only through
+:func:`load`, by a process that uses them, so that importing the package (and every command that does
+not integrate) does not pay Numba's import (about 0.25 s here). Their functions are cached in the
+user's cache directory (:func:`cache_dir`): a process compiles them once per installed version (about
+26 s here for both precisions of the step, counted in ``benchmarks/bench_speed.py``) and every later
+process, e.g. each worker of a run, loads them from there. Nothing is written into the installed
+package or an output folder: where the cache directory cannot be written, the functions are compiled
+in memory in every process (with a warning).
 """
 
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 import warnings
@@ -20,8 +23,8 @@ from types import ModuleType
 from numpy.typing import NDArray
 import numpy as np
 
-_MODULE: ModuleType | None = None
-#: whether the compiled functions are cached on disk (set when :mod:`.compiled` is imported)
+_MODULES: dict[str, ModuleType] = {}
+#: whether the compiled functions are cached on disk (set when a module is loaded)
 CACHE = True
 
 
@@ -37,7 +40,7 @@ def cache_dir() -> Path:
         base = Path.home() / "Library" / "Caches"
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "tb_exudyn" / "numba"
+    return base / __name__.partition(".")[0] / "numba"  # the package's name: tb_exudyn
 
 
 def _writable(path: Path) -> bool:
@@ -51,34 +54,33 @@ def _writable(path: Path) -> bool:
         return False
 
 
-def compiled() -> ModuleType:
-    """The compiled step's module (:mod:`.compiled`), imported on the first call with Numba's cache
-    pointed at :func:`cache_dir` for its functions only (``numba.config.CACHE_DIR`` is restored after
-    they are declared: other Numba code in the process keeps its own cache location)."""
-    global _MODULE, CACHE
-    if _MODULE is None:
+def load(name: str) -> ModuleType:
+    """The module of compiled functions ``name`` (a full module name), imported on its first call with
+    Numba's cache pointed at :func:`cache_dir` for its functions only (``numba.config.CACHE_DIR`` is
+    restored after they are declared: other Numba code in the process keeps its own cache location)."""
+    global CACHE
+    if name not in _MODULES:
         import numba
 
         path = cache_dir()
         CACHE = _writable(path)
         if not CACHE:
-            warnings.warn(f"the compiled step's cache directory {path} cannot be written: its functions are "
-                          "compiled in every process (about 10 s each); set NUMBA_CACHE_DIR to a writable folder",
-                          RuntimeWarning, stacklevel=2)
+            warnings.warn(f"the cache directory of tb_exudyn's compiled code {path} cannot be written: its "
+                          "functions are compiled in every process (about 10 s each); set NUMBA_CACHE_DIR to a "
+                          "writable folder", RuntimeWarning, stacklevel=2)
         before = numba.config.CACHE_DIR
-        numba.config.CACHE_DIR = str(path) if CACHE else ""  # read by .compiled when it is imported
+        numba.config.CACHE_DIR = str(path) if CACHE else ""  # read by the module when it is imported
         try:
-            from . import compiled as module
+            _MODULES[name] = importlib.import_module(name)
         finally:
             numba.config.CACHE_DIR = before
-        _MODULE = module
-    return _MODULE
+    return _MODULES[name]
 
 
 def blas_pointers(dtype: np.dtype) -> NDArray[np.int64]:
     """The addresses of the BLAS gemm, axpy and scal of ``dtype`` (float64: d, float32: s) in scipy's
-    BLAS (``scipy.linalg.cython_blas``: the library behind ``scipy.linalg.blas``, so the compiled
-    step makes the numpy step's very calls)."""
+    BLAS (``scipy.linalg.cython_blas``: the library behind ``scipy.linalg.blas``, so the batched
+    engine's compiled step makes the numpy step's very calls)."""
     from numba.extending import get_cython_function_address
 
     p = "d" if np.dtype(dtype) == np.float64 else "s"
@@ -94,4 +96,4 @@ def blas_scratch(dtype: np.dtype) -> tuple[NDArray[np.int64], NDArray[np.int32],
             np.frombuffer(b"NT", dtype=np.uint8).copy())
 
 
-__all__ = ["CACHE", "blas_pointers", "blas_scratch", "cache_dir", "compiled"]
+__all__ = ["CACHE", "blas_pointers", "blas_scratch", "cache_dir", "load"]
