@@ -281,7 +281,7 @@ def main() -> None:
         cold, warm, warm2 = (run_child(THIS, "compile", cache)["wall"] for _ in range(3))
     print(f"compiled step: a small PEM run (float64 and float32) in a fresh process {cold:.1f} s with an empty "
           f"cache, {min(warm, warm2):.1f} s with the cache warm: compiling costs about {cold - min(warm, warm2):.1f} s, "
-          "once per install (the cache is the user's, jit.cache_dir)")
+          "once per install (the cache is the user's, tb_exudyn.jit.cache_dir; the step and the PEM reducer)")
     # 3. flop rate
     f = run_child(THIS, "flops", a.precision)
     print(f"integration ({a.precision}, all 600 columns in one process, no reducer): {f['flops'] / 1e9:.1f} GFlop in "

@@ -58,21 +58,25 @@ def weight_rows(Z, rows, W):  # noqa: ANN001, ANN201
 
 
 @njit(cache=CACHE, fastmath=FAST)
-def pair_sums(Z, a_rows, b_rows, pos_type, w1, w2, inv_df, psd_of, psd, out_type, out_lam, full):  # noqa: ANN001, ANN201
+def pair_sums(Z, a_rows, b_rows, pos_type, w1, w2, inv_df, psd_of, psd, out_type, out_lam, full, wn,
+              out_nodes, nodes):  # noqa: ANN001, ANN201
     """For each pair q of rows of Z (float view (rows, 2m)), x = Re(conj(z_a) z_b) per column
     (|z|^2 where a = b) summed over the columns (frequency-major, ``pos_type.size`` columns per
     frequency, pos_type[t] the type of position t): by type into out_type[:, q]; with ``full`` weighted
     by w and w^2 into out_lam[:, q] and per frequency, divided by its width, into psd[psd_of[q]] where
-    psd_of[q] >= 0. One pass over the columns per pair (five sums at once)."""
+    psd_of[q] >= 0; with ``nodes`` weighted by wn (m,) by type into out_nodes[:, q] (the local grid
+    error's node sums). One pass over the columns per pair (up to eight sums at once)."""
     m, pf = Z.shape[1] // 2, pos_type.size
     nf = m // pf
     acc = np.zeros(pf)
+    accn = np.zeros(pf)
     for q in range(a_rows.size):
         a, b = Z[a_rows[q]], Z[b_rows[q]]
         k = psd_of[q] if full else -1
         l1, l2 = 0.0, 0.0
         if pf == 3:  # the three irregularity types of a frequency, unrolled
             s0, s1, s2 = 0.0, 0.0, 0.0
+            n0, n1, n2 = 0.0, 0.0, 0.0
             for f in range(nf):
                 c = 6 * f
                 x0 = a[c] * b[c] + a[c + 1] * b[c + 1]
@@ -86,11 +90,20 @@ def pair_sums(Z, a_rows, b_rows, pos_type, w1, w2, inv_df, psd_of, psd, out_type
                 l2 += x0 * w2[j] + x1 * w2[j + 1] + x2 * w2[j + 2]
                 if k >= 0:
                     psd[k, f] = (x0 + x1 + x2) * inv_df[f]
+                if nodes:
+                    n0 += x0 * wn[j]
+                    n1 += x1 * wn[j + 1]
+                    n2 += x2 * wn[j + 2]
             out_type[pos_type[0], q] = s0
             out_type[pos_type[1], q] = s1
             out_type[pos_type[2], q] = s2
+            if nodes:
+                out_nodes[pos_type[0], q] = n0
+                out_nodes[pos_type[1], q] = n1
+                out_nodes[pos_type[2], q] = n2
         else:
             acc[:] = 0.0
+            accn[:] = 0.0
             for f in range(nf):
                 sf = 0.0
                 for t in range(pf):
@@ -100,10 +113,14 @@ def pair_sums(Z, a_rows, b_rows, pos_type, w1, w2, inv_df, psd_of, psd, out_type
                     sf += x
                     l1 += x * w1[c]
                     l2 += x * w2[c]
+                    if nodes:
+                        accn[t] += x * wn[c]
                 if k >= 0:
                     psd[k, f] = sf * inv_df[f]
             for t in range(pf):
                 out_type[pos_type[t], q] = acc[t]
+                if nodes:
+                    out_nodes[pos_type[t], q] = accn[t]
         if full:
             out_lam[0, q] = l1
             out_lam[1, q] = l2

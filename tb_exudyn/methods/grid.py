@@ -172,18 +172,34 @@ def local_grids(grid: FrequencyGrid, cells: NDArray[np.bool_]) -> tuple[Frequenc
     with the trapezoid weights of the chosen cells alone (half of each chosen neighbour cell): a sweep
     on each gives the chosen cells' midpoint and trapezoid sums, M and T, and the grid refined on those
     cells only has the variance var(grid) + (M - T) / 2 (:func:`locally_refined_variance`)."""
+    f, cells, w = _local_weights(grid, cells)
+    h, nodes = np.diff(f), w > 0
+    return (FrequencyGrid(f=(f[1:] + f[:-1])[cells] / 2, df=h[cells], speed=grid.speed, rule="midpoint"),
+            FrequencyGrid(f=f[nodes], df=w[nodes], speed=grid.speed, rule="trapezoid"))
+
+
+def _local_weights(grid: FrequencyGrid, cells: NDArray[np.bool_]) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
+    """The grid's nodes, the cell flags and each node's trapezoid weight over the chosen cells alone."""
     f = np.asarray(grid.f, dtype=float)
     cells = np.asarray(cells, dtype=bool)
     if grid.rule != "trapezoid" or cells.shape != (f.size - 1,):
         raise ValueError("local_grids needs a trapezoid grid and one flag per cell")
-    h = np.diff(f)
-    half = np.where(cells, h / 2, 0.0)
+    half = np.where(cells, np.diff(f) / 2, 0.0)
     w = np.zeros(f.size)
     w[:-1] += half
     w[1:] += half
-    nodes = w > 0
-    return (FrequencyGrid(f=(f[1:] + f[:-1])[cells] / 2, df=h[cells], speed=grid.speed, rule="midpoint"),
-            FrequencyGrid(f=f[nodes], df=w[nodes], speed=grid.speed, rule="trapezoid"))
+    return f, cells, w
+
+
+def local_node_factors(grid: FrequencyGrid, cells: NDArray[np.bool_]) -> dict[int, float]:
+    """Grid index -> the factor of the local estimate's node sum T at that node: its trapezoid weight
+    over the chosen cells alone (the node grid of :func:`local_grids`) divided by the grid's own
+    weight. A PEM column's |y|^2 is proportional to its quadrature width (its amplitude is
+    sqrt(S(f) d_omega)), so T is the grid's own columns' |y|^2 summed with these factors: the node
+    sweep of :func:`local_grids` without integrating its columns again."""
+    _, _, w = _local_weights(grid, cells)
+    df = np.asarray(grid.df, dtype=float)
+    return {int(k): float(w[k] / df[k]) for k in np.flatnonzero(w > 0)}
 
 
 def locally_refined_variance(var_grid: NDArray[np.float64], var_mid: NDArray[np.float64],

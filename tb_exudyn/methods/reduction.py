@@ -69,8 +69,9 @@ FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
 
-#: what a task's result holds (in the checkpoints' fingerprint: checkpoints of another layout are refused)
-REDUCTION_FORMAT = 2
+#: what a task's result holds (in the checkpoints' fingerprint: checkpoints of another layout are refused;
+#: 3: the grid tasks carry the local grid-error estimate's node sums)
+REDUCTION_FORMAT = 3
 
 
 # ============================================================================================ the plan

@@ -57,11 +57,12 @@ def _inputs(n_types: int, n_f: int = 7, seed: int = 0):
     return f_col, types, n_f, np.full(n_f, 0.3), ext, Y
 
 
-def _run(compiled: bool, n_types: int, psd_z=None, variance_only: bool = False, types=None, seed: int = 0):
+def _run(compiled: bool, n_types: int, psd_z=None, variance_only: bool = False, types=None, seed: int = 0,
+         node_weight=None):
     plan = reduction_plan(OUTPUTS, SELECTED, DERIVED)
     f_col, t0, n_f, df, ext, Y = _inputs(n_types, seed=seed)
     red = PseudoReduction(plan, f_col, t0 if types is None else types, n_types, n_f, df, N_T, DT, True, psd_z,
-                          variance_only, compiled=compiled)
+                          variance_only, compiled=compiled, node_weight=node_weight)
     for i in range(N_T):
         red.record(i, Y[i], ext)
     return red, red.result()
@@ -119,6 +120,35 @@ def test_compiled_reducer_with_kept_psd_rows_and_variance_only():
     for key in ("dvar_z", "dcov_z", "lam_z", "nd_lam", "nd_pairs", "sperling_power", "psd_z", "nd_psd"):
         assert not np.any(vo[key]), key
     _compare(vo, _run(False, 3, variance_only=True)[1], red.d_rows)
+
+
+@pytest.mark.parametrize("n_types", [2, 3])
+def test_node_sums_of_the_local_grid_error_estimate(n_types):
+    """Problem: the local grid-error estimate's node sums (sigma^2 and the ratios' cross sums by type,
+    each column weighted by its node factor). References: with every factor 1 they are the plain type
+    sums (the same operations in the same order: bitwise, both paths); with factors 0.5 on some
+    frequencies and 0 on the others, the compiled path against the numpy path (1e-13 of the largest
+    value, module docstring) and the numpy path against its own type sums of the weighted columns
+    (the factor is exact in binary: 0.5 x |z|^2 summed is half the sum, to round-off 1e-13)."""
+    m = 7 * n_types
+    for compiled in (True, False):
+        _, ones = _run(compiled, n_types, node_weight=np.ones(m))
+        assert np.array_equal(ones["var_nodes_z"], ones["var_z"]) and np.array_equal(ones["nd_nodes"], ones["nd_type"])
+    half = np.repeat([0.5, 0.0, 0.5, 0.5, 0.0, 0.0, 0.5], n_types)
+    _, got = _run(True, n_types, node_weight=half)
+    _, ref = _run(False, n_types, node_weight=half)
+    for key in ("var_nodes_z", "nd_nodes"):
+        assert np.max(np.abs(got[key] - ref[key])) <= 1e-13 * np.abs(ref[key]).max(), key
+    assert "var_nodes_z" not in _run(True, n_types, node_weight=np.zeros(m))[1]  # no node: no sums
+    # the numpy path's node sums are the type sums over the chosen frequencies, halved
+    plan = reduction_plan(OUTPUTS, SELECTED, DERIVED)
+    f_col, types, n_f, df, ext, Y = _inputs(n_types)
+    Z = np.stack([np.asarray(plan.L @ Yi[ext]) for Yi in Y])  # (n_t, n_z, m): z = L y in z order
+    chosen = half > 0
+    direct = np.stack([(np.abs(Z[:, :, chosen & (types == t)]) ** 2).sum(axis=2) / 2 for t in range(n_types)], axis=1)
+    w_rows = [z for z, w in enumerate(plan.weighting) if w]  # weighted rows carry W(f): compare the others
+    plain = np.setdiff1d(np.arange(plan.n_z), w_rows)
+    assert np.max(np.abs(ref["var_nodes_z"][:, :, plain] - direct[:, :, plain])) <= 1e-13 * np.abs(direct).max()
 
 
 def test_columns_in_another_layout_take_the_numpy_path():

@@ -14,8 +14,8 @@ import pytest
 from tb_exudyn.errors import SettingError
 from tb_exudyn.methods import run_pem
 from tb_exudyn.methods.adaptive_grid import grid_problem
-from tb_exudyn.methods.grid import (estimate_cells, frequency_grid, local_grids, locally_refined_variance,
-                                    midpoint_grid, refined_variance)
+from tb_exudyn.methods.grid import (estimate_cells, frequency_grid, local_grids, local_node_factors,
+                                    locally_refined_variance, midpoint_grid, refined_variance)
 
 FN, ZETA, F_MAX = 1.0, 0.02, 50.0
 
@@ -80,6 +80,40 @@ def test_local_estimate_with_every_cell_is_the_midpoint_estimate():
     assert np.allclose(nodes.f, g.f, rtol=0, atol=0) and np.allclose(nodes.df, g.df, rtol=1e-15)
     assert locally_refined_variance(var, m, t) == pytest.approx(
         refined_variance(var, float(np.sum(sdof_psd(full.f) * full.df))), rel=1e-12)
+
+
+def test_node_factors_give_the_node_sweeps_sum_from_the_grids_own_columns():
+    """Problem: the local estimate's node sum T taken from the grid's own columns (PEM's grid tasks
+    weight each node's |y|^2 by local_node_factors) instead of a sweep on the node grid of local_grids.
+    References: (1) that node grid's trapezoid sum of the integrand above, on the grid of the
+    closed-form test (23 chosen cells): the factors times the grid's own weights give it to 1e-14
+    (the same products, another order); (2) the PEM columns: a column's squared amplitude S(f) d_omega
+    on the node grid is the grid's column's times the factor (pem_tasks on the quick scenario's grid
+    and its node grid; 1e-14: each amplitude is one square root)."""
+    n = 1001
+    g = frequency_grid(0.0, F_MAX, n, 1.0)
+    cells = estimate_cells(g, grid_problem(1e-6, F_MAX, [(FN, ZETA)], duration=1e4))
+    _, nodes = local_grids(g, cells)
+    factors = local_node_factors(g, cells)
+    k = np.array(sorted(factors))
+    assert np.array_equal(g.f[k], nodes.f)
+    t_sweep = float(np.sum(sdof_psd(nodes.f) * nodes.df))
+    t_grid = float(np.sum(sdof_psd(g.f[k]) * g.df[k] * np.array([factors[i] for i in k])))
+    assert t_grid == pytest.approx(t_sweep, rel=1e-14)
+    import tb_exudyn as tbx
+    from tb_exudyn.methods.pem import pem_tasks
+
+    sc = tbx.load_scenario("quick")
+    grid = frequency_grid(sc.analysis.freq_min, sc.analysis.freq_max, 40, sc.speed)
+    chosen = np.zeros(39, dtype=bool)
+    chosen[[3, 4, 17, 30]] = True
+    factors = local_node_factors(grid, chosen)
+    by = {(p.type_index, p.freq_index): p.amplitude for p in pem_tasks(sc, grid)}
+    node_grid = local_grids(grid, chosen)[1]
+    index = np.array(sorted(factors))
+    for p in pem_tasks(sc, node_grid):  # its frequency index counts the node grid's nodes
+        k = int(index[p.freq_index])
+        assert p.amplitude**2 == pytest.approx(by[(p.type_index, k)] ** 2 * factors[k], rel=1e-14)
 
 
 def test_a_grid_that_meets_the_rules_chooses_no_cell():

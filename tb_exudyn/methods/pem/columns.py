@@ -37,12 +37,15 @@ class PemTask:
 @dataclass(frozen=True)
 class ColumnTask:
     """A set of columns (every type of a set of frequencies, or one column) integrated together;
-    ``midpoints``: columns of the grid error's midpoint sweep (sigma^2 only)."""
+    ``midpoints``: columns of the grid error's midpoint sweep (sigma^2 only); ``nodes``: (frequency
+    index, factor) of the local grid-error estimate's nodes among the columns (their trapezoid weight
+    over the grid's: the reducer's node sums, :class:`PsdReducer`)."""
 
     columns: tuple[PemTask, ...]
     keep_psd: bool
     midpoints: bool = False
     psd_z: tuple[int, ...] | None = None  # the z rows whose PSD maps the task keeps (None: all)
+    nodes: tuple[tuple[int, float], ...] = ()
 
 
 def kind_and_unit(spectrum_name: str, where: str | None = None) -> tuple[str, str]:
@@ -102,15 +105,19 @@ class PsdReducer(PseudoReduction):
     :func:`psd_z_rows`), the time derivative's sums for
     the Rice rate, the ratios' cross sums and the Sperling inputs' weighted power.
 
-    columns : the task's columns; f_col : (m,) excitation frequency of each column [Hz]."""
+    columns : the task's columns; f_col : (m,) excitation frequency of each column [Hz]; nodes:
+    (frequency index, factor) of the local grid-error estimate's nodes (:class:`ColumnTask`)."""
 
     def __init__(self, columns: HarmonicColumns, plan: ReductionPlan, f_col: NDArray[np.float64], n_t: int,
                  n_types: int, dt: float, keep_psd: bool, psd_z: Sequence[int] | None = None,
-                 variance_only: bool = False, compiled: bool = True) -> None:
+                 variance_only: bool = False, compiled: bool = True,
+                 nodes: Sequence[tuple[int, float]] = ()) -> None:
         self.columns = columns
+        at = dict(nodes)
+        weight = np.repeat([at.get(int(k), 0.0) for k in columns.freq_index], columns.n_types) if at else None
         super().__init__(plan, f_col, columns.type_index, n_types, columns.freq_index.size, columns.df, n_t, dt,
                          keep_psd, None if psd_z is None else np.asarray(psd_z, dtype=np.int64), variance_only,
-                         compiled)
+                         compiled, weight)
 
     def result(self) -> dict[str, np.ndarray]:
         return {**super().result(), "freq_index": self.columns.freq_index}
@@ -148,9 +155,11 @@ def slice_weights(cls: Any, options: Any, cores: int, n_columns: int) -> list[fl
 
 
 def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd: bool, prefix: str = "pemb",
-                  midpoints: bool = False, psd_z: tuple[int, ...] | None = None) -> list[Task]:
+                  midpoints: bool = False, psd_z: tuple[int, ...] | None = None,
+                  nodes: dict[int, float] | None = None) -> list[Task]:
     """The sweep's (type, frequency) pairs cut into tasks of contiguous frequencies (all types of a
-    frequency in the same task) with numbers of frequencies in proportion to ``weights``."""
+    frequency in the same task) with numbers of frequencies in proportion to ``weights``; ``nodes``:
+    the local grid-error estimate's factor per frequency index (each task gets its own)."""
     freqs = np.array(sorted({p.freq_index for p in ptasks}))
     w = np.asarray(weights, dtype=float)[: freqs.size]
     edges = np.unique(np.round(np.concatenate(([0.0], np.cumsum(w) / w.sum())) * freqs.size).astype(int))
@@ -158,7 +167,8 @@ def column_slices(ptasks: Sequence[PemTask], weights: Sequence[float], keep_psd:
     for a, b in zip(edges[:-1], edges[1:]):
         chosen = set(freqs[a:b].tolist())
         cols = tuple(p for p in ptasks if p.freq_index in chosen)
-        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints, psd_z)))
+        mine = tuple((k, f) for k, f in sorted((nodes or {}).items()) if k in chosen)
+        out.append(Task(f"{prefix}-{freqs[a]:05d}-{freqs[b - 1]:05d}", ColumnTask(cols, keep_psd, midpoints, psd_z, mine)))
     return out
 
 

@@ -25,7 +25,7 @@ from ...system.derived import derived_provenance
 from ..common import AnalysisSetup, MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from ..driver import RunPlan, drive
 from ...errors import SettingError
-from ..grid import (band_mask, check_grid_against_spectra, estimate_cells, local_grids, locally_refined_variance,
+from ..grid import (band_mask, check_grid_against_spectra, estimate_cells, local_grids, local_node_factors, locally_refined_variance,
                     midpoint_grid, refined_variance)
 from ..adaptive_grid import scenario_grid_problem
 from ..grid_error import DEFAULT_GRID_ESTIMATE, GRID_ESTIMATES, GridError, grid_error_from_sigma, local_method
@@ -45,7 +45,7 @@ class PemState:
     gives ``mean``, ``rows``, ``coef`` and the shapes of ``var`` (sigma^2 per type, (n_types, n_ch,
     n_t)), ``sums`` (the Rice rate's, the ratios' and Sperling's sums) and ``psd`` (the kept maps);
     every column task adds to them, the grid error's midpoint tasks to ``var_mid`` and, for the local
-    estimate (``estimate`` "local", ``cells``: chosen of all), its node tasks to ``var_nodes``."""
+    estimate (``estimate`` "local", ``cells``: chosen of all), the grid tasks' node sums to ``var_nodes``."""
 
     setup: AnalysisSetup
     plan: ReductionPlan
@@ -94,12 +94,14 @@ class PemMethod:
         check_grid_against_spectra(grid, scenario, spectra)
         estimate, grid_error = _estimate(self.grid_error, cls, execution.where)
         grid_error = grid_error and grid.rule == "trapezoid" and grid.f.size > 1
-        mid_grids, cells = [], (0, 0)
+        mid_grids, cells, nodes = [], (0, 0), {}
         if grid_error and estimate == "local":
             table = setup.modes.of_kind("vehicle", "bridge")  # the modes at t = 0
             problem = scenario_grid_problem(scenario, list(zip(table.frequency, table.damping_ratio)))
             chosen = estimate_cells(grid, problem)
-            mid_grids, cells = list(zip(("pemm", "pemn"), local_grids(grid, chosen))), (int(chosen.sum()), chosen.size)
+            # the midpoints a sweep of their own; the nodes' sums T from the grid's own columns
+            mid_grids, cells = [("pemm", local_grids(grid, chosen)[0])], (int(chosen.sum()), chosen.size)
+            nodes = local_node_factors(grid, chosen)
         elif grid_error:
             mid_grids = [("pemm", midpoint_grid(grid))]
         psd_spec = tuple(self.psd_channels) if isinstance(self.psd_channels, (list, tuple)) else self.psd_channels
@@ -119,7 +121,7 @@ class PemMethod:
         psd_z = tuple(int(z) for z in z_kept) if self.keep_psd and z_kept is not None else None
         ptasks = pem_tasks(scenario, grid)
         tasks = self._tasks(cls, execution, ptasks, [(prefix, pem_tasks(scenario, g)) for prefix, g in mid_grids],
-                            psd_z)
+                            psd_z, nodes)
         sizing = PemSizing(
             n_freq=int(grid.f.size), n_types=len(spectra), keep_psd=self.keep_psd,
             workers=execution.worker_processes(len(tasks)),
@@ -134,21 +136,25 @@ class PemMethod:
                        worker=PemWorker(self.engine, scenario, self.options, sizing, system), desc=f"PEM ({self.engine})")
 
     def _tasks(self, cls: Any, execution: Execution, ptasks: Sequence[PemTask],
-               mid_tasks: Sequence[tuple[str, Sequence[PemTask]]], psd_z: tuple[int, ...] | None) -> list[Task]:
+               mid_tasks: Sequence[tuple[str, Sequence[PemTask]]], psd_z: tuple[int, ...] | None,
+               nodes: dict[int, float]) -> list[Task]:
         """The mean task first, then the columns: one task per column on an engine that runs them
         separately, else slices (the package docstring); the grid error's sweeps after them (``mid_tasks``:
-        (key prefix, columns), "pemm" the midpoints, "pemn" the local estimate's nodes)."""
+        (key prefix, columns), "pemm" the midpoints). ``nodes``: the local estimate's node factors per
+        frequency index (:func:`~..grid.local_node_factors`), summed by the grid's tasks."""
         keep_psd = self.keep_psd
         tasks = [Task("pem-mean", MeanTask())]
         if cls.single_columns:
-            tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), keep_psd, psd_z=psd_z))
+            tasks += [Task(f"pem-{p.type_index}-{p.freq_index:05d}",
+                           ColumnTask((p,), keep_psd, psd_z=psd_z,
+                                      nodes=((p.freq_index, nodes[p.freq_index]),) if p.freq_index in nodes else ()))
                       for p in ptasks]
             tasks += [Task(f"{prefix}-{p.type_index}-{p.freq_index:05d}", ColumnTask((p,), False, True))
                       for prefix, sweep in mid_tasks for p in sweep]
             return tasks
         weights = (slice_weights(cls, self.options, execution.cores, len(ptasks)) if execution.slices is None
                    else execution.slices)
-        tasks += column_slices(ptasks, weights, keep_psd, psd_z=psd_z)
+        tasks += column_slices(ptasks, weights, keep_psd, psd_z=psd_z, nodes=nodes)
         mid_weights = [1.0] * max(1, execution.cores) if execution.slices is None else execution.slices
         for prefix, sweep in mid_tasks:  # after the loads are level: equal slices
             if sweep:
@@ -160,15 +166,16 @@ class PemMethod:
         if isinstance(task.data, MeanTask):
             _reduce_mean(state, task, result, self.keep_psd)
             return
+        if "var_nodes_z" in result:
+            _add_node_sums(state, result)
         result = {**result, **finish_pem_task(result, state.plan, state.coef,
                                               None if task.data.midpoints else state.rows_kept)}
         var_t = result["var_t"]
         assert state.var is not None
-        if task.data.midpoints:  # the grid error's sweeps: sigma^2 only
-            name = "var_nodes" if task.key.startswith("pemn") else "var_mid"
-            if getattr(state, name) is None:
-                setattr(state, name, np.zeros_like(state.var))
-            getattr(state, name)[...] += var_t.transpose(1, 2, 0)
+        if task.data.midpoints:  # the grid error's midpoint sweep: sigma^2 only
+            if state.var_mid is None:
+                state.var_mid = np.zeros_like(state.var)
+            state.var_mid += var_t.transpose(1, 2, 0)
             return
         for key, total in state.sums.items():
             total += result[key]
@@ -233,7 +240,7 @@ class PemWorker:
         n_types = len(engine.scenario.track.irregularities)
         reducer = PsdReducer(columns, engine_plan(engine), column_frequencies(data.columns, columns),
                              engine.steps.n_outputs, n_types, 1.0 / engine.fs, data.keep_psd, data.psd_z,
-                             data.midpoints)
+                             data.midpoints, nodes=data.nodes)
         result = (engine.integrate_estimate if data.midpoints else engine.integrate)(columns, reducer)
         result["describe"] = np.array(json.dumps(engine.describe()))
         return result
@@ -270,6 +277,20 @@ def _add_psd(psd: np.ndarray, k: np.ndarray, part: np.ndarray, whole: bool) -> N
             view += part
     else:
         psd[:, k, :] += part
+
+
+def _add_node_sums(state: PemState, raw: dict[str, np.ndarray]) -> None:
+    """A grid task's node sums of the local grid-error estimate (``var_nodes_z``, ``nd_nodes``: its
+    columns' |y|^2 and the ratios' cross sums by type, weighted by the node factors) as sigma^2 by
+    type per channel, the ratios by their first-order coefficients (:func:`finish_pem_task` on those
+    sums), into ``state.var_nodes``: the sum T of :func:`~..grid.locally_refined_variance`."""
+    assert state.var is not None
+    sub = {k: v for k, v in raw.items() if k not in ("psd_z", "psd_z_rows", "nd_psd")}
+    sub.update(var_z=raw["var_nodes_z"], nd_type=raw["nd_nodes"])
+    var_t = finish_pem_task(sub, state.plan, state.coef, None)["var_t"]
+    if state.var_nodes is None:
+        state.var_nodes = np.zeros_like(state.var)
+    state.var_nodes += var_t.transpose(1, 2, 0)
 
 
 def _grid_error(state: PemState, channels: tuple[str, ...]) -> GridError | None:
