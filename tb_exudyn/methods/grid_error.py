@@ -14,8 +14,10 @@ The refined result is the better one; the estimate bounds its error from above i
 
 The local estimate ("local" of :data:`GRID_ESTIMATES`) refines only the cells wider than the spacing
 the adaptive grid's rules ask for there (:func:`~.grid.estimate_cells`): a sweep on their midpoints
-(M) and one on their nodes with those cells' trapezoid weights (T) give var_refined = var_grid +
-(M - T) / 2 (:func:`~.grid.locally_refined_variance`); the other cells are taken as converged.
+(M) and the sum on their nodes with those cells' trapezoid weights (T) give var_refined = var_grid +
+(M - T) / 2 (:func:`~.grid.locally_refined_variance`); the other cells are taken as converged. T
+needs no sweep of its own: it is the grid's own columns at those nodes, weighted by
+:func:`~.grid.local_node_factors` in the grid tasks' reducer.
 
 Per channel the result states the relative error of max over time of sigma, (max sigma_grid -
 max sigma_refined) / max sigma_refined, and the largest deviation over time, max_t |e(t)| / max
@@ -36,7 +38,8 @@ from .grid import LOCAL_RATIO, refined_variance
 
 #: the estimates (``run_pem(grid_error=...)``, the method option's one home): "midpoints", the sweep on
 #: every cell's midpoint (as many columns again); "local", only the cells coarser than the adaptive
-#: grid's rules (:func:`~.grid.estimate_cells`): their midpoints and nodes (docs/speed.md measures both)
+#: grid's rules (:func:`~.grid.estimate_cells`): a sweep on their midpoints, the nodes' sum from the grid's
+#: own columns (docs/speed.md measures both)
 GRID_ESTIMATES = ("midpoints", "local")
 DEFAULT_GRID_ESTIMATE = "local"
 
