@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -77,9 +78,17 @@ def cli(*args: object, cwd: Path | None = None, timeout: float = 120) -> subproc
                           env=env(), cwd=cwd or ROOT, timeout=timeout)
 
 
+def _default_sigint() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def start_cli(*args: object, new_session: bool = False) -> subprocess.Popen:
+    """The command in a child process, with SIGINT's default disposition as at a terminal (a suite run
+    in the background of a non-interactive shell inherits SIGINT ignored, and Python then installs
+    no KeyboardInterrupt handler: the Ctrl-C tests would test nothing)."""
     return subprocess.Popen([sys.executable, "-m", "tb_exudyn", *map(str, args)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True, env=env(), cwd=ROOT, start_new_session=new_session)
+                            stderr=subprocess.PIPE, text=True, env=env(), cwd=ROOT, start_new_session=new_session,
+                            preexec_fn=_default_sigint)
 
 
 def run_args(scenario: Path, out: Path, *extra: object, engine: str = "batched", workers: int = 1) -> list[object]:
