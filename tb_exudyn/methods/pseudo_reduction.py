@@ -21,7 +21,7 @@ per frequency (the PSD map) and the Sperling inputs' power come from one pass ov
 derivative's sums from one pass over the neighbouring times, and the PSD rows of 16 output times are
 written into the map together. The same sums to round-off of their order (1e-13 of each quantity's
 largest value, tests/methods/test_compiled_reduction.py); measured on the reference study's 240-column
-task in the integration: 4.0 -> 1.15 s (docs/speed.md section 6). ``compiled=False`` keeps the numpy
+task in the integration: 4.0 -> 1.15 s (docs/speed.md section 7). ``compiled=False`` keeps the numpy
 passes below, the reference.
 """
 
