@@ -150,10 +150,20 @@ def required_spacing(problem: GridProblem, f: NDArray[np.float64],
                     min over modes sqrt(h_m^2 + ((f - f_m) / grade)^2) ).
     """
     f = np.asarray(f, dtype=float)
-    h = np.minimum(resolution.background_relative * f, background_spacing(problem, resolution))
+    bg = background_spacing(problem, resolution)
+    ff = f.reshape(-1)
+    flat = np.minimum(resolution.background_relative * ff, bg)
+    # a mode lowers h only where |f - f_m| / grade < h <= h_bg: each mode is evaluated on the sorted
+    # frequencies within 1.01 grade h_bg of it (the same values as over all f; a sweep's grid has
+    # hundreds of modes and tens of thousands of auxiliary points: 0.08 s per call before)
+    order = np.argsort(ff, kind="stable")
+    fs = ff[order]
+    reach = 1.01 * resolution.grade * bg
     for fm, hm in zip(problem.modes[:, 0], mode_spacing(problem, resolution)):
-        h = np.minimum(h, np.hypot(hm, (f - fm) / resolution.grade))
-    return h
+        i0, i1 = np.searchsorted(fs, (fm - reach, fm + reach), side="left")
+        at = order[i0:i1]
+        flat[at] = np.minimum(flat[at], np.hypot(hm, (fs[i0:i1] - fm) / resolution.grade))
+    return flat.reshape(f.shape)
 
 
 def _auxiliary_points(problem: GridProblem, resolution: GridResolution) -> NDArray[np.float64]:

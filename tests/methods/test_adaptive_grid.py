@@ -109,6 +109,28 @@ def test_nodes_cluster_at_the_modes_as_specified():
     assert 0.9 * 0.5 <= h[np.searchsorted(f, 45.0)] <= 1.01 * 0.5
 
 
+
+@pytest.mark.parametrize("grade, background_max", [(10.0, 2.0), (3.0, 0.5), (30.0, 2.0)])
+def test_required_spacing_equals_its_formula_over_every_mode(grade, background_max):
+    """required_spacing evaluates each mode only near it (within 1.01 grade h_bg, where it can lower
+    h): the values must be those of the formula h(f) = min(background_relative f, h_bg, min over all
+    modes sqrt(h_m^2 + ((f - f_m) / grade)^2)) evaluated here over every mode and every f, exactly
+    (the same floating-point operations where a mode counts; elsewhere the formula's term exceeds
+    h_bg). 60 random modes (zeta 1e-4 .. 0.3, two outside the band), f unsorted, 2-D and scalar."""
+    rng = np.random.default_rng(7)
+    res = GridResolution(grade=grade, background_max=background_max)
+    modes = [(float(f), float(z)) for f, z in zip(rng.uniform(0.1, 70.0, 60), 10 ** rng.uniform(-4, -0.5, 60))]
+    problem = grid_problem(F_MIN, F_MAX, modes, 5.57, spread=1.5)
+    hm = np.maximum(problem.modes[:, 1] * problem.modes[:, 0] / res.halfwidth_points, 1 / (res.run_factor * 5.57))
+    h_bg = 1 / (1.5 + 1 / background_max)
+    for f in (rng.uniform(F_MIN, F_MAX, 4000), rng.uniform(F_MIN, F_MAX, (40, 25)), np.float64(8.0)):
+        f = np.asarray(f)
+        terms = np.hypot(hm[:, None], (f.reshape(1, -1) - problem.modes[:, :1]) / grade)  # every mode at every f
+        expected = np.minimum(np.minimum(res.background_relative * f.reshape(-1), h_bg), terms.min(axis=0))
+        got = required_spacing(problem, f, res)
+        assert got.shape == f.shape
+        assert np.array_equal(got.reshape(-1), expected)
+
 def test_n_max_is_respected_and_too_few_points_name_the_key():
     """n_max nodes exactly (extra points refine the whole grid); fewer than needed: ValueError from the
     plain function, ScenarioError naming analysis.n_freq and the count needed from the scenario's."""
