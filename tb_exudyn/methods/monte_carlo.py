@@ -116,7 +116,8 @@ def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
     waiting and one arriving, briefly there twice); in each worker the largest task's profiles (the
     sampled grids, half the columns' values and slopes built from them, while they are built), its
     reduction (every wheel force at every output
-    time, the samples if kept; a pool sends a copy), its columns' state, the model, the interpreter."""
+    time, the samples if kept; a pool sends a copy), its columns' state, the model, the compiled code
+    of the mean task (:meth:`~tb_exudyn.engines.base.Engine.code_bytes`), the interpreter."""
     n_sel = len(engine_plan(engine).names)  # the result channels: the scenario's and the derived ones
     n_t, n_force = engine.steps.n_outputs, int(engine.force_rows.size)
     pool = s.workers > 0
@@ -143,6 +144,7 @@ def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
              + (", and its copy sent back" if pool else ""), (2 if pool else 1) * task_result, *key, remedy),
         Part(f"the state of a task's {(nb + 1) // 2} columns", ((nb + 1) // 2) * column_bytes(engine), *key, remedy),
         Part("the model", model_bytes(engine)),
+        Part("the engine's compiled code (the mean task's)", engine.code_bytes(False)),
         Part("the interpreter and its libraries", PROCESS_BYTES),
     )
     return MemoryEstimate(parent, worker, s.workers)

@@ -152,9 +152,12 @@ class BatchedEngine(Engine):
         return LINEAR_MEAN_COLUMNS if _options(options).mean in ("linear", "auto") else None
 
     def code_bytes(self, harmonic: bool) -> int:
-        """The compiled step's memory in a worker integrating harmonic columns with it: Numba, llvmlite
+        """The compiled step's memory in a worker integrating with it (harmonic columns; without
+        ``harmonic``, a Monte Carlo run's mean task, the linear mean's gravity column): Numba, llvmlite
         and the loaded code, COMPILED_STEP_BYTES."""
-        return COMPILED_STEP_BYTES if harmonic and self.options.step == "compiled" else 0
+        if self.options.step != "compiled":
+            return 0
+        return COMPILED_STEP_BYTES if harmonic or self.options.mean in ("linear", "auto") else 0
 
     @property
     def precision(self) -> str:

@@ -1,7 +1,7 @@
 """The compiled step of the batched engine (Numba): a run's steps of a block in one call.
 
-The same step as :meth:`.run._Run.solve` and :meth:`.run._Run.update` for harmonic (PEM) columns: the
-inputs f_in, the bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles'
+The same step as :meth:`.run._Run.solve` and :meth:`.run._Run.update` for harmonic (PEM) columns and
+the linear mean's gravity column (a constant input and generalised force): the inputs f_in, the bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles'
 products on and off the bridge (their forces at output steps) and the generalized-alpha update, but
 without a Python call per product: every product is the same BLAS call (gemm, axpy, scal of scipy's
 BLAS through their addresses, :func:`tb_exudyn.jit.blas_pointers`) on the same arrays in the same order, so
@@ -207,18 +207,23 @@ def _off_bridge(j, record, blas, ib, sb, ch, QP, VP, DL, G, F, vt, vo, fo, vbuf)
 
 
 @njit(cache=CACHE)
-def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, bridge, schedule, vehicles, coef):  # noqa: ANN001, ANN201
+def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, const, bridge, schedule, vehicles, coef):  # noqa: ANN001, ANN201
     """Steps k0 .. k1 - 1 of a block for one run; returns the first output step (after its solve,
     before its update) or k1. ``update_first``: the update of step k0 - 1 is still to do.
 
     state = (QP, VP, AP, DL, Gc, G, F, R): the run's arrays (G, the real view of Gc, the contact
     right-hand sides; R, f_in at output steps); inputs = (Qss, Qd, z, cols, w, dw, steady, zero,
-    axle); bridge = (pk, pd, st, Lq, Lv, SaS, hbuf, hoff, a0): the bridge's diagonal terms and the
+    axle); const = (constant, Gs, Gf, Dc): a column source with a constant generalised force on the
+    wheels (the linear mean's gravity column, :class:`.run._Run`'s ``force_delta``) instead of harmonic
+    inputs where ``constant``: f_in = Gs at every step (no taper), then + Gf (the wheels' part of
+    C y_c) and Delta += Dc (y_c) after the vehicles;
+    bridge = (pk, pd, st, Lq, Lv, SaS, hbuf, hoff, a0): the bridge's diagonal terms and the
     block's per-step operators (st[k] = has, i, r0, r1, R0, R1, j0, j1); schedule = (n_active,
     moving, rows_end) per step; vehicles = (vt, vo, bl, fo, vbuf); coef = the update's six
     coefficients and h."""
     QP, VP, AP, DL, Gc, G, F, R = state
     Qss, Qd, z, cols, w, dw, steady, zero, axle = inputs
+    constant, Gs, Gf, Dc = const
     pk, pd, st, Lq, Lv, SaS, hbuf, hoff, a0 = bridge
     n_active, moving, rows_end = schedule
     vt, vo, bl, fo, vbuf = vehicles
@@ -226,9 +231,16 @@ def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, bridge
     if update_first:
         _update(blas, ib, sb, QP, VP, AP, DL, 0 if moving[k0 - 1] else nb, rows_end[k0 - 1], coef)
     for k in range(k0, k1):
-        _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle)
+        if constant:
+            Gc[:, :] = Gs
+        else:
+            _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle)
         if rec[k]:
             R[:, :] = Gc
+        if constant:
+            for r in range(Gc.shape[0]):
+                for c in range(Gc.shape[1]):
+                    Gc[r, c] += Gf[r, c]
         if nb and moving[k]:
             for r in range(nb):
                 for c in range(QP.shape[1]):
@@ -241,6 +253,10 @@ def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, bridge
         for j in range(n_active[k]):
             if j < j0 or j >= j1:
                 _off_bridge(j, rec[k], blas, ib, sb, ch, QP, VP, DL, G, F, vt, vo, fo, vbuf)
+        if constant:
+            for r in range(DL.shape[0]):
+                for c in range(DL.shape[1]):
+                    DL[r, c] += Dc[r, c]
         if rec[k]:
             return k
         _update(blas, ib, sb, QP, VP, AP, DL, 0 if moving[k] else nb, rows_end[k], coef)

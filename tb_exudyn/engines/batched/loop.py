@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from ... import jit
-from ...system.columns import HarmonicColumns, ProfileColumns
+from ...system.columns import HarmonicColumns, ProfileColumns, StaticLoadColumns
 from .inputs import shared_inputs
 from .kernels import PRECISIONS
 from .outputs import _Outputs
@@ -44,7 +44,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     components' per-step operators are prepared, then each chunk of columns (:func:`chunks`) runs
     through the block's steps; the outputs of the block's output times are buffered and handed to
     the reducer in time order once every chunk has passed them. ``step``: "compiled" (the runs of
-    harmonic columns by :mod:`.compiled`, the others by numpy calls) or "numpy" (every run by numpy
+    harmonic columns and of the gravity column by :mod:`.compiled`, the others by numpy calls) or "numpy" (every run by numpy
     calls, :meth:`.run._Run.solve` and :meth:`.run._Run.update`).
     """
     ga, cm = engine.alpha, engine.outputs
@@ -103,7 +103,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
 
     coef = ga.update_coefficients()
     h = ga.h
-    if step == "compiled" and harmonic and runs:
+    if step == "compiled" and (harmonic or isinstance(source, StaticLoadColumns)) and runs:
         module = jit.load("tb_exudyn.engines.batched.compiled")
         for run in runs:
             run.compile(module, coef, h)

@@ -56,10 +56,12 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
         raise CapabilityError("engine 'batched'", "options.mean", "linear", "'exudyn' for this scenario", str(exc)) from None
     om = engine.outputs
     rec = _MeanRecorder(len(om.names), engine.steps.n_outputs)
+    step = engine.options.step  # the columns' step: "compiled" or "numpy"
     if lin is engine.lin:
-        integrate(engine, source, rec, precision="float64")
+        integrate(engine, source, rec, precision="float64", step=step)
     else:
-        integrate(engine, source, rec, precision="float64", lin=lin, components=find_components(lin, engine.output_time))
+        integrate(engine, source, rec, precision="float64", lin=lin, components=find_components(lin, engine.output_time),
+                  step=step)
     values = rec.values
     for i, g, order in om.node:  # displacements from the reference configuration: u_s + delta
         if order == 0:

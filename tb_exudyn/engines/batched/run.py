@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
-from .inputs import _HarmonicInputs, run_inputs
+from .inputs import _HarmonicInputs, _StaticInputs, run_inputs
 from ...jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
 from .steps import StepBlock
@@ -399,9 +399,23 @@ class _Run:
 
     def compile(self, module: Any, coef: tuple[float, ...], h: float) -> bool:
         """Use the compiled step (:mod:`.compiled`, ``module``) for this run: harmonic (PEM) columns
-        without a constant force. Returns whether it applies."""
-        if self.force_delta is not None or not isinstance(self.input, _HarmonicInputs):
+        without a constant force, or the gravity column (a constant input and a constant force on the
+        wheels only, as the linear mean's always is: every axle on the approach at t = 0, so the
+        bridge rows' C_b y_c of :meth:`solve` is zero; a force with a bridge part keeps the numpy step).
+        Returns whether it applies."""
+        harmonic = isinstance(self.input, _HarmonicInputs) and self.force_delta is None
+        constant = (isinstance(self.input, _StaticInputs) and self.force_delta is not None
+                    and not np.any(self.force_bridge))
+        if not (harmonic or constant):
             return False
+        dt, cdt = np.dtype(self.dtype), np.dtype(self.cdtype)
+        if constant:  # (constant, f_s, the wheels' C y_c, y_c); the harmonic inputs unused
+            self._kconstant = (True, np.ascontiguousarray(np.broadcast_to(self.input.value, self.Gc.shape), dtype=cdt),
+                               np.ascontiguousarray(self.force_rows, dtype=cdt),
+                               np.ascontiguousarray(self.force_delta, dtype=dt))
+            self._kinputs = (np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt))
+        else:
+            self._kconstant = (False, np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=dt))
         self.kernel, self.kwrite = module.run_steps, module.write_outputs
         self.ops.compiled, self.ops._kernels = True, module
         if self.ops._ktables is None:
@@ -430,8 +444,8 @@ class _Run:
                 n_active[k], moving[k], rows_end[k] = self.n_active, self.bridge_moving, self.rows_end
         rec = np.zeros(T, dtype=np.bool_)
         rec[list(buffers)] = True
-        inp = self.input
-        inputs = (inp.Qss, inp.Qd, z, self._kcols, np.ascontiguousarray(block.w), np.ascontiguousarray(block.dw),
+        qss, qd, z = self._kinputs if self._kconstant[0] else (self.input.Qss, self.input.Qd, z)
+        inputs = (qss, qd, z, self._kcols, np.ascontiguousarray(block.w), np.ascontiguousarray(block.dw),
                   block.steady, block.zero, np.ascontiguousarray(self.axle))
         st, Lq, Lv, SaS, hbuf, hoff, a0 = self.ops.kblock
         bridge = (self._kpk, self._kpd, st, Lq, Lv, SaS, hbuf, hoff, a0)
@@ -439,7 +453,7 @@ class _Run:
         blas, ib, sb, ch = self._kconst
         k, pending = 0, False
         while True:
-            k = self.kernel(k, T, pending, rec, blas, ib, sb, ch, self._kstate, inputs, bridge, schedule,
+            k = self.kernel(k, T, pending, rec, blas, ib, sb, ch, self._kstate, inputs, self._kconstant, bridge, schedule,
                             self.ops._ktables, self._kcoef)
             if k >= T:
                 return
