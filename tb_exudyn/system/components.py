@@ -88,6 +88,74 @@ def _bridge_parts(lin: LinearSystem, times: FloatArray) -> Iterator[tuple[FloatA
         yield tuple(np.matmul(P[:, None, :], rails)[:, :, 0] for P in (rm.app_shape, rm.stiff_shape, rm.damp_shape))
 
 
+class _CouplingSums:
+    """The sums behind :func:`coupling_pattern`, over chunks of times (:meth:`add`)."""
+
+    def __init__(self, lin: LinearSystem) -> None:
+        cp = lin.coupling
+        self.rm, self.nb, self.n = cp.row_maps(), cp.n_bridge, cp.n
+        self.rng = np.random.default_rng(2)
+        self.K = np.zeros((2, cp.n, cp.n))
+        self.D = np.zeros((2, cp.n, cp.n))
+        self.rows = np.zeros((self.rm.n_rows, cp.n))
+        self.n_times = 0
+
+    def add(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray) -> None:
+        rm, nb = self.rm, self.nb
+        n_t = Sa.shape[0]
+        self.n_times += n_t
+        self.rows[:, :nb] += (np.abs(Sa) + np.abs(Sk) + np.abs(Sd)).sum(axis=0)
+        for d in range(2):
+            rho = 1.0 + self.rng.random(n_t)
+            wSa = np.einsum("t,trb->rb", rho, Sa)
+            for X, S, G in ((self.K[d], Sk, rm.stiff_wheel), (self.D[d], Sd, rm.damp_wheel)):
+                X[:nb, :nb] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)
+                X[:nb, nb:] -= wSa.T @ G
+                X[nb:, :nb] -= rm.app_wheel.T @ np.einsum("t,trb->rb", rho, S)
+                X[nb:, nb:] += rho.sum() * (rm.app_wheel.T @ G)
+
+    def result(self) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+        rm, nb, rows = self.rm, self.nb, self.rows
+        rows[:, nb:] = self.n_times * (np.abs(rm.app_wheel) + np.abs(rm.stiff_wheel) + np.abs(rm.damp_wheel))
+        pattern = np.zeros((self.n, self.n), dtype=bool)
+        for X in (*self.K, *self.D):
+            pattern |= np.abs(X) > COUPLING_ZERO * np.abs(X).max(initial=0.0)
+        return pattern | pattern.T, rows > COUPLING_ZERO * rows.max(initial=0.0)
+
+
+class _InputReach:
+    """The sums behind :func:`excited_coordinates`, over chunks of times (:meth:`add`)."""
+
+    def __init__(self, lin: LinearSystem) -> None:
+        cp = lin.coupling
+        self.lin, self.rm, self.nb = lin, cp.row_maps(), cp.n_bridge
+        rng = np.random.default_rng(1)
+        xi = 1.0 + rng.random(cp.axle_start.size)[self.rm.axle][:, None]
+        self.weights = [self.rm.input_value * xi, self.rm.input_slope * xi]
+        self.reach = np.zeros((len(KINDS), cp.n))
+        for W in self.weights:
+            np.maximum(self.reach[:, self.nb:], np.abs(self.rm.app_wheel.T @ W).T, out=self.reach[:, self.nb:])
+
+    def add(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray) -> None:
+        nb = self.nb
+        for W in self.weights:
+            np.maximum(self.reach[:, :nb], np.abs(np.einsum("trb,rk->tkb", Sa, W)).max(axis=0), out=self.reach[:, :nb])
+
+    def result(self) -> NDArray[np.bool_]:
+        lin, reach = self.lin, self.reach
+        out = np.zeros((len(KINDS), lin.n), dtype=bool)
+        ci = np.concatenate((lin.bridge, lin.wheel))
+        out[:, ci] = reach > COUPLING_ZERO * reach.max(axis=1, keepdims=True).clip(min=1e-300)
+        return out
+
+
+def _scan(lin: LinearSystem, times: FloatArray, *sums: "_CouplingSums | _InputReach") -> None:
+    """One pass over the bridge parts at the times (:func:`_bridge_parts`), added to each of ``sums``."""
+    for parts in _bridge_parts(lin, times):
+        for acc in sums:
+            acc.add(*parts)
+
+
 def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
     """Nonzero pattern of the coupling's Jacobians (n_loc, n_loc) over the given times, and of the
     contact rows' maps P, F^k, F^d (n_rows, n_loc; penalty rows, then general rows).
@@ -98,31 +166,9 @@ def coupling_pattern(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.b
     only with probability zero, while the exact cancellations within a time (left and right wheel)
     stay at round-off, below the threshold.
     """
-    cp = lin.coupling
-    rm = cp.row_maps()
-    nb = cp.n_bridge
-    rng = np.random.default_rng(2)
-    K = np.zeros((2, cp.n, cp.n))
-    D = np.zeros((2, cp.n, cp.n))
-    rows = np.zeros((rm.n_rows, cp.n))
-    n_times = 0
-    for Sa, Sk, Sd in _bridge_parts(lin, times):
-        n_t = Sa.shape[0]
-        n_times += n_t
-        rows[:, :nb] += (np.abs(Sa) + np.abs(Sk) + np.abs(Sd)).sum(axis=0)
-        for d in range(2):
-            rho = 1.0 + rng.random(n_t)
-            wSa = np.einsum("t,trb->rb", rho, Sa)
-            for X, S, G in ((K[d], Sk, rm.stiff_wheel), (D[d], Sd, rm.damp_wheel)):
-                X[:nb, :nb] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)
-                X[:nb, nb:] -= wSa.T @ G
-                X[nb:, :nb] -= rm.app_wheel.T @ np.einsum("t,trb->rb", rho, S)
-                X[nb:, nb:] += rho.sum() * (rm.app_wheel.T @ G)
-    rows[:, nb:] = n_times * (np.abs(rm.app_wheel) + np.abs(rm.stiff_wheel) + np.abs(rm.damp_wheel))
-    pattern = np.zeros((cp.n, cp.n), dtype=bool)
-    for X in (*K, *D):
-        pattern |= np.abs(X) > COUPLING_ZERO * np.abs(X).max(initial=0.0)
-    return pattern | pattern.T, rows > COUPLING_ZERO * rows.max(initial=0.0)
+    sums = _CouplingSums(lin)
+    _scan(lin, times, sums)
+    return sums.result()
 
 
 def excited_coordinates(lin: LinearSystem, times: FloatArray) -> NDArray[np.bool_]:
@@ -130,22 +176,9 @@ def excited_coordinates(lin: LinearSystem, times: FloatArray) -> NDArray[np.bool
     the generalised input forces P^T (w_v xi) and P^T (w_s xi) of every row (its value and slope
     weights of the kind, :class:`~.coupling.RowMaps`) with the same random value xi at all rows of
     an axle (which sit at the same x)."""
-    cp = lin.coupling
-    rm = cp.row_maps()
-    nb = cp.n_bridge
-    rng = np.random.default_rng(1)
-    xi = 1.0 + rng.random(cp.axle_start.size)[rm.axle][:, None]
-    weights = [rm.input_value * xi, rm.input_slope * xi]
-    reach = np.zeros((len(KINDS), cp.n))
-    for W in weights:
-        np.maximum(reach[:, nb:], np.abs(rm.app_wheel.T @ W).T, out=reach[:, nb:])
-    for Sa, _, _ in _bridge_parts(lin, times):
-        for W in weights:
-            np.maximum(reach[:, :nb], np.abs(np.einsum("trb,rk->tkb", Sa, W)).max(axis=0), out=reach[:, :nb])
-    out = np.zeros((len(KINDS), lin.n), dtype=bool)
-    ci = np.concatenate((lin.bridge, lin.wheel))
-    out[:, ci] = reach > COUPLING_ZERO * reach.max(axis=1, keepdims=True).clip(min=1e-300)
-    return out
+    sums = _InputReach(lin)
+    _scan(lin, times, sums)
+    return sums.result()
 
 
 def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
@@ -158,11 +191,13 @@ def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     base = (lin.M != 0) | (lin.K0 != 0) | (lin.D0 != 0)
     base = base | base.T
     ci = np.concatenate((lin.bridge, lin.wheel))
-    coup, rows_pattern = coupling_pattern(lin, times)
+    coupling, reach = _CouplingSums(lin), _InputReach(lin)
+    _scan(lin, times, coupling, reach)  # one pass over the bridge parts for both
+    coup, rows_pattern = coupling.result()
     full = base.copy()
     full[np.ix_(ci, ci)] |= coup
     n_comp, label = connected_components(csr_matrix(full), directed=False)
-    excited = excited_coordinates(lin, times)
+    excited = reach.result()
     is_bridge = np.zeros(n, dtype=bool)
     is_bridge[lin.bridge] = True
     offdiag = base.copy()
