@@ -121,6 +121,35 @@ def test_batched_components_of_the_eccentric_car():
 
 
 @pytest.mark.exudyn
+def test_components_are_kept_by_their_inputs_and_found_again_when_these_change():
+    """Problem: find_components keeps its last results by a digest of its inputs (M, K0, D0, the
+    bridge and wheel indices, the times, the coupling object), so a run's damping guard and its
+    engine share one search. Reference: the search itself (_find_components). Exact: the same
+    inputs give the same (immutable) components; changed matrices, other times or another coupling
+    are searched again (here: K0 with a coupling term between a body coordinate and a wheelset's,
+    which joins components, and half the times)."""
+    import dataclasses
+
+    from tb_exudyn.engines.batched import BatchedEngine
+    from tb_exudyn.system import components as C
+
+    engine = BatchedEngine(_quick_car15(track_offset=0.0))
+    lin, times = engine.lin, engine.output_time
+    first = C.find_components(lin, times)
+    again = C.find_components(lin, times)
+    assert again == first and all(a is b for a, b in zip(again, first))
+    assert repr(first) == repr(C._find_components(lin, times))
+    assert not first[0].coords.flags.writeable
+    K0 = lin.K0.copy()
+    a, b = int(first[0].coords[-1]), int(first[1].coords[-1])  # one coordinate of each component
+    K0[a, b] = K0[b, a] = 1e3 * max(abs(K0[a, a]), 1.0)
+    joined = dataclasses.replace(lin, K0=K0)
+    assert len(C.find_components(joined, times)) == len(C._find_components(joined, times)) < len(first)
+    half = C.find_components(lin, times[: times.size // 2])
+    assert repr(half) == repr(C._find_components(lin, times[: times.size // 2]))
+
+
+@pytest.mark.exudyn
 def test_batched_sprung_mass_over_span_agrees_with_exudyn_engine():
     """Problem: the damped VBI-2D sprung mass crosses the 25 m beam at 300 km/h after 60 m of
     approach (German low-interference vertical profile, 12 frequencies 1-20 Hz, every channel).
