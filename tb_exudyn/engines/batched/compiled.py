@@ -1,8 +1,9 @@
 """The compiled step of the batched engine (Numba): a run's steps of a block in one call.
 
 The same step as :meth:`.run._Run.solve` and :meth:`.run._Run.update` for harmonic (PEM) columns and
-the linear mean's gravity column (a constant input and generalised force): the inputs f_in, the bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles'
-products on and off the bridge (their forces at output steps) and the generalized-alpha update, but
+the linear mean's gravity column (a constant input and generalised force): the inputs f_in, the
+bridge's diagonal terms, the Woodbury products and the contact solve, the vehicles' products on and
+off the bridge (their forces at output steps) and the generalized-alpha update, but
 without a Python call per product: every product is the same BLAS call (gemm, axpy, scal of scipy's
 BLAS through their addresses, :func:`tb_exudyn.jit.blas_pointers`) on the same arrays in the same order, so
 the state it leaves is the numpy step's to round-off (the inputs' complex products are formed in

@@ -44,8 +44,8 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     components' per-step operators are prepared, then each chunk of columns (:func:`chunks`) runs
     through the block's steps; the outputs of the block's output times are buffered and handed to
     the reducer in time order once every chunk has passed them. ``step``: "compiled" (the runs of
-    harmonic columns and of the gravity column by :mod:`.compiled`, the others by numpy calls) or "numpy" (every run by numpy
-    calls, :meth:`.run._Run.solve` and :meth:`.run._Run.update`).
+    harmonic columns and of the gravity column by :mod:`.compiled`, the others by numpy calls) or
+    "numpy" (every run by numpy calls, :meth:`.run._Run.solve` and :meth:`.run._Run.update`).
     """
     ga, cm = engine.alpha, engine.outputs
     lin = engine.lin if lin is None else lin

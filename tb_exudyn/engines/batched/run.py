@@ -415,7 +415,8 @@ class _Run:
                                np.ascontiguousarray(self.force_delta, dtype=dt))
             self._kinputs = (np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt))
         else:
-            self._kconstant = (False, np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=dt))
+            self._kconstant = (False, np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt),
+                               np.zeros((1, 1), dtype=dt))
         self.kernel, self.kwrite = module.run_steps, module.write_outputs
         self.ops.compiled, self.ops._kernels = True, module
         if self.ops._ktables is None:
@@ -453,8 +454,8 @@ class _Run:
         blas, ib, sb, ch = self._kconst
         k, pending = 0, False
         while True:
-            k = self.kernel(k, T, pending, rec, blas, ib, sb, ch, self._kstate, inputs, self._kconstant, bridge, schedule,
-                            self.ops._ktables, self._kcoef)
+            k = self.kernel(k, T, pending, rec, blas, ib, sb, ch, self._kstate, inputs, self._kconstant, bridge,
+                            schedule, self.ops._ktables, self._kcoef)
             if k >= T:
                 return
             out.write_compiled(self, buffers[k], ga)
