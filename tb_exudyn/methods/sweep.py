@@ -27,8 +27,8 @@ first message of that kind and the speeds it was raised at); each speed's own ar
 
 Each speed is one task on the sweep's executor (the local process pool, a Dask executor: the
 same :class:`~tb_exudyn.execution.Execution` as a sweep over frequencies), running the whole PEM of
-that speed in its worker with the column slices of a separate run on this machine, so that a
-sweep's result at a speed is bitwise that of ``run_pem(sweep_scenario(base, v), ...)`` (with an
+that speed in its worker in one column slice (:data:`SWEEP_SLICES`), so that a sweep's result at
+a speed is bitwise that of ``run_pem(sweep_scenario(base, v), ..., slices=SWEEP_SLICES)`` (with an
 adaptive grid: of ``run_pem`` on the speed's result's scenario, whose n_freq is the count used). With an
 output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`` and
 ``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
@@ -79,7 +79,7 @@ from .common import analysis_high, analysis_setup, fingerprint_identity, whole_n
 from .driver import RunPlan, drive
 from .speed_series import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds, parse_speeds,
                            range_count, speed_label, speed_range)
-from .pem import GRID_ERROR_TOLERANCE, default_slices, prepare_sweep
+from .pem import GRID_ERROR_TOLERANCE, prepare_sweep
 from . import pem
 
 #: the key quantities of a sweep: (column name, channel pattern, what it is); those that match no
@@ -225,6 +225,13 @@ class SpeedTask:
     keep_psd: bool = False
     overwrite: bool = field(default=False, repr=False)
     keep_checkpoint: bool = field(default=False, repr=False)
+
+
+#: the column slices of a speed's PEM in a sweep: one. A speed is one worker's task, so slices there
+#: would not spread its work over cores; each would repeat the per-task set-up (the time-only block
+#: data and the per-block operators of the whole crossing; li_zhu_2011: 5.9 -> 5.7 CPU-s per speed at
+#: 300 km/h, 12.1 -> 10.3 s at 160 km/h against run_pem's 2-core slices, sigma within 1.3e-15 of its largest)
+SWEEP_SLICES = (1.0,)
 
 
 @dataclass(frozen=True)
@@ -373,7 +380,7 @@ class SweepMethod:
         speeds, quantities, cls, scenarios, left_out = _plan(scenario, self.speeds_kmh, self.engine, self.channels,
                                                              self.n_freq, self.options, self.freq_spacing)
         root = execution.output_folder()
-        cuts = tuple(self.slices) if self.slices is not None else tuple(default_slices(execution.cores))
+        cuts = tuple(self.slices) if self.slices is not None else SWEEP_SLICES
         tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(
             sc, self.engine, self.options, None if root is None else str(root / speed_label(v)), execution.resume,
             cuts, self.keep_psd, execution.overwrite, execution.keep_checkpoint)) for v, sc in zip(speeds, scenarios)]
@@ -429,7 +436,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
         least, raised at each speed to what the grid's rules need there)
     freq_spacing : "linear", "log" or "adaptive" (default the base's analysis.freq_spacing)
     keep_psd : keep each speed's PSD map (default False: sigma only)
-    slices : the column slices of every speed's PEM (default: a separate run's on this machine)
+    slices : the column slices of every speed's PEM (default :data:`SWEEP_SLICES`: one)
     overwrite : replace an earlier sweep's table, checkpoint and speeds in ``out`` (without it or
         ``resume`` a folder holding them is refused)
     keep_checkpoint : keep ``out/checkpoint-sweep`` (and each speed's checkpoint) after the results are
@@ -442,6 +449,6 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
 
 
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
-           "SpeedTask", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
+           "SWEEP_SLICES", "SpeedTask", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
            "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
            "speed_label", "speed_range", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]

@@ -12,8 +12,8 @@ import pytest
 from tb_exudyn.errors import SettingError
 from tb_exudyn.methods import run_pem
 from tb_exudyn.methods.pem import default_slices
-from tb_exudyn.methods.sweep import (EN1991_SPEED_FACTOR, en1991_speeds, parse_speeds, resonance_speeds, run_sweep,
-                                     speed_label, sweep_scenario)
+from tb_exudyn.methods.sweep import (EN1991_SPEED_FACTOR, SWEEP_SLICES, en1991_speeds, parse_speeds, resonance_speeds,
+                                     run_sweep, speed_label, sweep_scenario)
 from tb_exudyn.results import load_results
 
 from .test_pem import sprung_mass_scenario
@@ -108,9 +108,10 @@ def test_adaptive_sweep_takes_at_each_speed_the_least_count_its_grid_needs():
 @pytest.mark.exudyn
 def test_sweep_equals_separate_runs_bitwise(tmp_path):
     """Problem: the sprung mass at 250 and 320 km/h, 6 frequencies each. Reference: separate
-    run_pem calls on the sweep's scenarios (sweep_scenario) with the default column slices of this
-    machine. A speed is one task that runs the same PEM tasks in the same order, so the results
-    must be bitwise equal (tolerance zero), for the sweep in this process and on 2 workers."""
+    run_pem calls on the sweep's scenarios (sweep_scenario) with the sweep's column slices
+    (SWEEP_SLICES: one per speed). A speed is one task that runs the same PEM tasks in the same
+    order, so the results must be bitwise equal (tolerance zero), for the sweep in this process and
+    on 2 workers."""
     base = _base()
     speeds = (250.0, 320.0)
     with warnings.catch_warnings():
@@ -119,7 +120,7 @@ def test_sweep_equals_separate_runs_bitwise(tmp_path):
         two = run_sweep(base, speeds, workers=2, out=tmp_path / "b", progress=False, channels=CHANNELS)
         for v in speeds:
             ref = run_pem(sweep_scenario(base, v, CHANNELS), engine="batched", workers=1, progress=False,
-                          keep_psd=False, slices=default_slices(2))
+                          keep_psd=False, slices=SWEEP_SLICES)
             for folder in ("a", "b"):
                 got = load_results(tmp_path / folder / speed_label(v) / "pem")
                 for name in ("time", "mean", "std", "var_by_type"):
