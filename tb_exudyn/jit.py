@@ -78,14 +78,14 @@ def load(name: str) -> ModuleType:
 
 
 def blas_pointers(dtype: np.dtype) -> NDArray[np.int64]:
-    """The addresses of the BLAS gemm, axpy and scal of ``dtype`` (float64: d, float32: s) in scipy's
+    """The address of the BLAS gemm of ``dtype`` (float64: d, float32: s), as a (1,) array, in scipy's
     BLAS (``scipy.linalg.cython_blas``: the library behind ``scipy.linalg.blas``, so the batched
     engine's compiled step makes the numpy step's very calls)."""
     from numba.extending import get_cython_function_address
 
     p = "d" if np.dtype(dtype) == np.float64 else "s"
     return np.array([get_cython_function_address("scipy.linalg.cython_blas", p + name)
-                     for name in ("gemm", "axpy", "scal")], dtype=np.int64)
+                     for name in ("gemm",)], dtype=np.int64)
 
 
 def blas_scratch(dtype: np.dtype) -> tuple[NDArray[np.int64], NDArray[np.int32], np.ndarray, NDArray[np.uint8]]:
