@@ -21,7 +21,9 @@ Pure numpy/scipy, no Exudyn.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import scipy.linalg as la
@@ -446,12 +448,48 @@ def modal_report(modes: FEModes) -> ModalReport:
     )
 
 
+#: the last bridges' modes by their inputs (bridge data are frozen, hashable values): a speed sweep or
+#: a code check solves the same bridge for every speed and train (li_zhu_2011: 0.04 s a solve, one
+#: per speed and three in the parent of a sweep); kept with read-only arrays, shared by the callers
+_SOLVED: OrderedDict[tuple[Any, float, int], FEModes] = OrderedDict()
+_SOLVED_KEPT = 4
+
+
+def _read_only(modes: FEModes) -> FEModes:
+    """``modes`` with every array it holds (its model's included) made read-only, in place."""
+    arrays = [modes.frequencies, modes.shapes, modes.energy_fractions, modes.effective_masses, modes.total_masses]
+    for value in vars(modes.model).values():
+        if isinstance(value, np.ndarray):
+            arrays.append(value)
+        elif sp.issparse(value):
+            arrays += [a for a in (getattr(value, n, None) for n in ("data", "indices", "indptr")) if a is not None]
+    for a in arrays:
+        a.setflags(write=False)
+    return modes
+
+
 def bridge_modes(bridge: SimpleBeam | Frame, max_frequency: float, max_modes: int = 0) -> FEModes:
     """Assemble ``bridge`` and compute its modes (see :func:`solve_modes`); a bridge whose model would
-    not fit the memory available is refused first (:func:`.size.check_bridge_size`)."""
+    not fit the memory available is refused first (:func:`.size.check_bridge_size`). The last few
+    results are kept by their inputs (the same bridge data and limits give the same modes, whose
+    arrays are read-only)."""
+    key = (bridge, float(max_frequency), int(max_modes))
+    try:
+        hit = _SOLVED.get(key)
+    except TypeError:  # bridge data that are not a hashable value: solved every time
+        key, hit = None, None
+    if hit is not None:
+        _SOLVED.move_to_end(key)
+        return hit
     validate_bridge(bridge)
     check_bridge_size(bridge, max_frequency, max_modes, solve_modes)
-    return solve_modes(assemble(bridge), max_frequency, max_modes)
+    modes = _read_only(solve_modes(assemble(bridge), max_frequency, max_modes))
+    if key is None:
+        return modes
+    _SOLVED[key] = modes
+    while len(_SOLVED) > _SOLVED_KEPT:
+        _SOLVED.popitem(last=False)
+    return modes
 
 
 def modal_bridge_from_modes(

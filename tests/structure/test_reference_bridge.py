@@ -71,3 +71,26 @@ def test_first_lateral_mode_at_the_studys_frequency():
     assert modes.mode_types[:2] == ("longitudinal", "longitudinal")
     vertical = np.array([f for f, t in zip(modes.frequencies, modes.mode_types) if t == "vertical"])
     assert 4.7 < vertical[0] < 5.2  # girder alone 5.12 Hz; the bearing height couples it with longitudinal sway
+
+
+def test_solved_modes_are_kept_by_their_inputs_and_solved_again_when_these_change():
+    """Problem: bridge_modes keeps its last results by (bridge data, max_frequency, max_modes), for a
+    sweep's speeds and a check's trains. Reference: the uncached solve, solve_modes(assemble(bridge)),
+    on the calibrated bridge. Exact: the same data must give the very same object, bitwise the
+    uncached modes, with read-only arrays (a caller writing into shared modes would corrupt the
+    next); other limits or data (a 1 % stiffer footing) must be solved again, never served."""
+    from tb_exudyn.structure import assemble, solve_modes
+
+    bridge = calibrated_bridge()
+    first = bridge_modes(bridge, 30.0)
+    assert bridge_modes(calibrated_bridge(), 30.0) is first  # equal data, another object: kept
+    direct = solve_modes(assemble(bridge), 30.0)
+    assert np.array_equal(first.frequencies, direct.frequencies) and np.array_equal(first.shapes, direct.shapes)
+    for a in (first.frequencies, first.shapes, first.effective_masses, first.model.coordinates, first.model.mass.data):
+        with pytest.raises(ValueError, match="read-only"):
+            a[...] = 0.0
+    assert bridge_modes(bridge, 20.0).frequencies.size < first.frequencies.size  # other limit
+    assert bridge_modes(bridge, 30.0, max_modes=3).frequencies.size == 3
+    stiffer = dataclasses.replace(bridge, pier=dataclasses.replace(bridge.pier, k_rotation=1.01 * K_ROTATION))
+    other = bridge_modes(stiffer, 30.0)
+    assert other is not first and other.frequencies[0] > first.frequencies[0]
