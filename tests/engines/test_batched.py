@@ -121,13 +121,15 @@ def test_batched_components_of_the_eccentric_car():
 
 
 @pytest.mark.exudyn
-def test_components_are_kept_by_their_inputs_and_found_again_when_these_change():
+def test_components_are_kept_by_their_inputs_and_found_again_when_these_change(monkeypatch):  # noqa: ANN001
     """Problem: find_components keeps its last results by a digest of its inputs (M, K0, D0, the
     bridge and wheel indices, the times, the coupling object), so a run's damping guard and its
     engine share one search. Reference: the search itself (_find_components). Exact: the same
     inputs give the same (immutable) components; changed matrices, other times or another coupling
     are searched again (here: K0 with a coupling term between a body coordinate and a wheelset's,
-    which joins components, and half the times)."""
+    which joins components, and half the times). The search's pass over the bridge parts is kept
+    by what it reads (the coupling, the times, the indices): other matrices reuse it, other times
+    do not (counted calls of the pass)."""
     import dataclasses
 
     from tb_exudyn.engines.batched import BatchedEngine
@@ -135,6 +137,16 @@ def test_components_are_kept_by_their_inputs_and_found_again_when_these_change()
 
     engine = BatchedEngine(_quick_car15(track_offset=0.0))
     lin, times = engine.lin, engine.output_time
+    scans = []
+    original = C._scan
+
+    def counted(*args):  # noqa: ANN002, ANN202
+        scans.append(1)
+        return original(*args)
+
+    monkeypatch.setattr(C, "_scan", counted)
+    monkeypatch.setattr(C, "_SCANNED", type(C._SCANNED)())
+    monkeypatch.setattr(C, "_FOUND", type(C._FOUND)())
     first = C.find_components(lin, times)
     again = C.find_components(lin, times)
     assert again == first and all(a is b for a, b in zip(again, first))
@@ -144,8 +156,11 @@ def test_components_are_kept_by_their_inputs_and_found_again_when_these_change()
     a, b = int(first[0].coords[-1]), int(first[1].coords[-1])  # one coordinate of each component
     K0[a, b] = K0[b, a] = 1e3 * max(abs(K0[a, a]), 1.0)
     joined = dataclasses.replace(lin, K0=K0)
+    assert len(scans) == 1  # one pass for the search and the uncached search of the same inputs
     assert len(C.find_components(joined, times)) == len(C._find_components(joined, times)) < len(first)
+    assert len(scans) == 1  # other matrices, the same coupling and times: the kept pass
     half = C.find_components(lin, times[: times.size // 2])
+    assert len(scans) == 2
     assert repr(half) == repr(C._find_components(lin, times[: times.size // 2]))
 
 
