@@ -110,16 +110,20 @@ def _update(QP, VP, AP, DL, r0, r1, coef):  # noqa: ANN001, ANN202
 
 
 @njit(cache=CACHE)
-def _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle):  # noqa: ANN001, ANN202
+def _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle, zk):  # noqa: ANN001, ANN202
     """f_in of the harmonic columns at step k (:class:`.inputs._HarmonicInputs`):
-    (Qss z) w + w' (Qd z) at each row's axle."""
+    (Qss z) w + w' (Qd z) at each row's axle. ``zk``: scratch for the step's z of the columns (gathered
+    once, so that the rows' products run over contiguous arrays: 12.8 -> 5.1 us per step at 48 rows x
+    230 columns, the same products)."""
     nr, m = Gc.shape
     if zero[k]:
         Gc[:, :] = 0.0
         return
+    for j in range(m):
+        zk[j] = z[k, cols[j]]
     for r in range(nr):
         for j in range(m):
-            Gc[r, j] = Qss[r, j] * z[k, cols[j]]
+            Gc[r, j] = Qss[r, j] * zk[j]
     if steady[k]:
         return
     for r in range(nr):
@@ -128,7 +132,7 @@ def _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle):  # noqa: ANN001
         for j in range(m):
             x = Gc[r, j] * wr
             if d != 0.0:
-                x += d * (Qd[r, j] * z[k, cols[j]])
+                x += d * (Qd[r, j] * zk[j])
             Gc[r, j] = x
 
 
@@ -198,13 +202,14 @@ def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, const,
     n_active, moving, rows_end = schedule
     vt, vo, bl, fo, vbuf = vehicles
     nb = pk.shape[0]
+    zk = np.empty(Gc.shape[1], dtype=z.dtype)
     if update_first:
         _update(QP, VP, AP, DL, 0 if moving[k0 - 1] else nb, rows_end[k0 - 1], coef)
     for k in range(k0, k1):
         if constant:
             Gc[:, :] = Gs
         else:
-            _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle)
+            _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle, zk)
         if rec[k]:
             R[:, :] = Gc
         if constant:
