@@ -5,6 +5,7 @@
     │   ├── ScenarioError         a scenario, vehicle, bridge or limit file (or its dataclass) is not valid
     │   ├── SpectrumError         a spectrum name, band or user spectrum table is not valid (tb_exudyn.track)
     │   ├── SettingError          an argument of a Python call or a command-line option is not allowed
+    │   │   └── ArgumentTypeError an argument of a Python call is of the wrong type (also a TypeError)
     │   ├── CapabilityError       the chosen engine or method cannot do what was asked
     │   ├── CheckpointError       a checkpoint folder belongs to another computation or is damaged
     │   ├── ResultsError          a results folder cannot be read (missing, foreign, damaged, hostile)
@@ -144,6 +145,12 @@ class SettingError(UserError, ValueError):
                          allowed=allowed, reason=reason)
 
 
+class ArgumentTypeError(SettingError, TypeError):
+    """An argument of a Python call is of a type the call cannot use (an int where a channel name is
+    expected, a dict where a Scenario is); the message says what to pass. Also a TypeError, as Python
+    callers expect of a wrong type."""
+
+
 class CapabilityError(SettingError):
     """The chosen engine (or method) cannot do what was asked, e.g. a static linearisation on an
     engine that runs the pseudo-excitations from rest."""
@@ -177,6 +184,6 @@ class SimulationIncomplete(TbExudynError, RuntimeError):
 
 
 __all__ = [
-    "CapabilityError", "CheckpointError", "ComparisonError", "OutputFolderError", "ResourceError", "ResultsError",
+    "ArgumentTypeError", "CapabilityError", "CheckpointError", "ComparisonError", "OutputFolderError", "ResourceError", "ResultsError",
     "ScenarioError", "SettingError", "SimulationIncomplete", "TbExudynError", "UserError", "format_message", "short_repr",
 ]

@@ -8,9 +8,11 @@ loading it again gives an equal object.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any, Sequence
 
+from ..errors import ArgumentTypeError, OutputFolderError, SettingError
 from . import model as m
 from .errors import ScenarioError
 from .registry import model_path
@@ -136,7 +138,35 @@ def scenario_to_toml(scenario: m.Scenario) -> str:
 
 
 def save_scenario(scenario: m.Scenario, path: str | Path) -> Path:
-    """Write the scenario as TOML (atomically); ``load_scenario`` on it gives an equal scenario."""
+    """Write the scenario as TOML (atomically); ``load_scenario`` on it gives an equal scenario.
+
+    ``path`` is a file's: a folder or another non-regular entry there is refused (SettingError), and a
+    file that cannot be written (a parent that is a file, no permission) is an OutputFolderError naming
+    it; either way nothing is left behind."""
+    scenario = as_scenario(scenario, "save_scenario")
+    if not isinstance(path, (str, os.PathLike)):
+        raise ArgumentTypeError("save_scenario", "path", path, "a file path (str or pathlib.Path), e.g. 'mine.toml'",
+                                f"a path is a str or a Path, not a value of type {type(path).__name__}")
     path = Path(path)
-    write_text_atomic(path, scenario_to_toml(scenario))
+    if path.is_dir() or (path.exists() and not path.is_file()):
+        raise SettingError("save_scenario", "path", str(path), "a file path, e.g. "
+                           f"{str(path / (scenario.name + '.toml'))!r}",
+                           "is a folder" if path.is_dir() else "exists and is no regular file")
+    try:
+        write_text_atomic(path, scenario_to_toml(scenario))
+    except OSError as exc:
+        raise OutputFolderError.from_parts("save_scenario", "path", str(path), "a file in a folder this user can write",
+                                           f"cannot be written: {exc.strerror or exc}") from None
     return path
+
+
+def as_scenario(scenario: Any, where: str) -> m.Scenario:
+    """The Scenario a public entry point (``run_pem``, ``simulate``, ...) was given: a Scenario as it is,
+    a name or path (str or Path) loaded by :func:`load_scenario`; anything else is an
+    ArgumentTypeError (a TypeError) naming ``where`` and what to pass."""
+    if isinstance(scenario, m.Scenario):
+        return scenario
+    if isinstance(scenario, (str, os.PathLike)):
+        return load_scenario(scenario)
+    raise ArgumentTypeError(where, "scenario", scenario, "a Scenario (tb_exudyn.load_scenario('quick')) or a "
+                            "scenario's name or TOML file", f"a value of type {type(scenario).__name__}")
