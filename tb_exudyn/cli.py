@@ -329,13 +329,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
                    help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
                         "the start of the run (vehicles on rigid track, the bridge alone)")
@@ -355,7 +355,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
@@ -402,7 +402,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
                    help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
                         "each > 0 and <= 1000 km/h")

@@ -8,24 +8,41 @@ from __future__ import annotations
 import argparse
 
 from .cli_flags import flag
-from .errors import SettingError
+from .errors import FILE_KEY, SettingError
 from .scenario import Scenario, ScenarioError, load_scenario
 from .scenario.io import parse_setting, with_settings
 from .scenario.speed_rule import at_speed, statement
 
 
+#: the help of ``--set`` on every command that takes it
+SET_HELP = ("set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150; a file "
+            "(--set bridge=my/x.toml) is found from the working folder")
+
+
 def load(args: argparse.Namespace) -> Scenario:
     """The scenario named on the command line with its ``--set KEY=VALUE`` settings, each checked by
-    the schema as in a file (a bad key or value names --set and what is allowed)."""
+    the schema as in a file (a bad key or value names --set and what is allowed; an error in or about
+    another file names that file). A file named in a value is found from the working folder."""
     scenario = load_scenario(args.scenario)
     for text in getattr(args, "settings", None) or ():
         try:
             scenario = with_settings(scenario, [parse_setting(text)])
         except ScenarioError as exc:  # before ValueError: a ScenarioError is one
-            raise SettingError("command line", "--set", text, f"{exc.key}: {exc.allowed}", exc.reason) from None
+            raise set_error(text, exc, scenario) from None
         except ValueError as exc:
             raise SettingError("command line", "--set", text, str(exc)) from None
     return scenario
+
+
+def set_error(text: str, exc: ScenarioError, scenario: Scenario) -> SettingError:
+    """A --set setting's error as the command line tells it: the key and what is allowed, and the file
+    when it is not the scenario's (a missing file: the path tried; a bad key in a bridge file: that
+    file)."""
+    if exc.key == FILE_KEY:
+        return SettingError("command line", "--set", text, exc.allowed, f"{exc.reason}: {exc.where}")
+    elsewhere = exc.where not in (None, "<scenario>", scenario.source_file)
+    return SettingError("command line", "--set", text, f"{exc.key}: {exc.allowed}",
+                        f"{exc.reason} (in {exc.where})" if elsewhere else exc.reason)
 
 
 def with_options(scenario: Scenario, args: argparse.Namespace) -> Scenario:
@@ -76,4 +93,4 @@ def speed_rule_line(base: Scenario, scenario: Scenario) -> str | None:
     return "speed rule: " + statement(base, scenario)
 
 
-__all__ = ["load", "speed_rule_line", "with_options"]
+__all__ = ["SET_HELP", "load", "set_error", "speed_rule_line", "with_options"]

@@ -1,7 +1,8 @@
 """Loading and saving scenarios, vehicles and bridges as TOML.
 
 ``load_scenario`` accepts a path or a name from the model library; names of vehicles and bridges
-inside a scenario are resolved the same way (or as paths relative to the scenario file).
+inside a scenario are resolved the same way (or as paths relative to the scenario file; in a
+setting, ``with_settings`` / ``--set``, relative to the working folder).
 ``save_scenario`` writes the fully resolved scenario (vehicles and bridge inline), so that
 loading it again gives an equal object.
 """
@@ -74,13 +75,31 @@ def parse_setting(text: str) -> tuple[str, Any]:
         return key, raw
 
 
+#: how a setting's value names a file (a vehicle or bridge .toml, a modal table's .csv): resolved from
+#: the working folder, as a shell user expects, not from the scenario's folder
+FILE_SUFFIXES = (".toml", ".csv")
+
+
+def from_working_folder(value: Any) -> Any:
+    """A setting's value with each relative file name (a string ending in :data:`FILE_SUFFIXES`, also
+    inside a list) made absolute from the working folder; names of models and other values as given."""
+    if isinstance(value, list):
+        return [from_working_folder(v) for v in value]
+    if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES) and not os.path.isabs(value):
+        return os.path.abspath(value)
+    return value
+
+
 def with_settings(scenario: m.Scenario, settings: Sequence[tuple[str, Any]]) -> m.Scenario:
     """The scenario with ``settings`` ((dotted key, value), ...: ``("track.lead_in", 150.0)``; a list
     index as a segment: ``train.vehicles.0.body.mass``) applied to its plain form and read again
-    through the schema, so that every value is checked as in a file. Raises ScenarioError naming the
-    key (an unknown key: what the table holds)."""
+    through the schema, so that every value is checked as in a file. A file named in a value
+    (``("bridge", "my/x.toml")``) is found from the working folder (:func:`from_working_folder`), not
+    from the scenario's. Raises ScenarioError naming the key (an unknown key: what the table holds; a
+    missing file: the path tried)."""
     data = to_dict(scenario)
     for key, value in settings:
+        value = from_working_folder(value)
         node: Any = data
         parts = key.split(".")
         for depth, part in enumerate(parts):
