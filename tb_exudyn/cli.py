@@ -121,6 +121,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         scenario = _methods().sweep.with_least_count(scenario)
         print(textwrap.fill(cli_scenario.speed_rule_line(base, scenario), cli_text.TERMINAL_WIDTH,
                             subsequent_indent="  ", break_on_hyphens=False))
+    elif cli_scenario.adaptive_count_free(args):  # adaptive asked for, its count left free: what it needs
+        chosen, scenario = scenario, _methods().sweep.with_least_count(scenario)
+        if (line := cli_scenario.least_count_line(chosen, scenario)) is not None:
+            print(textwrap.fill(line, cli_text.TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False))
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
@@ -380,7 +384,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
-                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
+                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes, and without "
+                        "--n-freq at least as many frequencies as its rules need)")
     p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
                    help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
     p.add_argument("--psd-channels", dest="psd_channels", nargs="+", default=None, metavar="PATTERN",

@@ -86,6 +86,39 @@ def _shown(value: object) -> str:
     return f"{value:.4g}" if isinstance(value, float) else repr(value)
 
 
+def _set_keys(args: argparse.Namespace) -> dict[str, object]:
+    """The keys the command line's ``--set`` settings give, with their values (the last one wins)."""
+    out: dict[str, object] = {}
+    for text in getattr(args, "settings", None) or ():
+        try:
+            key, value = parse_setting(text)
+        except ValueError:
+            continue
+        out[key] = value
+    return out
+
+
+def adaptive_count_free(args: argparse.Namespace) -> bool:
+    """Whether the command line asks for the adaptive grid (``--freq-spacing adaptive`` or ``--set
+    analysis.freq_spacing=adaptive``) and leaves its count free (no ``--n-freq``, no ``--set
+    analysis.n_freq``). Then the run takes at least the count the grid's rules need (the scenario's
+    n_freq was chosen for the grid it had; a railway engineer asking for the adaptive grid expects it to
+    place what it needs), and says so (:func:`least_count_line`); a count chosen on the command line
+    below that need stays an error naming the count."""
+    sets = _set_keys(args)
+    asked = getattr(args, "freq_spacing", None) == "adaptive" or sets.get("analysis.freq_spacing") == "adaptive"
+    chosen = getattr(args, "n_freq", None) is not None or "analysis.n_freq" in sets
+    return asked and not chosen
+
+
+def least_count_line(before: Scenario, after: Scenario) -> str | None:
+    """The terminal's line on an adaptive grid's count raised to what its rules need (None: not raised)."""
+    if after.analysis.n_freq == before.analysis.n_freq:
+        return None
+    return (f"adaptive grid: {after.analysis.n_freq} frequencies, the least its rules need here (the scenario's "
+            f"n_freq is {before.analysis.n_freq}; --n-freq N to choose more)")
+
+
 def speed_rule_line(base: Scenario, scenario: Scenario) -> str | None:
     """The terminal's line on a run at another speed than the scenario's (None when there is none)."""
     if scenario.speed_kmh == base.speed_kmh:
@@ -93,4 +126,5 @@ def speed_rule_line(base: Scenario, scenario: Scenario) -> str | None:
     return "speed rule: " + statement(base, scenario)
 
 
-__all__ = ["SET_HELP", "load", "set_error", "speed_rule_line", "with_options"]
+__all__ = ["SET_HELP", "adaptive_count_free", "least_count_line", "load", "set_error", "speed_rule_line",
+           "with_options"]
