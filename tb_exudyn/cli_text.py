@@ -6,6 +6,7 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
+import textwrap
 
 from .codes.trains import list_trains
 from .results.caveats import unmet_requirement
@@ -85,6 +86,21 @@ _ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=
 
 #: a terminal line's width and a warning's lines on it (the report has the whole text)
 TERMINAL_WIDTH, WARNING_LINES = 100, 2
+#: no line a command prints is longer
+LINE_MAX = 200
+
+
+def fitted(text: str, width: int = LINE_MAX) -> str:
+    """``text`` with every line longer than ``width`` wrapped at words, the rest of it indented two
+    more than the line (tables wrap their own columns; this is the bound for any other line)."""
+    out = []
+    for line in text.split("\n"):
+        if len(line) <= width:
+            out.append(line)
+            continue
+        lead = " " * (len(line) - len(line.lstrip()) + 2)
+        out += textwrap.wrap(line, width, subsequent_indent=lead, break_on_hyphens=False, break_long_words=True)
+    return "\n".join(out)
 
 
 def terminal_warning(text: str, width: int = TERMINAL_WIDTH, lines: int = WARNING_LINES) -> list[str]:
@@ -148,4 +164,4 @@ def library_listing() -> str:
     return "\n".join(out)
 
 
-__all__ = ["library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]
+__all__ = ["LINE_MAX", "fitted", "library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]
