@@ -156,8 +156,9 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
         report = reporting.write_report(out, found=found)
-        print(f"{len(figures)} figures and the report: {report}")
-    print(f"results in {out.resolve()}")
+        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+    else:
+        print(f"results in {out.resolve()}")
     return EXIT_OK
 
 
@@ -295,7 +296,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
         _figures().write_check_report(result, out, png)
-    print(result.summary())
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK

@@ -135,32 +135,31 @@ def with_set_hint(text: str) -> str:
     return text + (f" ({', '.join(hints)})" if hints else "")
 
 
+def _listed(rows: list[tuple[str, str]], width: int = 160) -> list[str]:
+    """Name and description rows, the names aligned and each description wrapped beside its name."""
+    w = max((len(n) for n, _ in rows), default=0)
+    out = []
+    for name, text in rows:
+        wrapped = textwrap.wrap(" ".join(text.split()), width - w - 4, break_on_hyphens=False) or [""]
+        out.append(f"  {name:<{w}}  {wrapped[0]}".rstrip())
+        out += [" " * (w + 4) + rest for rest in wrapped[1:]]
+    return out
+
+
 def library_listing() -> str:
-    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, tracks, trains, limits, spectra."""
+    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, trains, limits, spectra, each
+    group's names aligned and the descriptions wrapped within 160 characters."""
     out: list[str] = []
     entries = list_models()
-    width = max((len(e.name) for e in entries), default=0)
-    for category in ("vehicles", "bridges", "scenarios", "tracks"):
-        out.append(f"{category}:" if category != "tracks" else "tracks (track structures for track.structure):")
-        for e in (e for e in entries if e.category == category):
-            out.append(f"  {e.name:<{width}}  {e.description}")
-    trains = list_trains()
+    for category in ("vehicles", "bridges", "scenarios"):
+        out.append(f"{category}:")
+        out += _listed([(e.name, e.description) for e in entries if e.category == category])
     out.append("trains (moving forces for `tb-exudyn check`; hslm_a: all ten HSLM-A):")
-    width_t = max(len(n) for n, _ in trains)
-    for name, description in trains:
-        out.append(f"  {name:<{width_t}}  {description}")
+    out += _listed(list(list_trains()))
     out.append("limits (criteria of the code checks, models/limits; docs/verdicts.md):")
-    rows = [(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria]
-    width_l = max((len(n) for n, _ in rows), default=0)
-    for name, title in rows:
-        out.append(f"  {name:<{width_l}}  {title}")
+    out += _listed([(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria])
     out.append("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
-    names = spectrum_names()
-    width = max(len(n) for n in names)
-    for name in names:
-        out.append(f"  {name:<{width}}  {get_spectrum(name).describe()}")
-
-
+    out += _listed([(name, get_spectrum(name).describe()) for name in spectrum_names()])
     return "\n".join(out)
 
 

@@ -549,11 +549,15 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     table = cached_checks(result, limits, **options)
     counts = table.counts()
     n_cond = sum(r.conditional for r in table.rows)
-    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
-             + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
+    worst = table.worst()  # one row per criterion: the location that decides it
+    by_criterion = {v: sum(r.verdict == v for r in worst) for v in VERDICTS}
+    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): {len(worst)} criteria: "
+             + ", ".join(f"{by_criterion[v]} {v}" for v in VERDICTS if by_criterion[v])
+             + f" (at {len(table.rows)} locations: " + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v])
+             + (f"; {n_cond} conditional" if n_cond else "") + ")"]
     if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
-        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage")
-    worst = table.worst()
+        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage, at "
+                     "the location most likely to exceed the limit")
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
                   key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
     for name in sets:
