@@ -78,6 +78,6 @@ def test_run_sweep_and_check_fit_a_screen(tmp_path, capsys):
     lines = _printed(capsys, ["sweep", "quick", "--speeds-kmh", "200,250", "--out", str(tmp_path / "s"),
                               "--no-progress", "--no-figures", "--workers", "1"])
     assert len(lines) <= RESULT_LINES, len(lines)
-    lines = _printed(capsys, ["check", "yang_yau_1997_beam", "--line-speed-kmh", "160", "--trains", "HSLM-A1", "--construction", "prestressed_concrete",
-                              "--out", str(tmp_path / "c"), "--no-figures"])
+    lines = _printed(capsys, ["check", "yang_yau_1997_beam", "--line-speed-kmh", "160", "--trains", "HSLM-A1",
+                              "--construction", "prestressed_concrete", "--out", str(tmp_path / "c"), "--no-figures"])
     assert len(lines) <= RESULT_LINES, len(lines)

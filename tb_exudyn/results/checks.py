@@ -316,7 +316,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     for cav, _ in contact:
         effects.append((cav, None))
     if c.check:
-        effects.append((Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False), None))
+        effects.append((Caveat(*c.unverified_caveat(), False), None))
     elif c.note:  # what the limits file says of how the criterion applies here (e.g. the total twist on straight track)
         effects.append((Caveat("limit_note", c.note, False), None))
     caveats = [e for e, _ in effects]
@@ -452,7 +452,7 @@ def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target
                 "min": np.nanmin(v, initial=np.inf), "window_max": np.nanmax(v, initial=-np.inf)}.get(c.statistic)
     caveats = [Caveat("statistic", "one deterministic run: a single sample of the response (no probability)", False)]
     if c.check:
-        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+        caveats.append(Caveat(*c.unverified_caveat(), False))
     reason = unmet_requirement(result, c.quantity, channel)
     if reason is not None:
         caveats.insert(0, Caveat("model", reason, False))
