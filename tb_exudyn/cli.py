@@ -16,12 +16,11 @@ from pathlib import Path
 from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
-from .codes.trains import train_view
 from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text
 from .cli_flags import WHERE, flag
 from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
@@ -30,8 +29,7 @@ from .results.checks import default_limits
 from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
-from .scenario.show import run_label, scenario_table
-from .system.damping_guard import merged_messages
+from .scenario.show import LISTING_WIDTH, run_label, scenario_table
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
 
@@ -42,10 +40,14 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    if not args.settings and (view := train_view(args.scenario)) is not None:  # a train of models/trains
-        return print(view) or EXIT_OK
-    scenario = cli_scenario.load(args)
-    print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
+    kind, model = cli_show.command_model(args)
+    if kind == "scenario":
+        an = model.analysis
+        rows = cli_show.frequency_rows(model.bridge, an.mode_max_frequency, an.max_modes, key="(derived) bridge ")
+        text = scenario_table(model, rows)
+    else:
+        text = {"bridge": cli_show.bridge_text, "vehicle": cli_show.vehicle_text, "train": cli_show.train_text}[kind](model)
+    print(cli_text.fitted(text, LISTING_WIDTH))
     return EXIT_OK
 
 
@@ -57,27 +59,18 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         if not math.isfinite(x):
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
-    scenario = cli_scenario.load(args)
-    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
-    model = methods.build_model(scenario, warn=False)
-    for position in args.position or [None]:
-        table = methods.system_modes(scenario, position, model=model)
-        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
-        if args.band is not None:
-            shown = shown.in_band(*args.band)
-        print(shown.text())
-        if len(shown) < len(table):
-            print(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
-                  f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
-        print()
-    if not scenario.track.irregularities:
-        print("damping guard: not applicable (no track irregularities, so no random run)")
+    kind, scenario = cli_show.command_model(args)
+    if kind != "scenario" and args.position:
+        raise SettingError("command line", "--position", args.position[0], "--position with a scenario (a train on "
+                           f"its bridge)", f"{args.scenario!r} is a {kind}")
+    if kind == "bridge":
+        print(cli_show.bridge_modes_text(scenario, args.band))
         return EXIT_OK
-    warnings = methods.damping_guard(scenario, model=model)
-    print(f"damping guard ({scenario.name}, band and run of its random analysis): "
-          + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
-    for line in merged_messages(warnings):
-        print(f"  warning: {line}")
+    if kind in ("vehicle", "train"):
+        print("\n".join(cli_show.vehicle_modes(args, kind, scenario, methods)))
+        return EXIT_OK
+    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
+    print("\n".join(cli_show.scenario_modes(args, scenario, methods)))
     return EXIT_OK
 
 
@@ -153,8 +146,9 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
         report = reporting.write_report(out, found=found)
-        print(f"{len(figures)} figures and the report: {report}")
-    print(f"results in {out.resolve()}")
+        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+    else:
+        print(f"results in {out.resolve()}")
     return EXIT_OK
 
 
@@ -248,15 +242,14 @@ def _cmd_check(args: argparse.Namespace) -> int:
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
         _figures().write_check_report(result, out, png)
-    print(result.summary())
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse's parser with a one-line error (no usage block after it): the error, then where the
-    command's options are listed; exit 2 as every user error."""
+    """argparse's parser with a one-line error (no usage block), naming the command's --help; exit 2."""
 
     def error(self, message: str):  # noqa: ANN201 - argparse's hook; never returns
         command = self.prog.partition(" ")[2]
