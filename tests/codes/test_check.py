@@ -106,10 +106,12 @@ def test_damping_of_a_short_span_with_eq_6_13():
     assert "eq. 6.13" in r.damping_basis
 
 
-def test_hslm_a_refused_below_7_m():
+def test_hslm_b_below_7_m():
+    """A 5 m simple span: HSLM-A gives way to HSLM-B (EN 1991-2 6.4.6.1.1) instead of a refusal."""
     b = load_bridge("single_span_32m").replace(spans=(5.0,))
-    with pytest.raises(SettingError, match="HSLM-B"):
-        check(b, 160.0, trains=["hslm_a"])
+    r = check(b, 160.0, trains=["hslm_a"])
+    assert r.trains() == ["HSLM-B"] and len(r.rows) > 0
+    assert r.criteria[0].criterion.startswith("deck_acceleration") and "HSLM-B" in r.criteria[0].case
 
 
 def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, capsys):
