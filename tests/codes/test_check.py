@@ -120,6 +120,7 @@ def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, caps
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "deck acceleration limit 3.5 m/s^2 (ballasted track) met" in text and "ice_mttm" in text
+    assert "criteria (EN 1990 A2.4.4):" in text and "vertical_deflection: met" in text  # one line per criterion
     assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html", "check.png"]
     with open(out / "check.csv", newline="") as fh:
         assert {r["train"] for r in csv.DictReader(fh)} == {"HSLM-A1", "ice_mttm"}
