@@ -15,10 +15,27 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from ..errors import SettingError
 from ..scenario.model import Continuous
 from .comfort_deflection import comfort_limit
 from .criteria import CriterionVerdict, DECK_ACCELERATION_CRITERIA, DECK_LIMIT_SET, load_criteria
 from .deformation import NOSING_FORCE, dynamic_factor, first_lateral_frequency, static_deformations
+
+
+#: the classified-load factors of EN 1991-2 6.3.2(3) [recalled, check]
+ALPHA_VALUES = (0.75, 0.83, 0.91, 1.00, 1.10, 1.21, 1.33, 1.46)
+
+
+def check_alpha(alpha, where: str, key: str = "alpha") -> float:  # noqa: ANN001
+    """alpha as given (one of :data:`ALPHA_VALUES`), or 1.0 for None; SettingError naming ``where`` and ``key``."""
+    if alpha is None:
+        return 1.0
+    ok = isinstance(alpha, (int, float)) and not isinstance(alpha, bool) and any(
+        abs(float(alpha) - a) < 1e-9 for a in ALPHA_VALUES)
+    if not ok:
+        raise SettingError(where, key, alpha, "one of " + ", ".join(f"{a:g}" for a in ALPHA_VALUES)
+                           + " (EN 1991-2 6.3.2(3)), or none for 1")
+    return float(alpha)
 
 
 def _verdict(crit, value: float, limit: float, case: str, location: str, caveats: str = "",  # noqa: ANN001

@@ -39,7 +39,7 @@ from . import en1991 as code
 from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
 from . import stochastic as stoch
 from .trains import ForceTrain, resolve_trains
-from .a2_verdicts import a2_verdicts
+from .a2_verdicts import a2_verdicts, check_alpha
 from .hslm_b import HSLM_B_SPANS, hslm_b
 
 #: the table's file in an output folder
@@ -276,6 +276,7 @@ def check(
     workers: int | None = None,
     executor: Any = None,
     progress: bool = False,
+    alpha: float | None = None,
 ) -> CheckResult:
     """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
 
@@ -305,6 +306,8 @@ def check(
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
     workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
+    alpha : the classified-load factor alpha of EN 1991-2 6.3.2(3) on LM71 and SW/0 in the static criteria
+        (None: 1.0, which the verdicts say was not given)
 
     Raises SettingError naming ``where`` and the argument for any value outside what is allowed.
     """
@@ -419,6 +422,7 @@ def check(
         source_scenario = stoch.scenario_source(stochastic_scenario, where,
                                                 names.get("stochastic_scenario", "stochastic_scenario"))
 
+    alpha_value = check_alpha(alpha, where, names.get("alpha", "alpha"))
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:
         zeta = float(damping_ratio)
@@ -537,7 +541,7 @@ def check(
             f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
             f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
     verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
-                           [t.name for t in train_list], limit)
+                           [t.name for t in train_list], limit, alpha_value, alpha is not None)
     return CheckResult(
         criteria=verdicts, bridge=bridge.name, line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
         damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,

@@ -50,3 +50,17 @@ def test_static_values_are_lm71_times_phi(result):
     assert v["comfort_deflection"].limit == pytest.approx(comfort_limit(32.0, 200.0, 1), rel=1e-12)
     assert v["comfort_deflection"].verdict in ("ok", "exceeds")
     assert v["dynamic_factor_envelope"].verdict == "comparison"
+
+
+def test_alpha_scales_the_classified_loads(result):
+    """alpha = 1.21 multiplies LM71 and the nosing force (classified loads, EN 1991-2 6.3.2(3)) in the static
+    criteria, not the comfort criterion (alpha = 1 there, A2.4.4.3.2); a value outside the list is refused."""
+    from tb_exudyn.errors import SettingError
+    r = check("single_span_32m", 200.0, trains=["HSLM-A1"], cases=["nominal"], alpha=1.21)
+    a, b = {c.criterion: c for c in result.criteria}, {c.criterion: c for c in r.criteria}
+    assert b["vertical_deflection"].value == pytest.approx(1.21 * a["vertical_deflection"].value, rel=1e-12)
+    assert b["horizontal_rotation"].value == pytest.approx(1.21 * a["horizontal_rotation"].value, rel=1e-12)
+    assert b["comfort_deflection"].value == pytest.approx(a["comfort_deflection"].value, rel=1e-12)
+    assert "not given" in a["vertical_deflection"].caveats and "not given" not in b["vertical_deflection"].caveats
+    with pytest.raises(SettingError, match="alpha"):
+        check("single_span_32m", 200.0, trains=["HSLM-A1"], alpha=1.2)
