@@ -378,7 +378,8 @@ def check(
         train_list = [t for t in train_list if not t.name.startswith("HSLM-A")] + [hslm_b(min(spans))]
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
-                  f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
+                  f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans under 7 m "
+                  "(EN 1991-2 Table E.4)")
 
     stochastic_trains: list[ForceTrain] = []
     extra_speeds: list[float] = []
