@@ -19,7 +19,7 @@ from ..errors import SettingError
 from ..scenario.model import Continuous
 from .comfort_deflection import comfort_limit
 from .criteria import CriterionVerdict, DECK_ACCELERATION_CRITERIA, DECK_LIMIT_SET, load_criteria
-from .deformation import NOSING_FORCE, dynamic_factor, first_lateral_frequency, static_deformations
+from .deformation import LM71, NOSING_FORCE, dynamic_factor, first_lateral_frequency, static_deformations
 
 
 #: the classified-load factors of EN 1991-2 6.3.2(3) [recalled, check]
@@ -123,9 +123,10 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     c = crits.criterion("comfort_deflection")
     n_spans, cont = spans.size, isinstance(bridge, Continuous)
     lims = [comfort_limit(s, line_speed_kmh, n_spans, cont) for s in spans]
-    comfort_load = f"{' and '.join(sd.loads)} x {phi_basis.split(' (')[0]} (alpha = 1), one track"
+    comfort_sd = sd if sd.loads == (LM71.name,) else static_deformations(bridge, (LM71,))  # LM71 only (A2.4.4.3.2)
+    comfort_load = f"LM71 x {phi_basis.split(' (')[0]} (alpha = 1), one track"
     if all(math.isfinite(x) for x in lims):
-        t, i, v = _largest(sd.deflection, lims)
+        t, i, v = _largest(comfort_sd.deflection, lims)
         out.append(_verdict(c, phi * v, lims[i], f"{comfort_load}: track {t + 1}, {line_speed_kmh:g} km/h, "
                             f"b_v = 1.0 m/s^2 (very good)", f"track {t + 1}, span {i + 1}"))
     else:

@@ -64,3 +64,19 @@ def test_alpha_scales_the_classified_loads(result):
     assert "not given" in a["vertical_deflection"].caveats and "not given" not in b["vertical_deflection"].caveats
     with pytest.raises(SettingError, match="alpha"):
         check("single_span_32m", 200.0, trains=["HSLM-A1"], alpha=1.2)
+
+
+def test_comfort_takes_lm71_only_on_a_continuous_girder():
+    """A2.4.4.3.2 loads LM71 x Phi (alpha = 1), not SW/0: on continuous_3x32m the comfort criterion reads the
+    LM71-only envelope, the L/600 criterion the envelope of LM71 and SW/0. Phi_2 with L_Phi = 1.3 x 32 m."""
+    from tb_exudyn.codes.deformation import LM71
+    r = check("continuous_3x32m", 200.0, trains=["HSLM-A1"], cases=["nominal"])
+    v = {c.criterion: c for c in r.criteria}
+    b = load_bridge("continuous_3x32m").replace(elements_per_span=64)
+    phi2 = 1.44 / (math.sqrt(1.3 * 32.0) - 0.2) + 0.82
+    lm71 = static_deformations(b, (LM71,))
+    both = static_deformations(b)
+    assert v["comfort_deflection"].value == pytest.approx(phi2 * lm71.deflection[0].max(), rel=1e-12)
+    assert v["vertical_deflection"].value == pytest.approx(phi2 * both.deflection[0].max(), rel=1e-12)
+    assert v["comfort_deflection"].limit == pytest.approx(comfort_limit(32.0, 200.0, 3, continuous=True), rel=1e-12)
+    assert v["deck_end_rotation_between_decks"].verdict == "not evaluated"
