@@ -27,14 +27,16 @@ import argparse
 import sys
 from contextlib import ExitStack
 from pathlib import Path
-from typing import Any, Callable
 
 from .cli_flags import WHERE, options
+from .cli_results import report_package
+from . import cli_text
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .errors import SettingError
 from .execution import folder_lock
 from .execution.output import refuse_earlier_files, removed_if_left_empty
 from .files import check_writable, write_output
+from .scenario.show import LISTING_WIDTH
 
 #: exit status after a Ctrl-C (128 + SIGINT, as a shell reports it)
 EXIT_INTERRUPTED = 130
@@ -93,7 +95,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
                            stochastic_scenario=args.stochastic_scenario, workers=args.workers,
                            progress=not args.no_progress, before_work=take_out)
             out = taken[0]
-            files = args.report().check_files(result, None if args.no_figures else result.plot())
+            files = report_package().check_files(result, None if args.no_figures else result.plot())
             stale = [out / CHECK_FIGURE] if CHECK_FIGURE not in files else []  # --overwrite --no-figures
             write_output([(out / name, data) for name, data in files.items()], named=out,
                          overwrite=args.overwrite, where=WHERE, key="out", remove=stale)
@@ -105,15 +107,13 @@ def _cmd_check(args: argparse.Namespace) -> int:
             print(f"tb-exudyn: interrupted before the check's files were written: --out {args.out!r} is as it was; "
                   "run the same command again", file=sys.stderr)
         return EXIT_INTERRUPTED
-    print(result.summary())
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if CHECK_FIGURE not in files else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return 0
 
 
-def add_parser(sub: argparse._SubParsersAction, report: Callable[[], Any]) -> None:
-    """Add the command to ``sub``; ``report()`` loads the report package (matplotlib) when the files are
-    rendered (cli.py's lazy load)."""
+def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("check", help="EN 1991-2 dynamic check: HSLM-A and real trains as moving forces over a speed series",
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
   tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
@@ -151,7 +151,7 @@ def add_parser(sub: argparse._SubParsersAction, report: Callable[[], Any]) -> No
                         "li_zhu_2011, German low interference)")
     p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
-    p.set_defaults(func=_cmd_check, report=report)
+    p.set_defaults(func=_cmd_check)
 
 
 __all__ = ["EXIT_INTERRUPTED", "FILES", "add_parser"]

@@ -20,6 +20,7 @@ import csv
 import importlib
 import io
 import math
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -35,11 +36,14 @@ from ..scenario.code_data import MASS_CASES, with_mass_case
 from ..scenario.model import Continuous, Frame, SimpleBeam
 from ..scenario.registry import model_files
 from ..scenario.schema import source_file
-from ..structure import StructureError, modal_bridge
 from . import en1991 as code
+from .check_modes import FIRST_MODE_LIMIT_HZ, MODE_LIMIT_CAP_HZ  # noqa: F401 - the check's, named here too
+from .check_modes import modes_for_check as _modes_for_check, vertical as _vertical
 from .moving_force import MAX_STEPS, MovingForceResponse, integration_steps, moving_force_response
 from . import stochastic as stoch
 from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
+from .a2_verdicts import a2_verdicts, check_alpha
+from .hslm_b import HSLM_B_SPANS, hslm_b
 
 #: the table's file in an output folder
 CHECK_CSV = "check.csv"
@@ -60,11 +64,19 @@ CHECK_ELEMENTS_PER_SPAN = 64
 #: refused by MAX_STEPS with its own message); a railway line speed is tens to hundreds of km/h, so a value
 #: below 1 km/h can only be a mistake (a unit, a typo)
 MIN_LINE_SPEED_KMH = 1.0
-#: the first modes are computed up to this frequency, raised until three vertical modes are found [Hz]
-FIRST_MODE_LIMIT_HZ = 60.0
-MODE_LIMIT_CAP_HZ = 480.0
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
+
+
+_STATION = re.compile(r"span(\d+)\.x(\d+)/(\d+)")
+
+
+def place_words(station: str) -> str:
+    """A station name in words: 'span1.x4/8 (16 m)' -> 'span 1, mid-span (16 m)', 'span2.x3/8' -> 'span 2 at 3/8'."""
+    def said(m: re.Match) -> str:
+        i, n = int(m.group(2)), int(m.group(3))
+        return f"span {m.group(1)}, mid-span" if 2 * i == n else f"span {m.group(1)} at {i}/{n}"
+    return _STATION.sub(said, station)
 
 
 @dataclass(frozen=True)
@@ -115,6 +127,8 @@ class CheckResult:
     stochastic_basis: str = ""
     target_probability: float | None = None
     warnings: tuple[str, ...] = ()
+    #: one verdict per EN 1990 A2.4.4 criterion (tb_exudyn.codes.a2_verdicts), deck acceleration first
+    criteria: tuple = ()
     #: the bridge's file as the user gave it, where it is not the shipped bridge of that name ('' if so)
     bridge_file: str = ""
 
@@ -159,12 +173,13 @@ class CheckResult:
         margin = self.limit - r["max_deck_acc_z"]
         state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
         return (f"deck acceleration limit {self.limit:g} m/s^2 ({self.track} track) {state}: largest "
-                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:g} km/h ({r['case']} case) at "
-                f"{r['max_deck_acc_z_location']}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
+                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case) at "
+                f"{place_words(r['max_deck_acc_z_location'])}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
 
     def summary(self) -> str:
         """A one-screen summary: the verdict, the settings, the largest values per train."""
-        lines = [self.verdict_line(),
+        lines = [*(["criteria (EN 1990 A2.4.4):"] + ["  " + c.line() for c in self.criteria] if self.criteria else []),
+                 self.verdict_line(),
                  f"bridge {self.bridge}{f' ({self.bridge_file})' if self.bridge_file else ''}: "
                  f"{self.construction.replace('_', ' ')} ({self.construction_basis}), "
                  f"{self.damping_basis}; mass cases {', '.join(self.cases)}",
@@ -221,55 +236,6 @@ def _prefixed(exc: UserError, prefix: str) -> UserError:
     return out
 
 
-def _vertical(mb) -> np.ndarray:  # noqa: ANN001
-    return np.flatnonzero(np.array([t == "vertical" for t in mb.mode_types]))
-
-
-#: what a bridge too stiff for the check's modes may be instead (no option of the check changes it)
-_OUT_OF_RANGE = (f"a bridge with a vertical bending mode below {MODE_LIMIT_CAP_HZ:g} Hz, the highest the check "
-                 "computes: a longer or more flexible span")
-
-
-def _modes_for_check(bridge, err, label):  # noqa: ANN001, ANN202
-    """The bridge's modes up to the cut-off: (ModalBridge, modes used, f1, f3, cutoff, basis). Every
-    mode up to the cut-off is used, at the track line (``rail_shapes(x).z``: bending plus torsion
-    times the track's offset, EN 1990 A2.4.4.2.1 'along each track'); f1 and f3 of the cut-off are
-    those of the vertical bending modes. The modes are computed up to FIRST_MODE_LIMIT_HZ, doubled
-    until three vertical modes (or, for a short stiff span, the first) lie below it, at most
-    MODE_LIMIT_CAP_HZ. Errors name the bridge as ``label`` (the file or name the user gave)."""
-    limit = FIRST_MODE_LIMIT_HZ
-    while True:
-        try:
-            mb = modal_bridge(bridge, limit)
-        except StructureError as exc:
-            if exc.key == "max_frequency" and limit < MODE_LIMIT_CAP_HZ:  # no mode below the limit yet: raise it
-                limit *= 2.0
-                continue
-            if exc.key == "max_frequency":  # not a setting of the check: the bridge is outside its range
-                raise err("bridge", label, _OUT_OF_RANGE, f"no mode below {MODE_LIMIT_CAP_HZ:g} Hz ({exc.allowed})"
-                          ) from None
-            raise err("bridge", label, "a bridge a modal model can be built of", str(exc)) from None
-        vert = _vertical(mb)
-        f_v = mb.frequencies[vert]
-        if f_v.size >= 3 and code.cutoff_frequency(f_v[0], f_v[2]) <= limit:
-            break
-        if limit >= MODE_LIMIT_CAP_HZ:
-            if not f_v.size:
-                raise err("bridge", label, _OUT_OF_RANGE, f"no vertical bending mode below {MODE_LIMIT_CAP_HZ:g} Hz "
-                          f"(its lowest mode, {mb.mode_types[0]}, at {mb.frequencies[0]:.4g} Hz)")
-            break
-        limit *= 2.0
-    cutoff = code.cutoff_frequency(f_v[0], f_v[2] if f_v.size >= 3 else None)
-    f1 = float(f_v[0])
-    f3 = float(f_v[2]) if f_v.size >= 3 else None
-    used = np.flatnonzero(mb.frequencies <= cutoff * (1.0 + 1e-9))
-    terms = {"30 Hz": code.MIN_CUTOFF_HZ, f"1.5 f1 = {1.5 * f1:.3g} Hz": 1.5 * f1}
-    if f3 is not None:
-        terms[f"f3 = {f3:.3g} Hz"] = f3
-    basis = "max(" + ", ".join(terms) + "), f1 and f3 of the vertical bending modes"
-    return mb, used, f1, f3, cutoff, basis
-
-
 def check(
     bridge,  # noqa: ANN001
     line_speed_kmh: float,
@@ -289,6 +255,7 @@ def check(
     workers: int | None = None,
     executor: Any = None,
     progress: bool = False,
+    alpha: float | None = None,
     before_work: Callable[[], None] | None = None,
 ) -> CheckResult:
     """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
@@ -319,6 +286,8 @@ def check(
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
     workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
+    alpha : the classified-load factor alpha of EN 1991-2 6.3.2(3) on LM71 and SW/0 in the static criteria
+        (None: 1.0, which the verdicts say was not given)
     before_work : called once, after every argument is checked and the work planned (modes, speed series,
         the integrations' sizes, the stochastic rows' scenarios), before the first integration: the command
         line takes its output folder there, so that a refused argument leaves it untouched
@@ -391,9 +360,13 @@ def check(
                                           if isinstance(t, ForceTrain) else train_sources(t, where, key_trains))],
         where, key_trains)
     spans = [float(s) for s in bridge.spans]
+    if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN and not isinstance(
+            bridge, Continuous) and min(spans) >= HSLM_B_SPANS[0]:  # HSLM-B instead (EN 1991-2 6.4.6.1.1)
+        train_list = [t for t in train_list if not t.name.startswith("HSLM-A")] + [hslm_b(min(spans))]
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
-                  f"span {min(spans):g} m: HSLM-B applies (EN 1991-2 Annex E), not built yet")
+                  f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans under 7 m "
+                  "(EN 1991-2 Table E.4)")
 
     stochastic_trains: list[ForceTrain] = []
     extra_speeds: list[float] = []
@@ -437,6 +410,7 @@ def check(
         source_scenario = stoch.scenario_source(stochastic_scenario, where,
                                                 names.get("stochastic_scenario", "stochastic_scenario"))
 
+    alpha_value = check_alpha(alpha, where, names.get("alpha", "alpha"))
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:
         zeta = float(damping_ratio)
@@ -563,8 +537,11 @@ def check(
             f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
             f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
             f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
+    verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
+                           [t.name for t in train_list], limit, alpha_value, alpha is not None)
     return CheckResult(
-        bridge=bridge.name, bridge_file="" if label == bridge.name else label, line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
+        criteria=verdicts, bridge=bridge.name, bridge_file="" if label == bridge.name else label,
+        line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
         damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,
         mode_frequencies=tuple(float(f) for f in mb.frequencies[used]),
         vertical_frequencies=tuple(float(f) for f in mb.frequencies[_vertical(mb)] if f <= cutoff * (1.0 + 1e-9)),
