@@ -355,14 +355,16 @@ def check(
     if not given:
         raise err("trains", given, "hslm_a, HSLM-A1 ... HSLM-A10 or a train of models/trains", "no train")
     key_trains = names.get("trains", "trains")
-    train_list = distinct_trains(
-        [pair for t in given for pair in ([(t, TrainSource(t.name, f"the ForceTrain object {t.name!r}", id(t)))]
-                                          if isinstance(t, ForceTrain) else train_sources(t, where, key_trains))],
-        where, key_trains)
+    pairs = [pair for t in given for pair in ([(t, TrainSource(t.name, f"the ForceTrain object {t.name!r}", id(t)))]
+                                              if isinstance(t, ForceTrain) else train_sources(t, where, key_trains))]
+    train_list = distinct_trains(pairs, where, key_trains)  # two trains with one name: refused, naming both
     spans = [float(s) for s in bridge.spans]
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN and not isinstance(
             bridge, Continuous) and min(spans) >= HSLM_B_SPANS[0]:  # HSLM-B instead (EN 1991-2 6.4.6.1.1)
-        train_list = [t for t in train_list if not t.name.startswith("HSLM-A")] + [hslm_b(min(spans))]
+        b = hslm_b(min(spans))
+        train_list = distinct_trains([p for p in pairs if not p[0].name.startswith("HSLM-A")] + [
+            (b, TrainSource("hslm_a", f"EN 1991-2's {b.name} (HSLM-A's stand-in under 7 m)", "hslm_b"))],
+            where, key_trains)
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
                   f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans under 7 m "

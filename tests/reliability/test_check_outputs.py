@@ -251,7 +251,8 @@ def test_out_is_refused_before_the_analysis_in_under_2_s(kind, tmp_path, capsys,
 # ------------------------------------------------------------------------------- trains and bridges
 def test_a_train_given_twice_is_one_train(tmp_path, monkeypatch):
     """hslm_a with HSLM-A3 is the ten trains; a train file by two spellings of its path is one train; two
-    ForceTrain objects with one name are refused naming both, the same object twice is one."""
+    ForceTrain objects with one name are refused naming both, the same object twice is one; so is a train
+    named HSLM-B beside the HSLM-B that stands in for HSLM-A on a 5 m span."""
     assert [t.name for t in resolve_trains(["hslm_a", "HSLM-A3", "hslm_a3"])] == [f"HSLM-A{i}" for i in range(1, 11)]
     p = tmp_path / "t.toml"
     p.write_text('name = "t"\n[[cars]]\naxles = [0.0, 2.5, 17.5, 20.0]\naxle_load = 170e3\nlength = 25.0\n')
@@ -262,6 +263,10 @@ def test_a_train_given_twice_is_one_train(tmp_path, monkeypatch):
     assert len(check_module.check("single_span_32m", 120.0, trains=[a, a]).trains()) == 1
     with pytest.raises(SettingError, match="two trains named 'mine': the ForceTrain object 'mine' and the ForceTrain"):
         check_module.check("single_span_32m", 120.0, trains=[a, b])
+    # a 5 m span takes HSLM-B for hslm_a (EN 1991-2 Annex E): a train of that name besides it is refused too
+    short = check_module.load_bridge("single_span_32m").replace(spans=(5.0,))
+    with pytest.raises(SettingError, match="two trains named 'HSLM-B'.*EN 1991-2's HSLM-B"):
+        check_module.check(short, 120.0, trains=["hslm_a", ForceTrain("HSLM-B", [0.0, 3.0], [1e5, 1e5], 20.0)])
 
 
 def test_a_7_m_span_is_checked_and_named_by_its_file(tmp_path):
