@@ -158,7 +158,8 @@ def test_ctrl_c_leaves_all_or_nothing_and_the_hint_works(mode, tmp_path, capsys)
     proc = child(mode, argv(out), tmp_path)
     _, stderr = proc.communicate(timeout=300)
     assert proc.returncode == 130, stderr
-    assert len(stderr.strip().splitlines()) == 1 and "Traceback" not in stderr, stderr
+    # one line of ours (a fresh matplotlib may log its font cache's building first: not the command's)
+    assert len([x for x in stderr.splitlines() if x.startswith("tb-exudyn")]) == 1 and "Traceback" not in stderr, stderr
     if mode != "renames":
         assert "before the check's files were written" in stderr and "run the same command again" in stderr
         assert entries(tmp_path) == {}, "a new --out is removed again, with no temporary file"
