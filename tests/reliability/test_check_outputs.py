@@ -7,8 +7,9 @@ analysis in well under a second, the figure and the page drawn as always.
 - Two checks into one --out: the first is held in its analysis (a child process waiting on its stdin,
   no sleep), the second is refused with one line (with and without --overwrite) and writes nothing; the
   first then writes its files, and a third without --overwrite is refused, nothing replaced.
-- Ctrl-C (a real SIGINT the child sends itself at an exact point): in the analysis, while the figure and
-  page are drawn, after the first temporary file is complete, and just after check.csv is renamed into
+- Ctrl-C: SIGINT sent to a child held in its analysis; and, in this process, SIGINT the command sends
+  itself at an exact point (handled as a terminal's Ctrl-C is): in the analysis, while the page is drawn
+  (after the figure), after the first temporary file is complete, and just after check.csv is put in
   place. Before the renames: --out as it was (a new one gone, an old check untouched byte for byte) and
   the message's hint (run the same command again) works; during the renames: every file in place,
   whole, and the message says so.
@@ -55,51 +56,68 @@ def env() -> dict[str, str]:
             "OPENBLAS_NUM_THREADS": "1"}
 
 
-#: the command in a child process, with a hook at one point: 'hold' waits in the analysis for a line on
-#: stdin; the others send the process SIGINT once, at their point
+#: the command in a child process, held in its analysis (before its first integration's work) until a
+#: line comes on its stdin
 CHILD = r"""
-import importlib, os, signal, sys
-mode, args = sys.argv[1], sys.argv[2:]
+import importlib, sys
 chk = importlib.import_module("tb_exudyn.codes.check")
-page = importlib.import_module("tb_exudyn.report.check")
-sent = []
+real = chk.moving_force_response
 
-def interrupt():
-    if not sent:
-        sent.append(1)
-        os.kill(os.getpid(), signal.SIGINT)
+def held(*a, **k):
+    print("analysing", flush=True)
+    sys.stdin.readline()
+    return real(*a, **k)
 
-def wrap(owner, name, before=None, after=None):
-    real = getattr(owner, name)
-    def hooked(*a, **k):
-        if before: before(*a)
-        out = real(*a, **k)
-        if after: after(*a)
-        return out
-    setattr(owner, name, hooked)
-
-if mode == "hold":
-    def wait(*a):
-        print("analysing", flush=True)
-        sys.stdin.readline()
-    wrap(chk, "moving_force_response", before=wait)
-elif mode == "analysis":
-    wrap(chk, "moving_force_response", before=lambda *a: interrupt())
-elif mode == "drawing":
-    wrap(page, "render_check_report", before=lambda *a: interrupt())
-elif mode == "temporary":  # atomic.write_atomic_group sets each complete temporary file's mode
-    wrap(os, "chmod", after=lambda path, *a: interrupt() if str(path).endswith(".tmp") else None)
-elif mode == "renames":  # just after check.csv is put in place (a hard link for a new file, else a rename)
-    for name in ("link", "replace"):
-        wrap(os, name, after=lambda src, dst, *a: interrupt() if os.path.basename(dst) == "check.csv" else None)
+chk.moving_force_response = held
 from tb_exudyn.cli import main
-sys.exit(main(args))
+sys.exit(main(sys.argv[1:]))
 """
 
 
-def child(mode: str, args: list[str], cwd: Path, **kw) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-c", CHILD, mode, *args], env=env(), cwd=cwd, text=True,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, **kw)
+def held_child(args: list[str], cwd: Path) -> subprocess.Popen:
+    """The command in a child process, held in its analysis; returns once it got there."""
+    proc = subprocess.Popen([sys.executable, "-c", CHILD, *args], env=env(), cwd=cwd, text=True,
+                            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    line = proc.stdout.readline()
+    if line.strip() != "analysing":
+        proc.kill()
+        raise AssertionError(f"the child did not reach its analysis: {line!r} {proc.communicate()[1]}")
+    return proc
+
+
+def interrupt_at(point: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Make this process send itself SIGINT (a real Ctrl-C's signal, handled as the command handles it)
+    once, at ``point`` of the next check: 'analysis' (its first integration), 'drawing' (the page, after
+    the figure), 'temporary' (the first temporary file complete, before any rename), 'renames' (just
+    after check.csv is put in place: a hard link for a new file, a rename over an old one)."""
+    sent: list[int] = []
+
+    def interrupt() -> None:
+        if not sent:
+            sent.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+
+    def wrap(owner, name, before=None, after=None) -> None:  # noqa: ANN001
+        real = getattr(owner, name)
+
+        def hooked(*a, **k):  # noqa: ANN002, ANN003, ANN202
+            if before:
+                before(*a)
+            out = real(*a, **k)
+            if after:
+                after(*a)
+            return out
+        monkeypatch.setattr(owner, name, hooked)
+
+    if point == "analysis":
+        wrap(check_module, "moving_force_response", before=lambda *a: interrupt())
+    elif point == "drawing":
+        wrap(importlib.import_module("tb_exudyn.report.check"), "render_check_report", before=lambda *a: interrupt())
+    elif point == "temporary":  # atomic.write_atomic_group sets each complete temporary file's mode
+        wrap(os, "chmod", after=lambda path, *a: interrupt() if str(path).endswith(".tmp") else None)
+    else:
+        for name in ("link", "replace"):
+            wrap(os, name, after=lambda src, dst, *a: interrupt() if os.path.basename(dst) == "check.csv" else None)
 
 
 def entries(root: Path) -> dict[str, bytes | None]:
@@ -127,9 +145,8 @@ def assert_whole(out: Path, track_limit: str = "3.5") -> None:
 # ------------------------------------------------------------------------------- two checks, one --out
 def test_a_second_check_into_a_busy_out_is_refused_and_replaces_nothing(tmp_path, capsys):
     out = tmp_path / "out"
-    first = child("hold", argv(out), tmp_path, stdin=subprocess.PIPE)
+    first = held_child(argv(out), tmp_path)
     try:
-        assert first.stdout.readline().strip() == "analysing", first.stderr.read()
         for more in ((), ("--overwrite",)):
             assert main(argv(out, *more)) == 2
             err = capsys.readouterr().err
@@ -152,41 +169,63 @@ def test_a_second_check_into_a_busy_out_is_refused_and_replaces_nothing(tmp_path
 
 
 # ---------------------------------------------------------------------------------------- Ctrl-C
-@pytest.mark.parametrize("mode", ["analysis", "drawing", "temporary", "renames"])
-def test_ctrl_c_leaves_all_or_nothing_and_the_hint_works(mode, tmp_path, capsys):
+def test_a_ctrl_c_from_outside_leaves_nothing(tmp_path):
+    """SIGINT sent to a check held in its analysis (as a terminal's Ctrl-C reaches it): exit 130, one line
+    saying nothing was written and that the same command can be run again; the new --out is gone."""
     out = tmp_path / "out"
-    proc = child(mode, argv(out), tmp_path)
-    _, stderr = proc.communicate(timeout=300)
+    proc = held_child(argv(out), tmp_path)
+    try:
+        proc.send_signal(signal.SIGINT)
+        _, stderr = proc.communicate(timeout=300)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
     assert proc.returncode == 130, stderr
     # one line of ours (a fresh matplotlib may log its font cache's building first: not the command's)
-    assert len([x for x in stderr.splitlines() if x.startswith("tb-exudyn")]) == 1 and "Traceback" not in stderr, stderr
-    if mode != "renames":
-        assert "before the check's files were written" in stderr and "run the same command again" in stderr
+    assert [x for x in stderr.splitlines() if x.startswith("tb-exudyn")] == [
+        f"tb-exudyn: interrupted before the check's files were written: --out {str(out)!r} is as it was; "
+        "run the same command again"], stderr
+    assert entries(tmp_path) == {}
+
+
+@pytest.mark.parametrize("point", ["analysis", "drawing", "temporary", "renames"])
+def test_ctrl_c_leaves_all_or_nothing_and_the_hint_works(point, tmp_path, capsys, monkeypatch):
+    out = tmp_path / "out"
+    with monkeypatch.context() as patched:
+        interrupt_at(point, patched)
+        assert main(argv(out)) == 130
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
+    if point != "renames":
+        assert "before the check's files were written" in err and "run the same command again" in err
         assert entries(tmp_path) == {}, "a new --out is removed again, with no temporary file"
         assert main(argv(out)) == 0  # the hint, as given
         assert_whole(out)
         return
-    assert "written whole: check.csv, check.png, check.html" in stderr  # the renames finished first
+    assert "written whole: check.csv, check.png, check.html" in err  # the renames finished first
     assert_whole(out)
     assert not [p for p in entries(tmp_path) if p.endswith(".tmp")]
     assert main(argv(out)) == 2 and "--overwrite" in capsys.readouterr().err
     assert main(argv(out, "--overwrite")) == 0
 
 
-@pytest.mark.parametrize("mode", ["temporary", "renames"])
-def test_ctrl_c_over_an_earlier_check(mode, tmp_path, capsys):
+@pytest.mark.parametrize("point", ["temporary", "renames"])
+def test_ctrl_c_over_an_earlier_check(point, tmp_path, capsys, monkeypatch):
     """--overwrite of an earlier check (direct track, limit 5), interrupted: before the renames the old
     files are there byte for byte; during them every file is the new one (ballasted, limit 3.5)."""
     out = tmp_path / "out"
     assert main(argv(out, "--track", "direct")) == 0
     old = entries(out)
-    proc = child(mode, argv(out, "--overwrite"), tmp_path)
-    _, stderr = proc.communicate(timeout=300)
-    assert proc.returncode == 130, stderr
-    if mode == "temporary":
-        assert entries(out) == old and "is as it was" in stderr
+    with monkeypatch.context() as patched:
+        interrupt_at(point, patched)
+        assert main(argv(out, "--overwrite")) == 130
+    err = capsys.readouterr().err
+    if point == "temporary":
+        assert entries(out) == old and "is as it was" in err
     else:
-        assert_whole(out, "3.5") and "written whole" in stderr
+        assert_whole(out, "3.5")
+        assert "written whole" in err, err
     assert not [p for p in entries(tmp_path) if p.endswith(".tmp")]
 
 
