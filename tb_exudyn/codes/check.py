@@ -20,6 +20,7 @@ import csv
 import importlib
 import io
 import math
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -61,6 +62,17 @@ FIRST_MODE_LIMIT_HZ = 60.0
 MODE_LIMIT_CAP_HZ = 480.0
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
+
+
+_STATION = re.compile(r"span(\d+)\.x(\d+)/(\d+)")
+
+
+def place_words(station: str) -> str:
+    """A station name in words: 'span1.x4/8 (16 m)' -> 'span 1, mid-span (16 m)', 'span2.x3/8' -> 'span 2 at 3/8'."""
+    def said(m: re.Match) -> str:
+        i, n = int(m.group(2)), int(m.group(3))
+        return f"span {m.group(1)}, mid-span" if 2 * i == n else f"span {m.group(1)} at {i}/{n}"
+    return _STATION.sub(said, station)
 
 
 @dataclass(frozen=True)
@@ -155,8 +167,8 @@ class CheckResult:
         margin = self.limit - r["max_deck_acc_z"]
         state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
         return (f"deck acceleration limit {self.limit:g} m/s^2 ({self.track} track) {state}: largest "
-                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:g} km/h ({r['case']} case) at "
-                f"{r['max_deck_acc_z_location']}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
+                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case) at "
+                f"{place_words(r['max_deck_acc_z_location'])}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
 
     def summary(self) -> str:
         """A one-screen summary: the verdict, the settings, the largest values per train."""
