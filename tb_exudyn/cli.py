@@ -100,6 +100,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         scenario = _methods().sweep.with_least_count(scenario)
         print(textwrap.fill(cli_scenario.speed_rule_line(base, scenario), cli_text.TERMINAL_WIDTH,
                             subsequent_indent="  ", break_on_hyphens=False))
+    elif cli_scenario.adaptive_count_free(args):  # adaptive asked for, its count left free: what it needs
+        chosen, scenario = scenario, _methods().sweep.with_least_count(scenario)
+        if (line := cli_scenario.least_count_line(chosen, scenario)) is not None:
+            print(textwrap.fill(line, cli_text.TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False))
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
@@ -274,13 +278,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
                    help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
                         "the start of the run (vehicles on rigid track, the bridge alone)")
@@ -300,7 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
@@ -325,7 +329,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
-                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
+                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes, and without "
+                        "--n-freq at least as many frequencies as its rules need)")
     p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
                    help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
     p.add_argument("--psd-channels", dest="psd_channels", nargs="+", default=None, metavar="PATTERN",
@@ -347,7 +352,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
                    help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
                         "each > 0 and <= 1000 km/h")
