@@ -180,7 +180,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             raise
         key, value = typed[exc.key]
         raise exc.restated(WHERE, flag(key), value) from None
-    print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
+    print(f"scenario {scenario.name}: {len(speeds)} speeds {cli_text.kmh(speeds[0])}-{cli_text.kmh(speeds[-1])} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)
         with folder_lock_of(out):
