@@ -308,8 +308,18 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser with a one-line error (no usage block after it): the error, then where the
+    command's options are listed; exit 2 as every user error."""
+
+    def error(self, message: str):  # noqa: ANN201 - argparse's hook; never returns
+        command = self.prog.partition(" ")[2]
+        self.exit(EXIT_USER_ERROR, f"tb-exudyn: error: {command + ': ' if command else ''}{message} "
+                                   f"(the options: {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="tb-exudyn",
         description="Random vibration of a train crossing a bridge (Exudyn, pseudo-excitation method, Monte Carlo).",
         formatter_class=argparse.RawDescriptionHelpFormatter,

@@ -120,12 +120,12 @@ def with_set_hint(text: str) -> str:
 
 
 def library_listing() -> str:
-    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, trains, limits, spectra."""
+    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, tracks, trains, limits, spectra."""
     out: list[str] = []
     entries = list_models()
     width = max((len(e.name) for e in entries), default=0)
-    for category in ("vehicles", "bridges", "scenarios"):
-        out.append(f"{category}:")
+    for category in ("vehicles", "bridges", "scenarios", "tracks"):
+        out.append(f"{category}:" if category != "tracks" else "tracks (track structures for track.structure):")
         for e in (e for e in entries if e.category == category):
             out.append(f"  {e.name:<{width}}  {e.description}")
     trains = list_trains()

@@ -16,8 +16,9 @@ from ..track import spectrum_names
 from .code_data import CodeData  # noqa: F401 (re-exported)
 from .continuous import CONTINUOUS_SUPPORTS, Continuous, ContinuousBearings  # noqa: F401 (re-exported)
 from .girders import Bearings, Frame, SimpleBeam  # noqa: F401 (re-exported: the simply supported kinds)
-from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_track_choice  # noqa: F401
+from .sections import AddedMass, BeamSection, Pier, TrackLine, _Replaceable, check_track_choice, track_lines  # noqa: F401
 from .modal_table import ModalTable
+from .track_structure import check_track_structure
 from .schema import (ANY, NONNEGATIVE, POSITIVE, SPEED_KMH, STIFFNESS, VEHICLE_DAMPER, VEHICLE_DAMPING,
                      VEHICLE_INERTIA, VEHICLE_MASS, VEHICLE_MASS_OR_0, VEHICLE_STIFFNESS, VEHICLE_STIFFNESS_OR_0,
                      Check, Context, Validated, described, param, replace, source_file)
@@ -368,7 +369,8 @@ BRIDGE_KINDS: dict[str, type] = {c.kind: c for c in (SimpleBeam, Frame, Continuo
 
 @dataclass(frozen=True, kw_only=True)
 class Track(_Replaceable):
-    """Track irregularities and the track before and after the bridge (rigid off the bridge)."""
+    """Track irregularities, the track before and after the bridge (rigid off the bridge) and the track
+    structure between wheel and deck."""
 
     irregularities: tuple[str, ...] = param((), doc="spectrum names (tb-exudyn list), one independent process each")
     wavelength_min: float = param(1.0, unit="m", doc="shortest irregularity wavelength analysed", check=POSITIVE)
@@ -387,6 +389,10 @@ class Track(_Replaceable):
         20.0, unit="m", check=NONNEGATIVE,
         doc="the irregularity rises from 0 (cosine taper) over this length after the first axle's start "
             "(longer than lead_in: it reaches onto the bridge, which the builder warns about)",
+    )
+    structure: str = param(
+        "", doc="the track structure between wheel and deck: a name of `tb-exudyn list` (tracks, e.g. "
+                "ballasted_uic60) or a .toml file; empty: none, the wheel on the deck's track line (today's model)",
     )
 
     def _validate(self, ctx: Context) -> None:
@@ -503,6 +509,9 @@ class Scenario(_Replaceable):
 
     def _validate(self, ctx: Context) -> None:
         check_track_choice(self.bridge, self.track, ctx)
+        if self.track.structure:
+            height = track_lines(self.bridge)[self.track.on - 1][1]
+            check_track_structure(self.track.structure, self.bridge, height, ctx)
         track_length = self.track.lead_in + self.bridge.length + self.track.run_out
         for i, v in enumerate(self.train.vehicles):
             if v.axle_offsets[-1] > track_length:

@@ -1,4 +1,4 @@
-"""The library of named models: the TOML files under models/ (vehicles, bridges, scenarios, limits).
+"""The library of named models: the TOML files under models/ (vehicles, bridges, scenarios, limits, tracks).
 
 A name is a file's stem: ``models/scenarios/li_zhu_2011.toml`` is the scenario ``li_zhu_2011``.
 The folder is found inside the installed package (``tb_exudyn/models``), next to the package in a
@@ -15,7 +15,7 @@ from ..errors import SettingError
 from .errors import ScenarioError
 from .toml_io import read_toml
 
-CATEGORIES = ("vehicles", "bridges", "scenarios", "limits")
+CATEGORIES = ("vehicles", "bridges", "scenarios", "limits", "tracks")
 
 
 def models_dir() -> Path:
@@ -43,7 +43,7 @@ def models_dir() -> Path:
 
 
 def model_files(category: str) -> dict[str, Path]:
-    """Name -> file for one category (vehicles, bridges, scenarios or limits), sorted by name."""
+    """Name -> file for one category (vehicles, bridges, scenarios, limits or tracks), sorted by name."""
     if category not in CATEGORIES:
         raise ValueError(f"category must be one of {CATEGORIES}, not {category!r}")
     folder = models_dir() / category

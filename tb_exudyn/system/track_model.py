@@ -1,0 +1,152 @@
+"""The track alone as a linear system in plain numpy and scipy.sparse: one rail on discrete supports.
+
+The rail is an Euler-Bernoulli beam of cubic Hermite elements (two DOFs per node: the vertical
+displacement w, z up, and the rotation dw/dx), ``elements_per_bay`` elements between two supports. Under
+each support hangs the chain of its track structure (``TrackStructure.chain``): the pad's spring-damper
+from the rail's node to the first mass (the half sleeper, the slab's share), the next spring-damper to the
+next mass (the ballast's, the base's), the last to the ground. The supports stand at (i + 1/2) a, i = 0 ...
+n - 1, on a rail of length n a with free ends, so that the rail reaches half a bay past the first and the
+last support. DOFs: the rail's nodes first (w_0, theta_0, w_1, ...), then each support's masses from the
+rail down, support by support.
+
+No Exudyn, no vehicle: M, K, C and what a contact needs of the rail (``TrackModel.shape``: the Hermite row
+that gives w at a point, the row a point force enters by). The rail's own damping is not modelled (the
+dampers are the pads' and the layers').
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..scenario.track_structure import TrackStructure
+
+
+def beam_element(ei: float, mass_per_length: float, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """(K_e, M_e): the Euler-Bernoulli element of length h, DOFs (w1, theta1, w2, theta2); consistent mass."""
+    k = ei / h**3 * np.array([[12, 6 * h, -12, 6 * h], [6 * h, 4 * h * h, -6 * h, 2 * h * h],
+                              [-12, -6 * h, 12, -6 * h], [6 * h, 2 * h * h, -6 * h, 4 * h * h]])
+    m = mass_per_length * h / 420.0 * np.array([
+        [156, 22 * h, 54, -13 * h], [22 * h, 4 * h * h, 13 * h, -3 * h * h],
+        [54, 13 * h, 156, -22 * h], [-13 * h, -3 * h * h, -22 * h, 4 * h * h]])
+    return k, m
+
+
+def hermite(xi: np.ndarray, h: float) -> np.ndarray:
+    """(n, 4): the cubic Hermite shape functions at local coordinates xi in [0, 1] of an element of length h."""
+    xi = np.asarray(xi, dtype=float)
+    return np.stack([1 - 3 * xi**2 + 2 * xi**3, h * (xi - 2 * xi**2 + xi**3), 3 * xi**2 - 2 * xi**3,
+                     h * (xi**3 - xi**2)], axis=-1)
+
+
+@dataclass(frozen=True)
+class TrackModel:
+    """One rail on ``n_supports`` discrete supports: ``M``, ``K``, ``C`` (scipy CSR, n_dof x n_dof).
+
+    ``length`` the rail [m] (x from 0); ``support_x`` (n_supports,) [m]; ``h`` the element length;
+    ``n_rail`` the rail's DOFs (2 per node); ``support_dofs`` (n_supports, n_masses) the DOF of each
+    support's masses, from the rail down; ``chain`` the (k, c, m) chain under each support.
+    """
+
+    structure_name: str
+    length: float
+    support_x: np.ndarray = field(repr=False)
+    h: float
+    n_rail: int
+    support_dofs: np.ndarray = field(repr=False)
+    chain: tuple[tuple[float, float, float], ...]
+    M: sp.csr_matrix = field(repr=False)
+    K: sp.csr_matrix = field(repr=False)
+    C: sp.csr_matrix = field(repr=False)
+
+    @property
+    def n_dof(self) -> int:
+        return self.M.shape[0]
+
+    def shape(self, x: float | np.ndarray) -> sp.csr_matrix:
+        """(n_x, n_dof): the rows that give the rail's displacement w at the points x (0 <= x <= length);
+        their transposes spread a point force onto the DOFs (consistent load vector)."""
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        if np.any((x < 0) | (x > self.length)):
+            raise ValueError(f"points on the rail, 0 ... {self.length:g} m, not {x[(x < 0) | (x > self.length)]}")
+        n_el = int(round(self.length / self.h))
+        e = np.minimum((x / self.h).astype(int), n_el - 1)
+        vals = hermite(x / self.h - e, self.h)
+        cols = 2 * e[:, None] + np.arange(4)[None, :]
+        rows = np.repeat(np.arange(x.size), 4)
+        return sp.csr_matrix((vals.ravel(), (rows, cols.ravel())), shape=(x.size, self.n_dof))
+
+    def receptance(self, x: float, freqs: np.ndarray) -> np.ndarray:
+        """(n_f,) complex: the rail's displacement at x per unit harmonic force at x [m/N], w = alpha F e^{i w t}."""
+        from scipy.sparse.linalg import splu
+
+        f = self.shape(x).toarray().ravel()
+        out = np.empty(np.size(freqs), dtype=complex)
+        for i, fr in enumerate(np.atleast_1d(freqs)):
+            w = 2 * np.pi * fr
+            z = (self.K - w * w * self.M + 1j * w * self.C).tocsc()
+            out[i] = f @ splu(z).solve(f.astype(complex))
+        return out
+
+
+def track_model(structure: TrackStructure, n_supports: int, elements_per_bay: int = 6,
+                ground: Literal["rigid", "subgrade"] = "rigid") -> TrackModel:
+    """The rail of ``structure`` on ``n_supports`` supports at (i + 1/2) a, free ends half a bay beyond the
+    first and the last; ``elements_per_bay`` (even: a node at mid-bay) Hermite elements between supports;
+    ``ground``: the chain ends at the ballast (mortar) on rigid ground, or reaches the subgrade."""
+    if n_supports < 1 or elements_per_bay < 2 or elements_per_bay % 2:
+        raise ValueError("n_supports >= 1 and an even elements_per_bay >= 2")
+    a = structure.spacing
+    h = a / elements_per_bay
+    n_el = n_supports * elements_per_bay
+    n_rail = 2 * (n_el + 1)
+    chain = structure.chain(ground)
+    n_mass = len(chain) - 1
+    n_dof = n_rail + n_supports * n_mass
+    ke, me = beam_element(structure.rail.E * structure.rail.I, structure.rail.mass_per_length, h)
+    rows, cols, kv, mv = [], [], [], []
+    idx = 2 * np.arange(n_el)[:, None] + np.arange(4)[None, :]  # (n_el, 4)
+    rows.append(np.repeat(idx, 4, axis=1).ravel())
+    cols.append(np.tile(idx, (1, 4)).ravel())
+    kv.append(np.tile(ke.ravel(), n_el))
+    mv.append(np.tile(me.ravel(), n_el))
+    support_x = (np.arange(n_supports) + 0.5) * a
+    rail_node = 2 * (np.arange(n_supports) * elements_per_bay + elements_per_bay // 2)
+    support_dofs = n_rail + np.arange(n_supports)[:, None] * n_mass + np.arange(n_mass)[None, :]
+    top = np.concatenate([rail_node[:, None], support_dofs], axis=1)  # (n_s, n_mass + 1): rail, masses
+    c_rows, c_cols, c_vals = [], [], []
+    for j, (k, c, m) in enumerate(chain):
+        upper = top[:, j]
+        lower = top[:, j + 1] if j < n_mass else None
+        for store, value in ((kv, k), (c_vals, c)):
+            r_, c_, v_ = _spring(upper, lower, value)
+            if store is kv:
+                rows.append(r_), cols.append(c_), kv.append(v_), mv.append(np.zeros_like(v_))
+            else:
+                c_rows.append(r_), c_cols.append(c_), c_vals.append(v_)
+        if j < n_mass:
+            rows.append(lower), cols.append(lower), kv.append(np.zeros(n_supports)), mv.append(np.full(n_supports, m))
+    r, cc = np.concatenate(rows), np.concatenate(cols)
+    shape = (n_dof, n_dof)
+    K = sp.csr_matrix((np.concatenate(kv), (r, cc)), shape=shape)
+    M = sp.csr_matrix((np.concatenate(mv), (r, cc)), shape=shape)
+    C = sp.csr_matrix((np.concatenate(c_vals), (np.concatenate(c_rows), np.concatenate(c_cols))), shape=shape)
+    return TrackModel(structure_name=structure.name, length=n_supports * a, support_x=support_x, h=h,
+                      n_rail=n_rail, support_dofs=support_dofs, chain=chain, M=M, K=K, C=C)
+
+
+def _spring(upper: np.ndarray, lower: np.ndarray | None, value: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """COO entries of springs (or dampers) of one value between DOFs ``upper`` and ``lower`` (None: the ground)."""
+    n = upper.size
+    if lower is None:
+        return upper, upper, np.full(n, value)
+    r = np.concatenate([upper, lower, upper, lower])
+    c = np.concatenate([upper, lower, lower, upper])
+    v = np.concatenate([np.full(2 * n, value), np.full(2 * n, -value)])
+    return r, c, v
+
+
+__all__ = ["TrackModel", "beam_element", "hermite", "track_model"]
