@@ -23,7 +23,7 @@ from .errors import SettingError, UserError
 from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
 from .atomic import write_text_atomic
 from .results import find_results
@@ -513,6 +513,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="replace the --html file if it exists; without it an existing file is refused")
     p.set_defaults(func=_cmd_report)
     cli_modes.add_parser(sub)
+    cli_uq.add_parser(sub, _methods)
     return parser
 
 

@@ -30,7 +30,7 @@ from ..execution import Execution
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario
 from ..system.linear import LINEARIZATIONS
-from . import monte_carlo, pem, sweep
+from . import monte_carlo, pem, sweep, uq
 from .deterministic import DeterministicMethod, run_deterministic, summarize
 from .driver import Method, RunPlan, drive
 from .monte_carlo import LossOfContactWarning, MonteCarloMethod

@@ -90,7 +90,7 @@ def nominal_value(scenario: m.Scenario, key: str, where: str) -> float:
     try:  # the --set mechanism: an unknown key or index is its error
         with_settings(scenario, [(key, _probe(node, key))])
     except ScenarioError as exc:
-        raise ScenarioError(where, f"uncertain.{key}", exc.value, exc.allowed, exc.reason) from None
+        raise ScenarioError(where, f"uncertain.{key}", exc.key, exc.allowed, exc.reason) from None
     for part in key.split("."):
         node = node[int(part)] if isinstance(node, list) else (node or {}).get(part)
     if isinstance(node, bool) or not isinstance(node, (int, float)) or not math.isfinite(node):

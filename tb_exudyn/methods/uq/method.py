@@ -135,29 +135,39 @@ class UqMethod:
     scenario: Scenario
     keys: tuple[UncertainKey, ...]
     order: int = 3
-    design: str = "tensor"
+    design_name: str = "tensor"
     n_nodes: int | None = None
     engine: str = DEFAULT_ENGINE
     options: Any = None
     channels: Sequence[str] | None = None
     window: tuple[float, float] | None = None
 
-    def plan(self, execution: Execution) -> RunPlan:
-        t0 = _time.perf_counter()
-        order, n_nodes = pce.check_design(self.order, self.design, self.n_nodes, "run_uq")
+    def design(self) -> tuple[Any, ...]:
+        """The checks and the design: (order, node count, engine class, base scenario, germs, germ nodes,
+        weights, key values (key x node), every node's scenario). Errors name run_uq's arguments or the
+        uncertain key; nothing is run."""
+        order, n_nodes = pce.check_design(self.order, self.design_name, self.n_nodes, "run_uq")
         check_window(self.window)
         check_keys(self.keys, "run_uq")
         cls = check_engine(self.engine, self.scenario, self.options)
         patterns = tuple(q[1] for q in key_patterns(self.scenario, self.channels))
         base = self.scenario.replace(analysis=self.scenario.analysis.replace(channels=patterns))
         germs = [pce.key_germ(uk) for uk in self.keys]
-        x, w = pce.nodes(germs, order, self.design, n_nodes)
+        x, w = pce.nodes(germs, order, self.design_name, n_nodes)
         values = np.stack([pce.key_value(uk, x[j]) for j, uk in enumerate(self.keys)])
-        scenarios = node_scenarios(base, self.keys, values)
+        return order, n_nodes, cls, base, germs, x, w, values, node_scenarios(base, self.keys, values)
+
+    def plan_checks(self) -> None:
+        """What :meth:`plan` checks, without a run (the command line, before it creates --out)."""
+        self.design()
+
+    def plan(self, execution: Execution) -> RunPlan:
+        t0 = _time.perf_counter()
+        order, n_nodes, cls, base, germs, x, w, values, scenarios = self.design()
         tasks = [Task(f"node-{n:05d}", NodeTask(sc, self.engine, self.options)) for n, sc in enumerate(scenarios)]
         identity = fingerprint_identity(
             scenario_to_toml(base), method="uq", engine=self.engine, engine_options=cls.describe_options(self.options),
-            method_options={"keys": keys_json(self.keys), "order": order, "design": self.design, "nodes": n_nodes,
+            method_options={"keys": keys_json(self.keys), "order": order, "design": self.design_name, "nodes": n_nodes,
                             "window": None if self.window is None else list(self.window)},
             spectra=base.track.irregularities)
         state = UqState(germs, x, w, values, [{} for _ in tasks], t0)
@@ -184,7 +194,7 @@ class UqMethod:
             scenario=self.scenario, keys=tuple(keys_json(self.keys)), channels=tuple(map(str, first["channels"])),
             units=tuple(map(str, first["units"])), quantities=tuple(names), criteria=tuple(crit), data=arrays,
             provenance={"seconds": _time.perf_counter() - state.t0, "engine": self.engine, "order": self.order,
-                        "design": self.design, "n_nodes": int(state.x.shape[1]), "warnings": notes + node_notes,
+                        "design": self.design_name, "n_nodes": int(state.x.shape[1]), "warnings": notes + node_notes,
                         "node_seconds": [float(s["seconds"]) for s in state.summaries], **stats})
         for message in notes:
             warnings.warn(message, UserWarning, stacklevel=2)

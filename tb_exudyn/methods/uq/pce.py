@@ -67,6 +67,17 @@ def key_value(uk: Any, xi: np.ndarray) -> np.ndarray:
     return np.exp(mu + s * xi)
 
 
+def key_germ_value(uk: Any, value: Any) -> np.ndarray:
+    """The germ values at which the key takes ``value`` (the inverse of :func:`key_value`)."""
+    v = np.asarray(value, dtype=float)
+    if uk.distribution in ("normal", "truncated_normal"):
+        return (v - uk.mean) / uk.std
+    if uk.distribution == "uniform":
+        return 2.0 * (v - uk.low) / (uk.high - uk.low) - 1.0
+    mu, s = lognormal_parameters(uk.mean, uk.std)
+    return (np.log(v) - mu) / s
+
+
 def multi_indices(dim: int, order: int) -> np.ndarray:
     """Every multi-index of ``dim`` degrees of total degree <= ``order``, graded (the constant first)."""
     rows = [a for a in itertools.product(range(order + 1), repeat=dim) if sum(a) <= order]
@@ -188,5 +199,5 @@ def check_design(order: Any, design: str, n_nodes: Any, where: str) -> tuple[int
     return int(order), None if n_nodes is None else int(n_nodes)
 
 
-__all__ = ["DESIGNS", "Expansion", "MAX_ORDER", "basis", "check_design", "fit", "germ", "key_germ", "key_value",
+__all__ = ["DESIGNS", "Expansion", "MAX_ORDER", "basis", "check_design", "fit", "germ", "key_germ", "key_germ_value", "key_value",
            "loo_error", "multi_indices", "nodes"]

@@ -1,0 +1,103 @@
+"""``tb-exudyn uq``: bad uncertain files refused in one line with nothing written; an interrupted study
+resumed gives the same result bitwise; the result does not depend on the number of workers; it saves,
+loads and labels (issue 46)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import tb_exudyn as tbx
+from tb_exudyn.cli import main
+from tb_exudyn.methods.uq import UqMethod
+from tb_exudyn.results.uq import UQ_SCHEMA, load_uq
+from tb_exudyn.scenario.uncertain import check_uncertain
+
+sys.path.insert(0, str(Path(__file__).parent))
+from test_uq_sprung_mass import KEYS, scenario  # noqa: E402
+
+pytestmark = pytest.mark.exudyn
+
+BAD = {
+    "unknown key": ('[uncertain."bridge.girder.EE"]\ndistribution = "normal"\ncov = 0.1\n', "unknown key"),
+    "bad distribution": ('[uncertain."bridge.girder.E"]\ndistribution = "weibull"\ncov = 0.1\n',
+                         "unknown distribution"),
+    "negative cov": ('[uncertain."bridge.girder.E"]\ndistribution = "lognormal"\ncov = -0.1\n', "not positive"),
+    "lognormal of a zero key": ('[uncertain."bridge.girder.shear_area_factor"]\ndistribution = "lognormal"\n'
+                                'std = 0.1\n', "lognormal: a positive mean"),
+    "bounds outside the range": ('[uncertain."bridge.damping_ratio"]\ndistribution = "uniform"\n'
+                                 'bounds = [-0.01, 0.05]\n', "does not allow"),
+    "normal leaving the range": ('[uncertain."bridge.girder.E"]\ndistribution = "normal"\ncov = 0.3\n',
+                                 "does not allow"),
+    "a key that changes the run": ('[uncertain."speed_kmh"]\ndistribution = "normal"\ncov = 0.05\n',
+                                   "changes the run"),
+    "no table": ('[certain]\nx = 1\n', "one table"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD))
+def test_bad_uncertain_file_is_one_line_and_writes_nothing(case, tmp_path, capsys):
+    text, match = BAD[case]
+    f = tmp_path / "u.toml"
+    f.write_text(text)
+    out = tmp_path / "out"
+    assert main(["uq", "quick", "--uncertain-file", str(f), "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and match in err, err
+    assert not out.exists()
+
+
+def test_uncertain_file_that_is_a_folder_is_refused(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["uq", "quick", "--uncertain-file", str(tmp_path), "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(tmp_path) in err and "directory" in err, err
+    assert not out.exists()
+
+
+def test_bad_order_names_the_option(tmp_path, capsys):
+    f = tmp_path / "u.toml"
+    f.write_text('[uncertain."bridge.damping_ratio"]\ndistribution = "uniform"\nrelative_bounds = [-0.2, 0.2]\n')
+    assert main(["uq", "quick", "--uncertain-file", str(f), "--order", "99", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--order" in err and len(err.splitlines()) == 1
+    assert not (tmp_path / "o").exists()
+
+
+def _arrays(r):
+    return {v.name: np.asarray(r.data[v.name]) for v in UQ_SCHEMA}
+
+
+def test_interrupted_study_resumes_bitwise_and_workers_do_not_matter(tmp_path, monkeypatch):
+    """Stop after 7 of 16 nodes (KeyboardInterrupt, as Ctrl-C), resume: every array equal bitwise to an
+    uninterrupted study's, and to one on two workers."""
+    sc = scenario()
+    keys = check_uncertain(sc, KEYS, "test")
+    kw = dict(order=3, progress=False, channels=["car1.body.acc_z"], window=(2.5, 10.0))
+    whole = tbx.run_uq(sc, keys, workers=1, out=tmp_path / "a", **kw)
+    reduce = UqMethod.reduce
+    seen = []
+
+    def stopping(self, state, i, task, result):
+        if len(seen) == 7:
+            raise KeyboardInterrupt
+        seen.append(i)
+        reduce(self, state, i, task, result)
+
+    monkeypatch.setattr(UqMethod, "reduce", stopping)
+    with pytest.raises(KeyboardInterrupt):
+        tbx.run_uq(sc, keys, workers=1, out=tmp_path / "b", **kw)
+    monkeypatch.setattr(UqMethod, "reduce", reduce)
+    resumed = tbx.run_uq(sc, keys, workers=1, out=tmp_path / "b", resume=True, **kw)
+    assert resumed.provenance["tasks_from_checkpoint"] >= 7
+    two = tbx.run_uq(sc, keys, workers=2, **kw)
+    a = _arrays(whole)
+    for other in (resumed, two, load_uq(tmp_path / "b" / "uq")):
+        b = _arrays(other)
+        for name in a:
+            assert np.array_equal(a[name], b[name], equal_nan=True), name
+    ds = load_uq(tmp_path / "a" / "uq").to_xarray()
+    assert ds["mean_sigma"].dims == ("channel", "time") and list(ds["key"].values) == list(KEYS)
