@@ -7,8 +7,10 @@ node's scenario) is checked before ``--out`` is created or written: one line, ex
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
+from .atomic import write_atomic
 from .cli_flags import WHERE
 from .errors import SettingError
 from .execution.output import removed_if_left_empty
@@ -69,9 +71,23 @@ def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
                                    progress=not args.no_progress, overwrite=args.overwrite, **common)
     for line in summary_lines(result):
         print(line)
+    if not args.no_figures:
+        print(f"figures: {', '.join(p.name for p in save_figures(result, out))}")
     print(f"({result.provenance['n_nodes']} nodes in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance.get('tasks_from_checkpoint', 0)} from the checkpoint) result in {(out / 'uq').resolve()}")
     return 0
+
+
+#: the channels whose sigma(t) band is drawn (the first of the study's)
+BAND_FIGURES = 4
+
+
+def save_figures(result: Any, out: Path) -> list[Path]:
+    """``out/uq_sobol.png`` (the Sobol bars) and ``out/uq_band.<channel>.png`` for the first
+    :data:`BAND_FIGURES` channels, each written atomically (matplotlib loaded now, by the result)."""
+    items = [("uq_sobol.png", result.plot_sobol())]
+    items += [(f"uq_band.{ch}.png", result.plot_band(ch)) for ch in result.channels[:BAND_FIGURES]]
+    return [write_atomic(out / name, lambda fh, f=fig: f.savefig(fh, format="png", dpi=100)) for name, fig in items]
 
 
 def summary_lines(result: Any) -> list[str]:
@@ -109,8 +125,9 @@ def add_parser(sub: Any, methods: Any) -> Any:
     p.add_argument("--resume", action="store_true", help="reuse the nodes finished in --out")
     p.add_argument("--overwrite", action="store_true", help="replace an earlier study's result and checkpoint in --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-figures", action="store_true", help="no figures (uq_sobol.png, uq_band.<channel>.png)")
     p.set_defaults(func=lambda a: cmd_uq(a, methods()))
     return p
 
 
-__all__ = ["UQ_FLAGS", "add_parser", "cmd_uq", "summary_lines"]
+__all__ = ["BAND_FIGURES", "UQ_FLAGS", "add_parser", "cmd_uq", "save_figures", "summary_lines"]

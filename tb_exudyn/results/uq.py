@@ -31,6 +31,7 @@ from .._version import __version__
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.io import scenario_from_dict
 from ..storage import Member, NpzFile, check_members, json_default, load_json, save_result_folder
+from .base import figures
 from .schema import Variable, need_xarray
 
 #: the result folder's name in an output folder
@@ -104,6 +105,14 @@ class UqResult:
                 "sobol_first": dict(zip(self.key_names, map(float, self.data["sobol_first"][:, q]))),
                 "sobol_total": dict(zip(self.key_names, map(float, self.data["sobol_total"][:, q]))),
                 "loo": float(self.data["loo"][q])}
+
+    def plot_sobol(self, quantities: Any = None) -> Any:
+        """The Sobol bars (:func:`tb_exudyn.plotting.plot_uq_sobol`, a matplotlib Figure)."""
+        return figures().plot_uq_sobol(self, quantities)
+
+    def plot_band(self, channel: str) -> Any:
+        """``channel``'s sigma(t) band over the keys (:func:`tb_exudyn.plotting.plot_uq_band`)."""
+        return figures().plot_uq_band(self, channel)
 
     def to_xarray(self) -> Any:
         """The result as an :class:`xarray.Dataset` (:data:`UQ_SCHEMA`)."""

@@ -101,3 +101,21 @@ def test_interrupted_study_resumes_bitwise_and_workers_do_not_matter(tmp_path, m
             assert np.array_equal(a[name], b[name], equal_nan=True), name
     ds = load_uq(tmp_path / "a" / "uq").to_xarray()
     assert ds["mean_sigma"].dims == ("channel", "time") and list(ds["key"].values) == list(KEYS)
+
+
+def test_cli_study_writes_result_and_figures(tmp_path, capsys):
+    """The command on the sprung mass: its table, the result folder and the two figures."""
+    from tb_exudyn.scenario import save_scenario
+
+    path = save_scenario(scenario(), tmp_path / "s.toml")
+    path.write_text(path.read_text() + '\n[uncertain."train.vehicles.0.damping"]\ndistribution = "uniform"\n'
+                    'relative_bounds = [-0.2, 0.2]\n')
+    out = tmp_path / "out"
+    assert main(["uq", str(path), "--order", "2", "--workers", "1", "--out", str(out), "--no-progress",
+                 "--channels", "car1.body.acc_z"]) == 0
+    text = capsys.readouterr().out
+    assert "max_sigma:car1.body.acc_z" in text and "3 nodes" in text
+    assert (out / "uq" / "meta.json").is_file() and (out / "uq_sobol.png").stat().st_size > 0
+    assert (out / "uq_band.car1.body.acc_z.png").stat().st_size > 0
+    r = load_uq(out / "uq")
+    assert r.quantity("max_sigma:car1.body.acc_z")["sobol_first"]["train.vehicles.0.damping"] > 0.999

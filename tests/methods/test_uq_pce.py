@@ -102,3 +102,20 @@ def test_bad_entries_name_the_key(entry, match):
 def test_lognormal_of_a_zero_key_is_refused():
     with pytest.raises(ScenarioError, match="lognormal: a positive mean"):
         parse_key("k", {"distribution": "lognormal", "std": 0.1}, 0.0, "f.toml")
+
+
+def test_uncertain_table_in_a_scenario_file(tmp_path):
+    """A scenario file's [uncertain] table: load_study reads and checks it (absolute parameters from
+    the scenario's values); load_scenario (run, show) leaves it aside."""
+    from tb_exudyn.scenario import load_scenario, save_scenario
+    from tb_exudyn.scenario.uncertain import load_study
+
+    path = save_scenario(load_scenario("quick"), tmp_path / "s.toml")
+    path.write_text(path.read_text() + '\n[uncertain."bridge.girder.E"]\ndistribution = "lognormal"\ncov = 0.1\n'
+                    '[uncertain."track.irregularity_level"]\ndistribution = "truncated_normal"\nstd = 0.3\n'
+                    'bounds = [0.5, 2.0]\n')
+    sc, keys = load_study(path)
+    assert sc == load_scenario(path)
+    assert keys[0].key == "bridge.girder.E" and keys[0].mean == sc.bridge.girder.E
+    assert math.isclose(keys[0].std, 0.1 * sc.bridge.girder.E)
+    assert (keys[1].mean, keys[1].std, keys[1].low, keys[1].high) == (1.0, 0.3, 0.5, 2.0)
