@@ -12,7 +12,6 @@ import math
 import sys
 import textwrap
 import warnings
-from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
@@ -20,17 +19,14 @@ from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .codes.trains import train_view
 from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
-from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text, cli_uq
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
+from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
-from .results.compare import compare_folders
-from .results.export import FORMATS as EXPORT_FORMATS
-from .results.export import export
 from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
@@ -100,17 +96,7 @@ def _methods():  # noqa: ANN202
 def _figures():  # noqa: ANN202
     """The report package (plot_folder, write_report, save_figure, write_sweep_report; matplotlib):
     imported when a command draws or reports."""
-    from . import report
-
-    return report
-
-
-def _folder_lock(folder):  # noqa: ANN001, ANN202
-    """The output folder's lock (one run per folder at a time), held over a whole command (none for a
-    folder that does not exist: the command says what is missing)."""
-    if not Path(folder).is_dir():
-        return nullcontext()
-    return folder_lock(folder, "command line", "wait for it to end, or use another --out")
+    return report_package()
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -124,7 +110,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
-        with _folder_lock(out):
+        with folder_lock_of(out):
             return _run(args, scenario, out)
 
 
@@ -168,22 +154,6 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     return EXIT_OK
 
 
-def _cmd_export(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)
-    if args.result is not None:
-        found = [(p, r) for p, r in found if p.name == args.result]
-        if not found:
-            raise SettingError("command line", "--result", args.result, "the name of a result folder in FOLDER")
-    elif len(found) > 1:
-        raise SettingError("command line", "--result", None,
-                           " or ".join(p.name for p, _ in found) + " (FOLDER holds several results)",
-                           "which result to export")
-    for path in export(found[0][1], args.format, args.output, overwrite=args.overwrite, where="command line",
-                       key="--output"):
-        print(path)
-    return EXIT_OK
-
-
 def _cmd_sweep(args: argparse.Namespace) -> int:
     methods = _methods()
     sweep = methods.sweep
@@ -215,7 +185,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)
-        with _folder_lock(out):
+        with folder_lock_of(out):
             return _sweep(args, methods, scenario, speeds, out, options)
 
 
@@ -235,34 +205,6 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
         figure, png = f", {SWEEP_FIGURE}", (out / SWEEP_FIGURE).read_bytes()
     page = reporting.write_sweep_report(result, out, png)
     print(f"speed_sweep.csv{figure} and {page.name} (each speed's result in <speed>/pem) in {out.resolve()}")
-    return EXIT_OK
-
-
-def _cmd_compare(args: argparse.Namespace) -> int:
-    print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
-    return EXIT_OK
-
-
-def _cmd_plot(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
-    if args.channels is not None:  # a pattern matching no channel: refused before the lock too
-        for path, result in found:  # the report package loads matplotlib: only for commands that draw
-            _figures().pdata.select_channels(result, args.channels, where="command line", source=str(path))
-    with _folder_lock(args.folder):
-        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats),
-                                       where="command line")
-    for p in paths:
-        print(p)
-    return EXIT_OK
-
-
-def _cmd_report(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
-    default_limits()  # the verdicts' limit files too: a broken one is an error, not "Verdicts: not computed"
-    target = {"overwrite": args.overwrite, "where": "command line", "key": "--html"}
-    _figures().report_target(args.folder, args.html, **target)  # refused before the lock too
-    with _folder_lock(args.folder):
-        print(_figures().write_report(args.folder, args.html, found=found, **target))
     return EXIT_OK
 
 
@@ -293,7 +235,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
                    progress=not args.no_progress)
     figure = None if args.no_figures else result.plot()  # drawn before anything is written
     out = check_writable(out)
-    with _folder_lock(out):
+    with folder_lock_of(out):
         result.to_csv(out / CHECK_CSV)
         png = None
         if figure is not None:
@@ -482,36 +424,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)
 
-    p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
-    p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")
-    p.add_argument("mc_dir", help="a Monte Carlo result folder (or an --out folder holding mc/)")
-    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
-    p.set_defaults(func=_cmd_compare)
-
-    p = sub.add_parser("plot", help="figures from saved results (written next to them)")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
-    p.add_argument("--formats", nargs="+", default=["png"], choices=("png", "pdf", "svg"))
-    p.set_defaults(func=_cmd_plot)
-
-    p = sub.add_parser("export", help="saved results as NetCDF (labelled arrays), CSV or MAT")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--format", choices=EXPORT_FORMATS, default="netcdf",
-                   help="netcdf (xarray + h5netcdf: pip install \".[netcdf]\"), csv (plain pandas.read_csv), mat")
-    p.add_argument("--output", required=True, help="the file to write (CSV: and FILE.json beside it); not inside a "
-                   "result folder")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace --output (and its sidecar) if it exists; without it an existing file is refused")
-    p.add_argument("--result", default=None, help="which result of FOLDER (e.g. pem, mc) when it holds several")
-    p.set_defaults(func=_cmd_export)
-
-    p = sub.add_parser("report", help="one self-contained HTML page of saved results")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html, rewritten each time); "
-                   "not inside a result folder")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace the --html file if it exists; without it an existing file is refused")
-    p.set_defaults(func=_cmd_report)
+    cli_results.add_parsers(sub)
     cli_modes.add_parser(sub)
     cli_uq.add_parser(sub, _methods)
     return parser
