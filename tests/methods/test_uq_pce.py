@@ -119,3 +119,37 @@ def test_uncertain_table_in_a_scenario_file(tmp_path):
     assert keys[0].key == "bridge.girder.E" and keys[0].mean == sc.bridge.girder.E
     assert math.isclose(keys[0].std, 0.1 * sc.bridge.girder.E)
     assert (keys[1].mean, keys[1].std, keys[1].low, keys[1].high) == (1.0, 0.3, 0.5, 2.0)
+
+
+@pytest.mark.parametrize("design", ["tensor", "sparse"])
+def test_polynomial_is_reproduced_exactly(design):
+    """f = 1 + X0 + 2 X1 X2 + X0^2 X2, X_i ~ N(0, 1) independent, is a polynomial of total degree 3: an
+    order-3 expansion on either quadrature reproduces it, so its moments are exact to round-off.
+    By hand, with X0^2 X2 = (X0^2 - 1) X2 + X2 (orthogonal parts of variances 2 and 1): E f = 1;
+    Var f = 1 + 4 + 2 + 1 = 8; first order: X0 alone 1, X1 alone 0, X2 alone 1; total: X0 in X0 and
+    (X0^2 - 1) X2 (1 + 2 = 3), X1 in 2 X1 X2 (4), X2 in 2 X1 X2, (X0^2 - 1) X2 and X2 (4 + 2 + 1 = 7)."""
+    ks = [parse_key(f"x{i}", {"distribution": "normal", "std": 1.0}, 0.0, "test") for i in range(3)]
+    germs = [pce.key_germ(k) for k in ks]
+    x, w = pce.nodes(germs, 3, design)
+    X = np.stack([pce.key_value(k, x[j]) for j, k in enumerate(ks)])
+    e = pce.fit(germs, 3, x, w, 1 + X[0] + 2 * X[1] * X[2] + X[0] ** 2 * X[2])
+    assert abs(e.mean - 1) < 1e-12 and abs(e.variance - 8) < 1e-11
+    assert np.allclose(e.sobol_first(), [1 / 8, 0, 1 / 8], atol=1e-12)
+    assert np.allclose(e.sobol_total(), [3 / 8, 4 / 8, 7 / 8], atol=1e-12)
+
+
+def test_loo_warning_above_one_per_cent():
+    """The surrogate's leave-one-out error: a quadratic fitted at order 1 on 16 Sobol nodes misses its
+    curvature (warned), at order 2 it is exact (no warning); a probability far below any target is
+    not judged."""
+    from tb_exudyn.methods.uq.summary import loo_warnings
+
+    k = parse_key("x", {"distribution": "uniform", "bounds": [0.0, 1.0]}, 0.5, "test")
+    germs = [pce.key_germ(k)]
+    x, _ = pce.nodes(germs, 1, "sobol", 16)
+    y = pce.key_value(k, x[0]) ** 2
+    assert pce.fit(germs, 1, x, None, y).loo > 0.01
+    assert pce.fit(germs, 2, x, None, y).loo < 1e-20
+    assert loo_warnings(["max_sigma:a", "b"], np.array([0.02, 0.001]))[0].count("1 of 2 quantities") == 1
+    assert loo_warnings(["probability:c"], np.array([5.0]), np.array([1e-30])) == []
+    assert loo_warnings(["max_sigma:a"], np.array([0.005])) == []

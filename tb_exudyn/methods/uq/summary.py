@@ -82,9 +82,18 @@ def sigma_band(germs: Sequence[Any], order: int, e: pce.Expansion) -> np.ndarray
     return out
 
 
-def loo_warnings(names: Sequence[str], loo: np.ndarray) -> list[str]:
-    """The warning of quantities whose leave-one-out error is above :data:`LOO_WARNING` (empty: none)."""
-    bad = [(n, float(e)) for n, e in zip(names, loo) if math.isfinite(e) and e > LOO_WARNING]
+#: a probability's expansion is judged by its leave-one-out error only above this mean (far below any
+#: target probability, a relative error of the surrogate changes no verdict; such probabilities span many
+#: orders of magnitude over the keys, which no low-order polynomial follows)
+PROBABILITY_FLOOR = 1e-9
+
+
+def loo_warnings(names: Sequence[str], loo: np.ndarray, means: np.ndarray | None = None) -> list[str]:
+    """The warning of quantities whose leave-one-out error is above :data:`LOO_WARNING` (empty: none);
+    probabilities whose mean is below :data:`PROBABILITY_FLOOR` are left out."""
+    means = np.full(len(names), np.inf) if means is None else means
+    bad = [(n, float(e)) for n, e, m in zip(names, loo, means) if math.isfinite(e) and e > LOO_WARNING
+           and not (n.startswith("probability:") and not m >= PROBABILITY_FLOOR)]
     if not bad:
         return []
     n, e = max(bad, key=lambda b: b[1])
@@ -98,4 +107,4 @@ def keys_json(keys: Sequence[Any]) -> list[dict[str, Any]]:
             for uk in keys]
 
 
-__all__ = ["BAND_SAMPLES", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]
+__all__ = ["BAND_SAMPLES", "PROBABILITY_FLOOR", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]
