@@ -16,12 +16,11 @@ from pathlib import Path
 from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
-from .codes.trains import train_view
 from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_sweep, cli_text, cli_uq
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
 from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
@@ -30,8 +29,7 @@ from .results.checks import default_limits
 from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
-from .scenario.show import run_label, scenario_table
-from .system.damping_guard import merged_messages
+from .scenario.show import LISTING_WIDTH, run_label, scenario_table
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
 
@@ -42,10 +40,14 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    if not args.settings and (view := train_view(args.scenario)) is not None:  # a train of models/trains
-        return print(view) or EXIT_OK
-    scenario = cli_scenario.load(args)
-    print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
+    kind, model = cli_show.command_model(args)
+    if kind == "scenario":
+        an = model.analysis
+        rows = cli_show.frequency_rows(model.bridge, an.mode_max_frequency, an.max_modes, key="(derived) bridge ")
+        text = scenario_table(model, rows)
+    else:
+        text = {"bridge": cli_show.bridge_text, "vehicle": cli_show.vehicle_text, "train": cli_show.train_text}[kind](model)
+    print(cli_text.fitted(text, LISTING_WIDTH))
     return EXIT_OK
 
 
@@ -57,27 +59,18 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         if not math.isfinite(x):
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
-    scenario = cli_scenario.load(args)
-    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
-    model = methods.build_model(scenario, warn=False)
-    for position in args.position or [None]:
-        table = methods.system_modes(scenario, position, model=model)
-        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
-        if args.band is not None:
-            shown = shown.in_band(*args.band)
-        print(shown.text())
-        if len(shown) < len(table):
-            print(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
-                  f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
-        print()
-    if not scenario.track.irregularities:
-        print("damping guard: not applicable (no track irregularities, so no random run)")
+    kind, scenario = cli_show.command_model(args)
+    if kind != "scenario" and args.position:
+        raise SettingError("command line", "--position", args.position[0], "--position with a scenario (a train on "
+                           f"its bridge)", f"{args.scenario!r} is a {kind}")
+    if kind == "bridge":
+        print(cli_show.bridge_modes_text(scenario, args.band))
         return EXIT_OK
-    warnings = methods.damping_guard(scenario, model=model)
-    print(f"damping guard ({scenario.name}, band and run of its random analysis): "
-          + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
-    for line in merged_messages(warnings):
-        print(f"  warning: {line}")
+    if kind in ("vehicle", "train"):
+        print("\n".join(cli_show.vehicle_modes(args, kind, scenario, methods)))
+        return EXIT_OK
+    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
+    print("\n".join(cli_show.scenario_modes(args, scenario, methods)))
     return EXIT_OK
 
 
@@ -107,6 +100,10 @@ def _cmd_run(args: argparse.Namespace) -> int:
         scenario = _methods().sweep.with_least_count(scenario)
         print(textwrap.fill(cli_scenario.speed_rule_line(base, scenario), cli_text.TERMINAL_WIDTH,
                             subsequent_indent="  ", break_on_hyphens=False))
+    elif cli_scenario.adaptive_count_free(args):  # adaptive asked for, its count left free: what it needs
+        chosen, scenario = scenario, _methods().sweep.with_least_count(scenario)
+        if (line := cli_scenario.least_count_line(chosen, scenario)) is not None:
+            print(textwrap.fill(line, cli_text.TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False))
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
@@ -149,8 +146,9 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
         report = reporting.write_report(out, found=found)
-        print(f"{len(figures)} figures and the report: {report}")
-    print(f"results in {out.resolve()}")
+        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+    else:
+        print(f"results in {out.resolve()}")
     return EXIT_OK
 
 
@@ -244,15 +242,14 @@ def _cmd_check(args: argparse.Namespace) -> int:
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
         _figures().write_check_report(result, out, png)
-    print(result.summary())
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse's parser with a one-line error (no usage block after it): the error, then where the
-    command's options are listed; exit 2 as every user error."""
+    """argparse's parser with a one-line error (no usage block), naming the command's --help; exit 2."""
 
     def error(self, message: str):  # noqa: ANN201 - argparse's hook; never returns
         command = self.prog.partition(" ")[2]
@@ -281,13 +278,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
                    help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
                         "the start of the run (vehicles on rigid track, the bridge alone)")
@@ -307,7 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
@@ -332,7 +329,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
-                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
+                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes, and without "
+                        "--n-freq at least as many frequencies as its rules need)")
     p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
                    help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
     p.add_argument("--psd-channels", dest="psd_channels", nargs="+", default=None, metavar="PATTERN",
@@ -354,7 +352,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
                    help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
                         "each > 0 and <= 1000 km/h")

@@ -36,7 +36,7 @@ CRITERIA_FILE = "en1990_a2"
 DECK_LIMIT_SET = "en1990_deck"
 DECK_ACCELERATION_CRITERIA: dict[str, str] = {"ballasted": "deck_acc_ballasted", "direct": "deck_acc_direct_fastened"}
 
-VERDICT_OK, VERDICT_EXCEEDS, VERDICT_NOT_EVALUATED = "ok", "exceeds", "not evaluated"
+VERDICT_OK, VERDICT_EXCEEDS, VERDICT_NOT_EVALUATED, VERDICT_INFO = "ok", "exceeds", "not evaluated", "comparison"
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -213,7 +213,8 @@ def deck_acceleration_limit(track: str) -> float:
 class CriterionVerdict:
     """The verdict of one criterion: ``value`` against ``limit`` (both in ``unit``), ``utilisation`` (value /
     limit for an upper bound, limit / value for a lower one; NaN when not evaluated), the deciding case and
-    location, and why it could not be evaluated or what it leaves out (``caveats``)."""
+    location, and why it could not be evaluated or what it leaves out (``caveats``). ``bound`` 'compare': a
+    ratio that is no limit (its verdict is 'comparison', never 'exceeds')."""
 
     criterion: str
     title: str
@@ -241,12 +242,17 @@ class CriterionVerdict:
         u = self.utilisation
         if math.isnan(u):
             return VERDICT_NOT_EVALUATED
+        if self.bound == "compare":
+            return VERDICT_INFO
         return VERDICT_OK if u <= 1.0 else VERDICT_EXCEEDS
 
     def line(self) -> str:
         """One line: criterion, verdict, utilisation, value against limit, deciding case, clause."""
         if self.verdict == VERDICT_NOT_EVALUATED:
             return f"{self.criterion}: not evaluated ({self.caveats}) [{self.clause}]"
+        if self.verdict == VERDICT_INFO:
+            return (f"{self.criterion}: ratio {self.value:.3g}, {self.caveats}; {self.case} [{self.clause}]"
+                    + (" [check]" if self.check else ""))
         sign = ">=" if self.bound == "lower" else "<="
         state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
         return (f"{self.criterion}: {state}, utilisation {self.utilisation:.2f} ({self.value:.4g} {self.unit}, "

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..errors import ResourceError, SettingError
 from ..structure.modal import ModalBridge
+from .load_distribution import LoadDistribution, distributed_train
 from .trains import ForceTrain
 
 #: largest number of steps of one integration (about 15 us each per train on one core; the memory of the
@@ -162,6 +163,7 @@ def moving_force_response(
     samples_per_period: float = 20.0,
     tail_periods: float = 2.0,
     block: int = 512,
+    distribution: LoadDistribution | None = None,
 ) -> MovingForceResponse:
     """Peak deck acceleration and displacement of ``train`` crossing ``bridge`` at every speed.
 
@@ -180,8 +182,12 @@ def moving_force_response(
         20, the parabola-refined peak within about (pi / samples_per_period)^4 / 8, 7e-5)
     tail_periods : free vibration after the last axle left, in periods of the lowest mode used
     block : steps per block of the station output (memory: block x modes x speeds)
+    distribution : EN 1991-2's spread of each axle load by rails, sleepers and ballast (6.4.6.4;
+        tb_exudyn.codes.load_distribution); None: point loads
     """
     where = "moving_force_response"
+    if distribution is not None:
+        train = distributed_train(train, distribution)
     v_kmh = np.atleast_1d(np.asarray(speeds_kmh, dtype=float))
     if v_kmh.ndim != 1 or v_kmh.size == 0 or not np.all(np.isfinite(v_kmh)) or np.any(v_kmh <= 0):
         raise SettingError(where, "speeds_kmh", speeds_kmh, "one or more finite speeds > 0 km/h")

@@ -316,7 +316,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     for cav, _ in contact:
         effects.append((cav, None))
     if c.check:
-        effects.append((Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False), None))
+        effects.append((Caveat(*c.unverified_caveat(), False), None))
     elif c.note:  # what the limits file says of how the criterion applies here (e.g. the total twist on straight track)
         effects.append((Caveat("limit_note", c.note, False), None))
     caveats = [e for e, _ in effects]
@@ -452,7 +452,7 @@ def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target
                 "min": np.nanmin(v, initial=np.inf), "window_max": np.nanmax(v, initial=-np.inf)}.get(c.statistic)
     caveats = [Caveat("statistic", "one deterministic run: a single sample of the response (no probability)", False)]
     if c.check:
-        caveats.append(Caveat("limit_unverified", f"limit not read in the code text [check]: {c.note}", False))
+        caveats.append(Caveat(*c.unverified_caveat(), False))
     reason = unmet_requirement(result, c.quantity, channel)
     if reason is not None:
         caveats.insert(0, Caveat("model", reason, False))
@@ -549,11 +549,15 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     table = cached_checks(result, limits, **options)
     counts = table.counts()
     n_cond = sum(r.conditional for r in table.rows)
-    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): "
-             + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v]) + (f"; {n_cond} conditional" if n_cond else "")]
+    worst = table.worst()  # one row per criterion: the location that decides it
+    by_criterion = {v: sum(r.verdict == v for r in worst) for v in VERDICTS}
+    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): {len(worst)} criteria: "
+             + ", ".join(f"{by_criterion[v]} {v}" for v in VERDICTS if by_criterion[v])
+             + f" (at {len(table.rows)} locations: " + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v])
+             + (f"; {n_cond} conditional" if n_cond else "") + ")"]
     if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
-        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage")
-    worst = table.worst()
+        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage, at "
+                     "the location most likely to exceed the limit")
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
                   key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
     for name in sets:

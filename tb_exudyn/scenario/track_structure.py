@@ -62,6 +62,8 @@ class Block(_Replaceable):
 
     mass: float = param(unit="kg", doc="mass per rail support", check=Check(low=0.0, high=1e5))
     thickness: float = param(0.0, unit="m", doc="depth this block adds below the pad", check=NONNEGATIVE)
+    width: float = param(0.0, unit="m", doc="bearing width along the track (EN 1991-2 6.3.6.2's load spread "
+                                            "starts from it; 0: unknown, a line)", check=Check(low=0.0, high=2.0, low_inclusive=True))
 
 
 @dataclass(frozen=True, kw_only=True)

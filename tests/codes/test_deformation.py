@@ -133,3 +133,34 @@ def test_line_operator_is_the_modes_rail_shape():
     x = np.linspace(0.3, L - 0.3, 17)
     op = dfm.line_operator(modes.model, x, E_OFF, 1.64)
     np.testing.assert_allclose(op @ modes.shapes, mb.rail_shapes(x).z, atol=1e-12 * np.abs(modes.shapes).max())
+
+
+def test_envelope_of_a_sine_influence_line():
+    """eta(s) = sin(pi s / 32) on a 32 m line (zero beyond): LM71 centred, 250 kN sum sin(pi a / 32) at
+    a = 16 +- 0.8, 16 +- 2.4 plus 80 kN/m x 2 (32 / pi)(1 - cos(pi 12.8 / 32)); SW/0 placed by brute force
+    (every 0.1 m, the blocks' integrals in closed form). The grid's trapezoid is within (0.1/32)^2 / 12."""
+    ds, length = 0.1, 32.0
+    s = np.arange(0.0, length + ds / 2, ds)
+    eta = np.sin(np.pi * s / length)[:, None]
+    hi, lo = dfm.envelope(eta, ds, dfm.LM71)
+    axles = 16.0 + np.array([-2.4, -0.8, 0.8, 2.4])
+    lm71 = 250e3 * np.sin(np.pi * axles / length).sum() + 80e3 * 2 * (length / np.pi) * (1 - np.cos(np.pi * 12.8 / length))
+    assert hi[0] == pytest.approx(lm71, rel=1e-5) and lo[0] == pytest.approx(0.0, abs=1e-6)
+
+    def block(a, b):  # closed-form integral of eta over [a, b] clipped to the line
+        a, b = max(a, 0.0), min(b, length)
+        return 0.0 if b <= a else (length / np.pi) * (np.cos(np.pi * a / length) - np.cos(np.pi * b / length))
+
+    sw0 = max(133e3 * (block(x0, x0 + 15.0) + block(x0 + 20.3, x0 + 35.3)) for x0 in np.arange(-35.3, length, ds))
+    hi, lo = dfm.envelope(eta, ds, dfm.SW0)
+    assert hi[0] == pytest.approx(sw0, rel=1e-5)
+
+
+def test_continuous_girder_takes_sw0_too():
+    from tb_exudyn.scenario.io import load_bridge
+    b = load_bridge("continuous_3x32m")
+    sd = dfm.static_deformations(b)
+    assert sd.loads == ("LM71", "SW/0") and all(j.size == 0 for j in sd.joint_rotation)
+    only_lm71 = dfm.static_deformations(b, (dfm.LM71,))
+    assert np.all(sd.deflection[0] >= only_lm71.deflection[0])  # the envelope of both is at least LM71's
+    assert dfm.determinant_length(b)[0] == pytest.approx(1.3 * 32.0)  # Table 6.2: three spans, k = 1.3

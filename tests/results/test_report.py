@@ -327,6 +327,8 @@ def test_the_reference_studys_findings_beside_ours():
     first = table[1]
     assert first[0].startswith("conclusion 1: The PSD peak") and first[3] == "3.3 Hz" and first[4] == "12.3 Hz"
     assert first[5].startswith("not matched") and "within 0.5 Hz: [check]" in first[5]
+    assert "why: docs/findings.md section 1" in first[5]  # a row not matched names our finding that explains it
+    assert 'findings.md">why: docs/findings.md section 1' in text  # linked to the file of this source tree
 
 
 def test_a_bad_study_file_gets_a_one_line_error(tmp_path):
