@@ -119,3 +119,12 @@ def test_cli_study_writes_result_and_figures(tmp_path, capsys):
     assert (out / "uq_band.car1.body.acc_z.png").stat().st_size > 0
     r = load_uq(out / "uq")
     assert r.quantity("max_sigma:car1.body.acc_z")["sobol_first"]["train.vehicles.0.damping"] > 0.999
+
+
+def test_run_uq_takes_a_table_and_checks_it_before_any_run(tmp_path):
+    """run_uq with an [uncertain] table as a dict: a bad key is refused naming it, nothing written."""
+    with pytest.raises(tbx.ScenarioError, match="run_uq: key 'uncertain.bridge.girder.EE'.*unknown key"):
+        tbx.run_uq(scenario(), {"bridge.girder.EE": {"distribution": "normal", "cov": 0.1}}, out=tmp_path / "o")
+    with pytest.raises(tbx.ScenarioError, match="not positive"):
+        tbx.run_uq(scenario(), {"bridge.damping_ratio": {"distribution": "normal", "cov": -0.1}}, out=tmp_path / "o")
+    assert not (tmp_path / "o").exists()

@@ -18,7 +18,7 @@ import time as _time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -28,7 +28,7 @@ from ...execution import Execution, RunFiles, Task
 from ...results.uq import UQ_FOLDER, UqResult
 from ...scenario import Scenario, scenario_to_toml
 from ...scenario.io import with_settings
-from ...scenario.uncertain import UncertainKey
+from ...scenario.uncertain import UncertainKey, check_uncertain
 from .. import pem
 from ..common import fingerprint_identity
 from ..sweep import check_columns, key_patterns
@@ -204,14 +204,15 @@ class UqMethod:
         result.save(out / UQ_FOLDER)
 
 
-def run_uq(scenario: Scenario, keys: Sequence[UncertainKey], *, order: int = 3, design: str = "tensor",
+def run_uq(scenario: Scenario, keys: Sequence[UncertainKey] | Mapping[str, Any], *, order: int = 3, design: str = "tensor",
            nodes: int | None = None, engine: str = DEFAULT_ENGINE, options: Any = None,
            channels: Sequence[str] | None = None, window: tuple[float, float] | None = None, workers: int | None = None, executor: Any = None,
            out: str | Path | None = None, resume: bool = False, progress: bool = True, overwrite: bool = False,
            keep_checkpoint: bool = False) -> UqResult:
     """Polynomial chaos over PEM runs of ``scenario`` under the uncertain ``keys`` (module docstring).
 
-    keys : :class:`~tb_exudyn.scenario.uncertain.UncertainKey` (:func:`~tb_exudyn.scenario.uncertain.load_study`)
+    keys : :class:`~tb_exudyn.scenario.uncertain.UncertainKey` (:func:`~tb_exudyn.scenario.uncertain.load_study`),
+        or an ``[uncertain]`` table as a dict (``{"bridge.girder.E": {"distribution": "lognormal", "cov": 0.05}}``)
     order : the expansion's total degree; design : "tensor" or "sparse" Gauss quadrature (order + 1
         points per key), or "sobol" (``nodes`` points, default twice the basis, least squares)
     channels : channel patterns (default the sweep's key quantities)
@@ -219,6 +220,8 @@ def run_uq(scenario: Scenario, keys: Sequence[UncertainKey], *, order: int = 3, 
     workers, executor, out, resume, progress, overwrite, keep_checkpoint : as :func:`tb_exudyn.run_sweep`;
         the nodes are the tasks; ``out/uq`` the result, ``out/checkpoint-uq`` the nodes' checkpoint
     """
+    if isinstance(keys, Mapping):  # an [uncertain] table as a dict
+        keys = check_uncertain(scenario, dict(keys), "run_uq")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_uq", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     return drive(UqMethod(scenario, tuple(keys), order, design, nodes, engine, options, channels, window), execution)
