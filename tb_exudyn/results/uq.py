@@ -30,7 +30,7 @@ import numpy as np
 from .._version import __version__
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.io import scenario_from_dict
-from ..storage import Member, NpzFile, check_members, json_default, load_json, save_result_folder
+from ..storage import Member, NpzFile, check_members, check_values, json_default, load_json, save_result_folder
 from .base import figures
 from .schema import Variable, need_xarray
 
@@ -154,6 +154,7 @@ def load_uq(folder: str | Path) -> UqResult:
         members = {v.name: _member(v) for v in UQ_SCHEMA}
         check_members(npz, members, sizes, {})
         data = {v.name: npz.read(v.name) for v in UQ_SCHEMA}
+    check_values(folder / "arrays.npz", data, members)
     scenario = scenario_from_dict(tomllib.loads(meta["scenario_toml"]), str(folder), resolve_names=False)
     return UqResult(scenario=scenario, keys=tuple(meta["keys"]), channels=tuple(meta["channels"]),
                     units=tuple(meta["units"]), quantities=tuple(meta["quantities"]), criteria=tuple(meta["criteria"]),

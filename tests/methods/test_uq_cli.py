@@ -128,3 +128,27 @@ def test_run_uq_takes_a_table_and_checks_it_before_any_run(tmp_path):
     with pytest.raises(tbx.ScenarioError, match="not positive"):
         tbx.run_uq(scenario(), {"bridge.damping_ratio": {"distribution": "normal", "cov": -0.1}}, out=tmp_path / "o")
     assert not (tmp_path / "o").exists()
+
+
+def test_saved_result_is_checked_when_loaded(tmp_path):
+    """A saved result loads back equal; one whose sigma was made negative is refused naming the array."""
+    from tb_exudyn.errors import ResultsError
+    from tb_exudyn.results.uq import UqResult
+
+    rng = np.random.default_rng(1)
+    nt, nc, nq, nk, nn = 5, 2, 3, 2, 4
+    shapes = {"time": (nt,), "mean_sigma": (nc, nt), "std_sigma": (nc, nt), "mean_response": (nc, nt),
+              "sigma_band": (3, nc, nt), "quantity_mean": (nq,), "quantity_std": (nq,), "sobol_first": (nk, nq),
+              "sobol_total": (nk, nq), "loo": (nq,), "pf": (1,), "node_values": (nn, nk), "node_weights": (nn,),
+              "node_quantities": (nn, nq)}
+    data = {k: np.abs(rng.standard_normal(v)) for k, v in shapes.items()}
+    data["time"] = np.arange(nt) * 0.1
+    r = UqResult(scenario=scenario(), keys=({"key": "a"}, {"key": "b"}), channels=("c1", "c2"), units=("m", "m"),
+                 quantities=("q1", "q2", "q3"), criteria=("crit",), data=data)
+    r.save(tmp_path / "uq")
+    back = load_uq(tmp_path / "uq")
+    assert all(np.array_equal(back.data[k], data[k]) for k in data) and back.criteria == ("crit",)
+    data["std_sigma"][0, 0] = -1.0
+    r.save(tmp_path / "bad")
+    with pytest.raises(ResultsError, match="std_sigma.*negative"):
+        load_uq(tmp_path / "bad")
