@@ -28,7 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.sparse as sp
 
-from .track_model import TrackModel
+from .contact_rows import ContactRows
+from .coupling import VERTICAL, WheelRailCoupling
+from .linear import LinearSystem
+from .track_model import ModalTrack, TrackModel
 
 
 @dataclass(frozen=True)
@@ -105,4 +108,32 @@ def wheel_on_track(track: TrackModel, wheel_mass: float, hertz_stiffness: float,
                                 transfer_at=by_place[order], speed=speed, time_step=h, bays=bays)
 
 
-__all__ = ["WheelOnTrackResponse", "wheel_on_track"]
+def wheel_on_modal_track(track: ModalTrack, wheel_mass: float, hertz_stiffness: float, speed: float,
+                         x_start: float, damping: str = "full") -> LinearSystem:
+    """The wheel on the track as the project's linear system (tb_exudyn.system.linear): the track's modes
+    as the coupling's bridge coordinates (its rail shapes are the rail's Hermite rows), one wheel node
+    (coordinate z used; the other five free and unforced) and one vertical penalty row, stiffness
+    ``hertz_stiffness``, no contact damping, the irregularity's vertical input, the wheel starting at
+    ``x_start`` with no taper. ``damping`` "full": D0 holds the track's damping Phi^T C Phi (the dense
+    engine takes it; the batched engine's components need a diagonal bridge block and refuse it);
+    "modal": its diagonal only (modal damping ratios, an approximation of the pads' and the ballast's
+    dampers, which both linear engines take)."""
+    if damping not in ("full", "modal"):
+        raise ValueError(f"damping 'full' or 'modal', not {damping!r}")
+    rows = ContactRows()
+    rows.add(name="wheel.force_z", axle=0, direction=VERTICAL, rail_offset=0.0, stiffness=hertz_stiffness,
+             damping=0.0, wheel_terms={(0, 2): 1.0}, inputs=(1.0, 0.0, 0.0))
+    cp = WheelRailCoupling(track.bridge, axle_start=[x_start], speed=speed, contacts=rows.layout({0: 0}, 6),
+                           half_gauge=0.75, taper_length=0.0)
+    nb = track.bridge.n_modes
+    om = track.bridge.omega
+    M = np.diag(np.concatenate((np.ones(nb), np.full(6, wheel_mass))))
+    K0 = np.zeros((nb + 6, nb + 6))
+    D0 = np.zeros_like(K0)
+    K0[:nb, :nb] = np.diag(om**2)
+    D0[:nb, :nb] = track.damping if damping == "full" else np.diag(np.diag(track.damping))
+    return LinearSystem(M=M, K0=K0, D0=D0, bridge=np.arange(nb), wheel=nb + np.arange(6), k=cp.contacts.stiffness,
+                        c=cp.contacts.damping, G=cp.contacts.wheel_map, coupling=cp, linearization="rest")
+
+
+__all__ = ["WheelOnTrackResponse", "wheel_on_modal_track", "wheel_on_track"]
