@@ -75,6 +75,10 @@ def test_run_sweep_and_check_fit_a_screen(tmp_path, capsys):
     lines = _printed(capsys, ["run", "quick", "--out", str(tmp_path / "q"), "--no-progress", "--workers", "1"])
     assert len(lines) <= RESULT_LINES, len(lines)
     assert any("criteria" in ln for ln in lines)  # counted by criterion
+    _printed(capsys, ["run", "quick", "--method", "mc", "--samples", "4", "--out", str(tmp_path / "q"), "--no-progress",
+                      "--no-figures", "--workers", "1"])
+    _printed(capsys, ["compare", str(tmp_path / "q" / "pem"), str(tmp_path / "q" / "mc_linear")])
+    _printed(capsys, ["report", str(tmp_path / "q")])
     lines = _printed(capsys, ["sweep", "quick", "--speeds-kmh", "200,250", "--out", str(tmp_path / "s"),
                               "--no-progress", "--no-figures", "--workers", "1"])
     assert len(lines) <= RESULT_LINES, len(lines)
