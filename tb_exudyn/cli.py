@@ -20,7 +20,7 @@ from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
 from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
@@ -429,6 +429,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     cli_results.add_parsers(sub)
     cli_modes.add_parser(sub)
+    cli_uq.add_parser(sub, _methods)
     return parser
 
 
