@@ -213,6 +213,10 @@ class _Parser(argparse.ArgumentParser):
                                    f"(the options: {self.prog} --help)\n")
 
 
+#: what show and modes take
+MODEL_HELP = "a scenario, bridge, vehicle or train: a name (see `tb-exudyn list`) or a .toml file"
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(
         prog="tb-exudyn",
@@ -231,14 +235,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("list", help="named vehicles, bridges, scenarios and track spectra")
     p.set_defaults(func=_cmd_list)
-    p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
-    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p = sub.add_parser("show", help="a scenario, bridge, vehicle or train as a table (a bridge: with f1 and f3)")
+    p.add_argument("scenario", metavar="MODEL", help=MODEL_HELP)
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
                    help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
-    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
-    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves (of a scenario, a bridge "
+                                     "alone, a vehicle alone)")
+    p.add_argument("scenario", metavar="MODEL", help=MODEL_HELP)
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
                    help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
