@@ -12,30 +12,24 @@ import math
 import sys
 import textwrap
 import warnings
-from contextlib import nullcontext
 from pathlib import Path
 from typing import Sequence
 
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
-from .codes.trains import train_view
 from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
-from .execution import folder_lock
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_scenario, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
+from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
 from .results import find_results
 from .results.checks import default_limits
-from .results.compare import compare_folders
-from .results.export import FORMATS as EXPORT_FORMATS
-from .results.export import export
 from .storage import check_writable
 from .structure.guards import check_scenario_size
 from .scenario import Analysis, Scenario
-from .scenario.show import run_label, scenario_table
-from .system.damping_guard import merged_messages
+from .scenario.show import LISTING_WIDTH, run_label, scenario_table
 
 EXIT_OK, EXIT_USER_ERROR = 0, 2
 
@@ -46,10 +40,14 @@ def _cmd_list(args: argparse.Namespace) -> int:
 
 
 def _cmd_show(args: argparse.Namespace) -> int:
-    if not args.settings and (view := train_view(args.scenario)) is not None:  # a train of models/trains
-        return print(view) or EXIT_OK
-    scenario = cli_scenario.load(args)
-    print(scenario_table(scenario, cli_text.bridge_frequency_rows(scenario)))
+    kind, model = cli_show.command_model(args)
+    if kind == "scenario":
+        an = model.analysis
+        rows = cli_show.frequency_rows(model.bridge, an.mode_max_frequency, an.max_modes, key="(derived) bridge ")
+        text = scenario_table(model, rows)
+    else:
+        text = {"bridge": cli_show.bridge_text, "vehicle": cli_show.vehicle_text, "train": cli_show.train_text}[kind](model)
+    print(cli_text.fitted(text, LISTING_WIDTH))
     return EXIT_OK
 
 
@@ -61,27 +59,18 @@ def _cmd_modes(args: argparse.Namespace) -> int:
         if not math.isfinite(x):
             raise SettingError("command line", "--position", x, "finite positions X [m] of the first axle along the "
                                "track (0: the bridge start)", "not finite")
-    scenario = cli_scenario.load(args)
-    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
-    model = methods.build_model(scenario, warn=False)
-    for position in args.position or [None]:
-        table = methods.system_modes(scenario, position, model=model)
-        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
-        if args.band is not None:
-            shown = shown.in_band(*args.band)
-        print(shown.text())
-        if len(shown) < len(table):
-            print(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
-                  f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
-        print()
-    if not scenario.track.irregularities:
-        print("damping guard: not applicable (no track irregularities, so no random run)")
+    kind, scenario = cli_show.command_model(args)
+    if kind != "scenario" and args.position:
+        raise SettingError("command line", "--position", args.position[0], "--position with a scenario (a train on "
+                           f"its bridge)", f"{args.scenario!r} is a {kind}")
+    if kind == "bridge":
+        print(cli_show.bridge_modes_text(scenario, args.band))
         return EXIT_OK
-    warnings = methods.damping_guard(scenario, model=model)
-    print(f"damping guard ({scenario.name}, band and run of its random analysis): "
-          + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
-    for line in merged_messages(warnings):
-        print(f"  warning: {line}")
+    if kind in ("vehicle", "train"):
+        print("\n".join(cli_show.vehicle_modes(args, kind, scenario, methods)))
+        return EXIT_OK
+    check_scenario_size(scenario)  # the run's checks (the damping guard follows the whole run), before the build
+    print("\n".join(cli_show.scenario_modes(args, scenario, methods)))
     return EXIT_OK
 
 
@@ -100,17 +89,7 @@ def _methods():  # noqa: ANN202
 def _figures():  # noqa: ANN202
     """The report package (plot_folder, write_report, save_figure, write_sweep_report; matplotlib):
     imported when a command draws or reports."""
-    from . import report
-
-    return report
-
-
-def _folder_lock(folder):  # noqa: ANN001, ANN202
-    """The output folder's lock (one run per folder at a time), held over a whole command (none for a
-    folder that does not exist: the command says what is missing)."""
-    if not Path(folder).is_dir():
-        return nullcontext()
-    return folder_lock(folder, "command line", "wait for it to end, or use another --out")
+    return report_package()
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -121,10 +100,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
         scenario = _methods().sweep.with_least_count(scenario)
         print(textwrap.fill(cli_scenario.speed_rule_line(base, scenario), cli_text.TERMINAL_WIDTH,
                             subsequent_indent="  ", break_on_hyphens=False))
+    elif cli_scenario.adaptive_count_free(args):  # adaptive asked for, its count left free: what it needs
+        chosen, scenario = scenario, _methods().sweep.with_least_count(scenario)
+        if (line := cli_scenario.least_count_line(chosen, scenario)) is not None:
+            print(textwrap.fill(line, cli_text.TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False))
     default_limits()  # the limit files of the verdicts, checked before any work: a broken one writes nothing
     with removed_if_left_empty(args.out):  # a run refused after this leaves no new empty --out
         out = check_writable(args.out)
-        with _folder_lock(out):
+        with folder_lock_of(out):
             return _run(args, scenario, out)
 
 
@@ -163,24 +146,9 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
         report = reporting.write_report(out, found=found)
-        print(f"{len(figures)} figures and the report: {report}")
-    print(f"results in {out.resolve()}")
-    return EXIT_OK
-
-
-def _cmd_export(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)
-    if args.result is not None:
-        found = [(p, r) for p, r in found if p.name == args.result]
-        if not found:
-            raise SettingError("command line", "--result", args.result, "the name of a result folder in FOLDER")
-    elif len(found) > 1:
-        raise SettingError("command line", "--result", None,
-                           " or ".join(p.name for p, _ in found) + " (FOLDER holds several results)",
-                           "which result to export")
-    for path in export(found[0][1], args.format, args.output, overwrite=args.overwrite, where="command line",
-                       key="--output"):
-        print(path)
+        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+    else:
+        print(f"results in {out.resolve()}")
     return EXIT_OK
 
 
@@ -212,10 +180,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             raise
         key, value = typed[exc.key]
         raise exc.restated(WHERE, flag(key), value) from None
-    print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
+    print(f"scenario {scenario.name}: {len(speeds)} speeds {cli_text.kmh(speeds[0])}-{cli_text.kmh(speeds[-1])} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)
-        with _folder_lock(out):
+        with folder_lock_of(out):
             return _sweep(args, methods, scenario, speeds, out, options)
 
 
@@ -235,34 +203,6 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
         figure, png = f", {SWEEP_FIGURE}", (out / SWEEP_FIGURE).read_bytes()
     page = reporting.write_sweep_report(result, out, png)
     print(f"speed_sweep.csv{figure} and {page.name} (each speed's result in <speed>/pem) in {out.resolve()}")
-    return EXIT_OK
-
-
-def _cmd_compare(args: argparse.Namespace) -> int:
-    print(compare_folders(args.pem_dir, args.mc_dir, channels=args.channels))
-    return EXIT_OK
-
-
-def _cmd_plot(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
-    if args.channels is not None:  # a pattern matching no channel: refused before the lock too
-        for path, result in found:  # the report package loads matplotlib: only for commands that draw
-            _figures().pdata.select_channels(result, args.channels, where="command line", source=str(path))
-    with _folder_lock(args.folder):
-        paths = _figures().plot_folder(args.folder, found=found, channels=args.channels, formats=tuple(args.formats),
-                                       where="command line")
-    for p in paths:
-        print(p)
-    return EXIT_OK
-
-
-def _cmd_report(args: argparse.Namespace) -> int:
-    found = find_results(args.folder)  # read (and refused) before the lock touches the folder
-    default_limits()  # the verdicts' limit files too: a broken one is an error, not "Verdicts: not computed"
-    target = {"overwrite": args.overwrite, "where": "command line", "key": "--html"}
-    _figures().report_target(args.folder, args.html, **target)  # refused before the lock too
-    with _folder_lock(args.folder):
-        print(_figures().write_report(args.folder, args.html, found=found, **target))
     return EXIT_OK
 
 
@@ -293,7 +233,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
                    progress=not args.no_progress)
     figure = None if args.no_figures else result.plot()  # drawn before anything is written
     out = check_writable(out)
-    with _folder_lock(out):
+    with folder_lock_of(out):
         result.to_csv(out / CHECK_CSV)
         png = None
         if figure is not None:
@@ -302,14 +242,23 @@ def _cmd_check(args: argparse.Namespace) -> int:
         elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
             (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
         _figures().write_check_report(result, out, png)
-    print(result.summary())
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
     print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
           + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return EXIT_OK
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser with a one-line error (no usage block), naming the command's --help; exit 2."""
+
+    def error(self, message: str):  # noqa: ANN201 - argparse's hook; never returns
+        command = self.prog.partition(" ")[2]
+        self.exit(EXIT_USER_ERROR, f"tb-exudyn: error: {command + ': ' if command else ''}{message} "
+                                   f"(the options: {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="tb-exudyn",
         description="Random vibration of a train crossing a bridge (Exudyn, pseudo-excitation method, Monte Carlo).",
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -329,13 +278,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
     p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
                    help="the train's first axle at X [m] along the track (0: bridge start), one table each; default: "
                         "the start of the run (vehicles on rigid track, the bridge alone)")
@@ -355,7 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("scenario", nargs="?", default=DEFAULT_SCENARIO,
                    help=f"scenario name or .toml path (default: {DEFAULT_SCENARIO})")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--method", choices=("det", "pem", "mc"), default="pem", help="default: pem")
     p.add_argument("--workers", default=None, help="worker processes (default: all cores)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default: ./{DEFAULT_OUT})")
@@ -380,7 +329,8 @@ def build_parser() -> argparse.ArgumentParser:
                         "scaled by V / the scenario's speed, docs/speed.md)")
     p.add_argument("--n-freq", dest="n_freq", type=int, default=None, help="PEM frequencies (analysis.n_freq)")
     p.add_argument("--freq-spacing", dest="freq_spacing", choices=("linear", "log", "adaptive"), default=None,
-                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes)")
+                   help="PEM grid (analysis.freq_spacing; adaptive: placed for the system's modes, and without "
+                        "--n-freq at least as many frequencies as its rules need)")
     p.add_argument("--channels", nargs="+", default=None, metavar="PATTERN",
                    help="output channels, glob patterns (analysis.channels), e.g. 'bridge.*' 'car1.body.*'")
     p.add_argument("--psd-channels", dest="psd_channels", nargs="+", default=None, metavar="PATTERN",
@@ -402,7 +352,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("sweep", help="PEM at a series of speeds (batched engine): table and figure of the key quantities")
     p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
-                   help="set a scenario key, checked as in a file (repeatable), e.g. --set track.lead_in=150")
+                   help=cli_scenario.SET_HELP)
     p.add_argument("--speeds-kmh", default=None, metavar="START:STOP:STEP",
                    help="speeds [km/h], STOP included (or a comma list, e.g. 160,220,300); at most 1000 speeds, "
                         "each > 0 and <= 1000 km/h")
@@ -472,37 +422,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)
 
-    p = sub.add_parser("compare", help="PEM against Monte Carlo: sigma ratio, expected band, mean in standard errors")
-    p.add_argument("pem_dir", help="a PEM result folder (or an --out folder holding pem/)")
-    p.add_argument("mc_dir", help="a Monte Carlo result folder (or an --out folder holding mc/)")
-    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
-    p.set_defaults(func=_cmd_compare)
-
-    p = sub.add_parser("plot", help="figures from saved results (written next to them)")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--channels", nargs="+", default=None, help="channel names or glob patterns")
-    p.add_argument("--formats", nargs="+", default=["png"], choices=("png", "pdf", "svg"))
-    p.set_defaults(func=_cmd_plot)
-
-    p = sub.add_parser("export", help="saved results as NetCDF (labelled arrays), CSV or MAT")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--format", choices=EXPORT_FORMATS, default="netcdf",
-                   help="netcdf (xarray + h5netcdf: pip install \".[netcdf]\"), csv (plain pandas.read_csv), mat")
-    p.add_argument("--output", required=True, help="the file to write (CSV: and FILE.json beside it); not inside a "
-                   "result folder")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace --output (and its sidecar) if it exists; without it an existing file is refused")
-    p.add_argument("--result", default=None, help="which result of FOLDER (e.g. pem, mc) when it holds several")
-    p.set_defaults(func=_cmd_export)
-
-    p = sub.add_parser("report", help="one self-contained HTML page of saved results")
-    p.add_argument("folder", help="a result folder or an --out folder of `tb-exudyn run`")
-    p.add_argument("--html", default=None, help="where to write it (default: FOLDER/report.html, rewritten each time); "
-                   "not inside a result folder")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace the --html file if it exists; without it an existing file is refused")
-    p.set_defaults(func=_cmd_report)
+    cli_results.add_parsers(sub)
     cli_modes.add_parser(sub)
+    cli_uq.add_parser(sub, _methods)
     return parser
 
 

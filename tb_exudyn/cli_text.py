@@ -6,6 +6,7 @@ from __future__ import annotations
 import fnmatch
 import math
 import re
+import textwrap
 
 from .codes.trains import list_trains
 from .results.caveats import unmet_requirement
@@ -38,6 +39,9 @@ def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]
 
 #: channels listed on the terminal, the largest max |mean| + 3 sigma relative to max |mean| first
 SHOWN_CHANNELS = 8
+#: a value at most this fraction of the largest of its unit is round-off (a lateral mean of a vertical-only
+#: load, 6e-19 mm): shown as 0
+NOISE = 1e-9
 
 
 def summary_table(result, k: float = 3.0) -> str:
@@ -68,8 +72,12 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
                  "output folder):")
     lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
     unanswered = ""
+    scale: dict[str, float] = {}  # per unit the largest value: what is 1e-9 of it is round-off, shown as 0
+    for _, u, m, sd, p in rows:
+        scale[u] = max(scale.get(u, 0.0), abs(m), abs(sd), abs(p))
     for n, u, m, sd, p in key:
         du = display_unit(u)
+        m, sd, p = (0.0 if abs(x) <= NOISE * scale[u] else x for x in (m, sd, p))
         why = unmet_requirement(result, "axle_force_y", n) if fnmatch.fnmatchcase(n, "car*.axle*.force_y") else None
         unanswered = unanswered or (why or "").split(":")[0].split("; ")[-1]
         lines.append(f"  {n:<{width}}  {format_number(du.factor * m):>12} {format_number(du.factor * sd):>12} "
@@ -85,6 +93,26 @@ _ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=
 
 #: a terminal line's width and a warning's lines on it (the report has the whole text)
 TERMINAL_WIDTH, WARNING_LINES = 100, 2
+#: no line a command prints is longer
+LINE_MAX = 200
+
+
+def kmh(v: float) -> str:
+    """A speed [km/h] to 0.1 km/h, what a speed means on a line (204.724 -> '204.7', 250.0 -> '250')."""
+    return f"{v:.1f}".removesuffix(".0")
+
+
+def fitted(text: str, width: int = LINE_MAX) -> str:
+    """``text`` with every line longer than ``width`` wrapped at words, the rest of it indented two
+    more than the line (tables wrap their own columns; this is the bound for any other line)."""
+    out = []
+    for line in text.split("\n"):
+        if len(line) <= width:
+            out.append(line)
+            continue
+        lead = " " * (len(line) - len(line.lstrip()) + 2)
+        out += textwrap.wrap(line, width, subsequent_indent=lead, break_on_hyphens=False, break_long_words=True)
+    return "\n".join(out)
 
 
 def terminal_warning(text: str, width: int = TERMINAL_WIDTH, lines: int = WARNING_LINES) -> list[str]:
@@ -119,33 +147,32 @@ def with_set_hint(text: str) -> str:
     return text + (f" ({', '.join(hints)})" if hints else "")
 
 
+def _listed(rows: list[tuple[str, str]], width: int = 160) -> list[str]:
+    """Name and description rows, the names aligned and each description wrapped beside its name."""
+    w = max((len(n) for n, _ in rows), default=0)
+    out = []
+    for name, text in rows:
+        wrapped = textwrap.wrap(" ".join(text.split()), width - w - 4, break_on_hyphens=False) or [""]
+        out.append(f"  {name:<{w}}  {wrapped[0]}".rstrip())
+        out += [" " * (w + 4) + rest for rest in wrapped[1:]]
+    return out
+
+
 def library_listing() -> str:
-    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, tracks, trains, limits, spectra."""
+    """The model library for ``tb-exudyn list``: vehicles, bridges, scenarios, trains, limits, spectra, each
+    group's names aligned and the descriptions wrapped within 160 characters."""
     out: list[str] = []
     entries = list_models()
-    width = max((len(e.name) for e in entries), default=0)
-    for category in ("vehicles", "bridges", "scenarios", "tracks"):
-        out.append(f"{category}:" if category != "tracks" else "tracks (track structures for track.structure):")
-        for e in (e for e in entries if e.category == category):
-            out.append(f"  {e.name:<{width}}  {e.description}")
-    trains = list_trains()
+    for category in ("vehicles", "bridges", "scenarios"):
+        out.append(f"{category}:")
+        out += _listed([(e.name, e.description) for e in entries if e.category == category])
     out.append("trains (moving forces for `tb-exudyn check`; hslm_a: all ten HSLM-A):")
-    width_t = max(len(n) for n, _ in trains)
-    for name, description in trains:
-        out.append(f"  {name:<{width_t}}  {description}")
+    out += _listed(list(list_trains()))
     out.append("limits (criteria of the code checks, models/limits; docs/verdicts.md):")
-    rows = [(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria]
-    width_l = max((len(n) for n, _ in rows), default=0)
-    for name, title in rows:
-        out.append(f"  {name:<{width_l}}  {title}")
+    out += _listed([(f"{ls.name}/{c.id}", c.title) for ls in default_limits() for c in ls.criteria])
     out.append("spectra (track irregularities; one-sided, spatial frequency in rad/m):")
-    names = spectrum_names()
-    width = max(len(n) for n in names)
-    for name in names:
-        out.append(f"  {name:<{width}}  {get_spectrum(name).describe()}")
-
-
+    out += _listed([(name, get_spectrum(name).describe()) for name in spectrum_names()])
     return "\n".join(out)
 
 
-__all__ = ["library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]
+__all__ = ["LINE_MAX", "fitted", "kmh", "library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]

@@ -5,6 +5,7 @@
     │   ├── ScenarioError         a scenario, vehicle, bridge or limit file (or its dataclass) is not valid
     │   ├── SpectrumError         a spectrum name, band or user spectrum table is not valid (tb_exudyn.track)
     │   ├── SettingError          an argument of a Python call or a command-line option is not allowed
+    │   │   └── ArgumentTypeError an argument of a Python call is of the wrong type (also a TypeError)
     │   ├── CapabilityError       the chosen engine or method cannot do what was asked
     │   ├── CheckpointError       a checkpoint folder belongs to another computation or is damaged
     │   ├── ResultsError          a results folder cannot be read (missing, foreign, damaged, hostile)
@@ -86,9 +87,9 @@ class UserError(TbExudynError):
         head = f"{self.where}: key '{self.key}' = "
         if self.where is not None and self.key is not None and message.startswith(head):
             rest = message[len(head):]
-            old = short_repr(self.value)
+            old = shown_value(self.key, self.value)
             if value is not None and rest.startswith(old):  # the value as the caller typed it
-                rest = short_repr(value) + rest[len(old):]
+                rest = shown_value(key, value) + rest[len(old):]
                 parts["value"] = value
             message = f"{where}: key '{key}' = " + spell(rest)
             parts.update(where=where, key=key)
@@ -106,16 +107,30 @@ def _rebuild(cls: type, message: str, state: dict[str, Any]) -> "UserError":
 
 def format_message(where: str, key: str, value: Any, allowed: str, reason: str = "") -> str:
     """``WHERE: key 'KEY' = VALUE: REASON (allowed: ALLOWED)`` on one line."""
-    text = f"{where}: key '{key or '<top level>'}' = {short_repr(value)}"
+    text = f"{where}: key '{key or '<top level>'}' = {shown_value(key, value)}"
     if reason:
         text += f": {reason}"
     return text + f" (allowed: {allowed})"
 
 
-def short_repr(value: Any, limit: int = 80) -> str:
-    """repr of a value, cut to ``limit`` characters and to one line."""
+#: the key of an error about a whole file (missing, unreadable): its value is the file's name
+FILE_KEY = "<file>"
+
+#: longest value a message shows whole [characters]: a value is cut only beyond it (a hostile or
+#: runaway value, not a file name or a typo someone must see to fix)
+SHOWN_VALUE_LIMIT = 200
+
+
+def short_repr(value: Any, limit: int = SHOWN_VALUE_LIMIT) -> str:
+    """repr of a value on one line, cut to ``limit`` characters only when longer."""
     text = repr(value).replace("\n", "\\n")
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def shown_value(key: str | None, value: Any) -> str:
+    """A value as a message shows it: a file's name (key :data:`FILE_KEY`) always whole, any other value
+    by :func:`short_repr`."""
+    return short_repr(value, limit=1 << 30) if key == FILE_KEY else short_repr(value)
 
 
 class ScenarioError(UserError, ValueError):
@@ -142,6 +157,12 @@ class SettingError(UserError, ValueError):
     def __init__(self, where: str, key: str, value: Any, allowed: str, reason: str = "") -> None:
         super().__init__(format_message(where, key, value, allowed, reason), where=where, key=key, value=value,
                          allowed=allowed, reason=reason)
+
+
+class ArgumentTypeError(SettingError, TypeError):
+    """An argument of a Python call is of a type the call cannot use (an int where a channel name is
+    expected, a dict where a Scenario is); the message says what to pass. Also a TypeError, as Python
+    callers expect of a wrong type."""
 
 
 class CapabilityError(SettingError):
@@ -177,6 +198,7 @@ class SimulationIncomplete(TbExudynError, RuntimeError):
 
 
 __all__ = [
-    "CapabilityError", "CheckpointError", "ComparisonError", "OutputFolderError", "ResourceError", "ResultsError",
-    "ScenarioError", "SettingError", "SimulationIncomplete", "TbExudynError", "UserError", "format_message", "short_repr",
+    "ArgumentTypeError", "CapabilityError", "CheckpointError", "ComparisonError", "OutputFolderError", "ResourceError", "ResultsError",
+    "FILE_KEY", "SHOWN_VALUE_LIMIT", "ScenarioError", "SettingError", "SimulationIncomplete", "TbExudynError", "UserError",
+    "format_message", "short_repr", "shown_value",
 ]

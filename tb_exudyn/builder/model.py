@@ -98,12 +98,14 @@ def _round_up(x: float, digits: int = 3) -> float:
     return math.ceil(x / scale - 1e-9) * scale
 
 
-def _round_down(x: float, digits: int = 3) -> float:
-    """x rounded down to ``digits`` significant digits (a "use ... <= X" bound)."""
-    if not (math.isfinite(x) and x > 0):
-        return x
-    scale = 10.0 ** (math.floor(math.log10(x)) - digits + 1)
-    return math.floor(x / scale + 1e-9) * scale
+def _dividing_step(bound: float, output_step: float) -> float:
+    """The largest time step <= ``bound`` that divides ``output_step`` into a round number of steps (2^a 5^b:
+    10, 16, 20, 25, ...), so that the step a warning asks for ("use analysis.time_step <= X") is one the
+    scenario takes as given (analysis.output_step must be a whole multiple of it)."""
+    if not (math.isfinite(bound) and bound > 0):
+        return bound
+    counts = sorted(2 ** a * 5 ** b for a in range(40) for b in range(18) if 2 ** a * 5 ** b <= 10 ** 12)
+    return next((output_step / n for n in counts if output_step / n <= bound), bound)
 
 
 def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicle_frequencies: list[float]) -> list[str]:
@@ -149,7 +151,8 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
                 f"analysis.time_step = {dt:g} s resolves the wheel-rail contact mode "
                 f"(sqrt(k_contact / wheel mass) / 2 pi = {f_c:.4g} Hz) with only {1 / (f_c * dt):.2g} steps "
                 f"per period (< {CONTACT_STEPS_PER_PERIOD:g}): use analysis.time_step <= "
-                f"{_round_down(1 / (CONTACT_STEPS_PER_PERIOD * f_c)):g} s or a smaller contact stiffness"
+                f"{_dividing_step(1 / (CONTACT_STEPS_PER_PERIOD * f_c), an.output_step):.12g} s or a smaller contact "
+                "stiffness"
             )
     if an.freq_max * dt * 10.0 > 1.0 + 1e-12:
         out.append(

@@ -16,6 +16,8 @@ from typing import Iterable, Sequence
 import numpy as np
 
 from ..errors import SettingError
+from .criteria import DECK_ACCELERATION_CRITERIA
+from .criteria import deck_acceleration_limit as _deck_limit
 
 #: construction types of Table 6.6
 CONSTRUCTION_TYPES = ("steel_composite", "prestressed_concrete", "reinforced_concrete", "filler_beam")
@@ -26,8 +28,9 @@ _TABLE_6_6 = {
     "reinforced_concrete": (1.5, 0.07),
     "filler_beam": (1.5, 0.07),
 }
-#: EN 1990 A2.4.4.2.1(4): peak deck acceleration limits [m/s^2] by track form
-DECK_ACCELERATION_LIMITS = {"ballasted": 3.5, "direct": 5.0}
+#: EN 1990 A2.4.4.2.1(4): the track forms of the deck acceleration limit and their criterion in the limits'
+#: one source, models/limits/en1990_deck.toml (the value: :func:`deck_acceleration_limit`)
+DECK_ACCELERATION_LIMITS = DECK_ACCELERATION_CRITERIA
 #: 6.4.6.2: the speed series starts at 40 m/s [km/h]
 SPEED_SERIES_START_KMH = 40.0 * 3.6
 #: 6.4.6.2: the maximum design speed is 1.2 x the maximum line speed
@@ -202,10 +205,9 @@ def cutoff_frequency(f1: float, f3: float | None) -> float:
 
 def deck_acceleration_limit(track: str) -> float:
     """Peak vertical deck acceleration limit [m/s^2], EN 1990 A2.4.4.2.1(4)P: 3.5 on ballasted track,
-    5.0 on direct-fastened track."""
-    if track not in DECK_ACCELERATION_LIMITS:
-        raise SettingError("deck_acceleration_limit", "track", track, " or ".join(DECK_ACCELERATION_LIMITS))
-    return DECK_ACCELERATION_LIMITS[track]
+    5.0 on direct-fastened track (recommended values), read from the one source of the deck limits,
+    models/limits/en1990_deck.toml, which the stochastic column reads too."""
+    return _deck_limit(track)
 
 
 __all__ = [

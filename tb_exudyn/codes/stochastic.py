@@ -42,6 +42,7 @@ from ..scenario import Scenario, load_scenario
 from ..scenario.model import Train
 from ..scenario.registry import model_files
 from ..scenario.schema import source_file
+from .criteria import DECK_ACCELERATION_CRITERIA
 from .trains import ForceTrain
 
 #: the scenario whose track and analysis the stochastic rows take by default: the reference study
@@ -52,7 +53,7 @@ DEFAULT_SCENARIO = "li_zhu_2011"
 CHANNELS: tuple[str, ...] = ("bridge.span*.acc_z*",)
 #: the deck acceleration criterion of each track (models/limits/en1990_deck.toml)
 LIMIT_SET = "en1990_deck"
-CRITERIA: dict[str, str] = {"ballasted": "deck_acc_ballasted", "direct": "deck_acc_direct_fastened"}
+CRITERIA: dict[str, str] = DECK_ACCELERATION_CRITERIA  # the one source of the deck limits (codes/criteria.py)
 #: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
 MODE_MARGIN = 1.05
 #: the table's stochastic columns (None where not computed)

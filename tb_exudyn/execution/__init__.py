@@ -12,6 +12,7 @@ locked for this run, another run's files refused or, with ``overwrite``, cleared
 from __future__ import annotations
 
 import os
+import sys
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -145,6 +146,12 @@ class Execution:
         workers = None if self.executor is not None else self.pool_workers
         return run_tasks(tasks, setup=setup, setup_args=setup_args, work=work, reduce=reduce, workers=workers,
                          executor=self.executor, checkpoint=checkpoint, progress=self.progress, desc=desc)
+
+    def announce(self, text: str) -> None:
+        """Say one line about what the run does now (on stderr, with ``progress``: the compile of a
+        first run, :func:`tb_exudyn.jit.warm_up`)."""
+        if self.progress:
+            print(f"tb-exudyn: {text}", file=sys.stderr, flush=True)
 
     def worker_processes(self, n_tasks: int) -> int:
         """Worker processes a run of ``n_tasks`` starts (0: the tasks run in this process)."""

@@ -130,11 +130,35 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
 
 
 # ------------------------------------------------------------------------------------- helpers
-def _progress(total: int, initial: int, desc: str, enabled: bool):
-    if not enabled:
-        return None
-    # disable=None: no bar when stderr is not a terminal (a log file would get every redraw)
-    return tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True, disable=None)
+class _Progress:
+    """The progress bar with an estimate of the time left that does not count what happens before the
+    tasks run at their pace: none until two tasks of this run have finished, then the tasks left at
+    the rate between the first finished one and the last (a first run's compile, the workers' start
+    and the model's set-up fall before the first; the bar's elapsed time still counts from the start)."""
+
+    def __init__(self, total: int, initial: int, desc: str) -> None:
+        # disable=None: no bar when stderr is not a terminal (a log file would get every redraw)
+        self.bar = tqdm(total=total, initial=initial, desc=desc, unit="task", dynamic_ncols=True, disable=None,
+                        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt} [{elapsed}{postfix}]",
+                        postfix="time left: after the first tasks")
+        self.first: tuple[float, int] | None = None
+
+    def update(self, n: int = 1) -> None:
+        now = time.monotonic()
+        self.bar.update(n)
+        done, total = self.bar.n, self.bar.total
+        if self.first is None:
+            self.first = (now, done)
+        elif done > self.first[1] and done < total:
+            rate = (now - self.first[0]) / (done - self.first[1])  # seconds per task at the run's pace
+            self.bar.set_postfix_str(f"about {tqdm.format_interval(rate * (total - done))} left")
+
+    def close(self) -> None:
+        self.bar.close()
+
+
+def _progress(total: int, initial: int, desc: str, enabled: bool) -> _Progress | None:
+    return _Progress(total, initial, desc) if enabled else None
 
 
 class _Stored:

@@ -29,8 +29,9 @@ from ..errors import CapabilityError, SettingError
 from ..execution import Execution
 from ..results.random_response import RandomResponse
 from ..scenario import Scenario
+from ..scenario.io import as_scenario
 from ..system.linear import LINEARIZATIONS
-from . import monte_carlo, pem, sweep
+from . import monte_carlo, pem, sweep, uq
 from .deterministic import DeterministicMethod, run_deterministic, summarize
 from .driver import Method, RunPlan, drive
 from .monte_carlo import LossOfContactWarning, MonteCarloMethod
@@ -45,18 +46,17 @@ METHODS: dict[str, Callable[..., Method]] = {
 }
 
 
-def simulate(scenario: Scenario, method: str, engine: str | None = None, execution: Execution | None = None,
+def simulate(scenario: Scenario | str | Path, method: str, engine: str | None = None, execution: Execution | None = None,
              **options: Any) -> Any:
     """Run ``method`` ("deterministic", "pem" or "monte_carlo") on ``engine`` ("exudyn", "batched",
     "dense"; None: "exudyn" for the deterministic run, which is one Exudyn run, else
     :data:`~tb_exudyn.engines.DEFAULT_ENGINE`) under ``execution``; ``options`` are the method's (and
-    ``options=`` the engine's). The driver (:func:`~.driver.drive`) runs every method's skeleton."""
+    ``options=`` the engine's). ``scenario``: a Scenario, or a scenario's name or file (loaded). The driver (:func:`~.driver.drive`) runs every method's skeleton."""
     if method not in METHODS:
         raise SettingError("simulate", "method", method, " or ".join(map(repr, METHODS)))
     if engine is None:
         engine = "exudyn" if method == "deterministic" else DEFAULT_ENGINE
-    if not isinstance(scenario, Scenario):
-        raise SettingError("simulate", "scenario", type(scenario).__name__, "a Scenario (tb_exudyn.load_scenario)")
+    scenario = as_scenario(scenario, "simulate")
     return drive(METHODS[method](scenario, engine, **options), execution or Execution(where="simulate"))
 
 
@@ -70,7 +70,7 @@ def _with_linearization(scenario: Scenario, linearization: str | None, where: st
 
 
 def run_pem(
-    scenario: Scenario,
+    scenario: Scenario | str | Path,
     workers: int | None = None,
     executor: Any = None,
     out: str | Path | None = None,
@@ -92,7 +92,8 @@ def run_pem(
 
     Parameters
     ----------
-    scenario : the scenario (its track.irregularities are the independent spectra)
+    scenario : the scenario (its track.irregularities are the independent spectra), or a scenario's name
+        or TOML file (loaded by :func:`~tb_exudyn.load_scenario`)
     workers : processes of the local pool (None: all cores; 1: in this process)
     executor : any ``concurrent.futures.Executor`` to use instead (e.g. a Dask client's executor)
     out : folder for checkpoints (``out/checkpoint``) and the result (``out/pem``); checked writable
@@ -134,6 +135,7 @@ def run_pem(
     RandomResponse with mean (deterministic run), std, psd [unit^2/Hz], band and provenance (the
     damping guard's and the grid's warnings in ``provenance["warnings"]``).
     """
+    scenario = as_scenario(scenario, where)
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           slices=slices, where=where, overwrite=overwrite, max_memory=max_memory,
                           keep_checkpoint=keep_checkpoint)
@@ -142,7 +144,7 @@ def run_pem(
 
 
 def run_monte_carlo(
-    scenario: Scenario,
+    scenario: Scenario | str | Path,
     n_samples: int | None = None,
     seed: int | None = None,
     workers: int | None = None,
@@ -165,7 +167,7 @@ def run_monte_carlo(
 
     Parameters
     ----------
-    scenario : the scenario (its track.irregularities are sampled independently)
+    scenario : the scenario (its track.irregularities are sampled independently), or its name or file
     n_samples : number of samples N >= 2 (default ``scenario.analysis.n_samples``)
     seed : seed of the run (default ``scenario.analysis.seed``); sample k uses ``sample_rng(seed, k)``
     workers, executor, out, resume, progress : as :func:`run_pem` (checkpoints in
@@ -194,6 +196,7 @@ def run_monte_carlo(
     -----
     LossOfContactWarning when a sample's minimum vertical wheel-rail force is <= 0.
     """
+    scenario = as_scenario(scenario, where)
     if linearization is not None and engine_class(engine, where).full_model:
         raise CapabilityError(where, "linearization", linearization,
                               "none with engine 'exudyn' (or a linear engine: 'batched', 'dense')",

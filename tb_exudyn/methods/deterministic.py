@@ -25,12 +25,13 @@ from ..execution import Execution, RunFiles, Task
 from ..execution.resources import check_run_length
 from ..results.time_history import TimeHistory
 from ..scenario import Scenario
+from ..scenario.io import as_scenario
 from ..system.excitation import Excitation
 from .driver import RunPlan
 
 
 def run_deterministic(
-    scenario: Scenario,
+    scenario: Scenario | str | Path,
     excitation: Excitation | None = None,
     *,
     settings: SolverSettings | None = None,
@@ -40,7 +41,7 @@ def run_deterministic(
 
     Parameters
     ----------
-    scenario : the scenario
+    scenario : the scenario, or a scenario's name or TOML file (loaded)
     excitation : None (smooth track: the mean response) or a deterministic profile / harmonic
     settings : Exudyn's solver settings (defaults measured to be converged)
     model : a model already built from this scenario, to re-run without rebuilding
@@ -54,6 +55,7 @@ def run_deterministic(
     SimulationIncomplete if the integration does not reach its end time.
     """
     start = _time.perf_counter()
+    scenario = as_scenario(scenario, "run_deterministic")
     if model is None:
         model = build_model(scenario)
     elif model.scenario != scenario:

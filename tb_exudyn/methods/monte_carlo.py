@@ -55,6 +55,7 @@ from ..system.columns import ProfileColumns
 from .common import (AnalysisSetup, MeanTask, analysis_high, analysis_setup, fingerprint_identity, merge_provenance,
                      whole_number)
 from .driver import RunPlan, drive
+from . import warm_up
 from .pem import default_slices
 from .reduction import (REDUCTION_FORMAT, ReductionPlan, SampleReduction, engine_plan, mean_rows, model_plan,
                         sample_offsets)
@@ -305,6 +306,7 @@ class MonteCarloMethod:
         scenario, where = self.scenario, self.where
         check_run_length(scenario)
         cls = check_engine(self.engine, scenario, self.options, linearized=False)
+        warm_up.start(cls, self.options, execution.announce, harmonic=False)  # a first run's compile, beside the set-up
         n = whole_number(scenario.analysis.n_samples if self.n_samples is None else self.n_samples, where,
                          "n_samples", 2, analysis_high("n_samples"))
         seed = whole_number(scenario.analysis.seed if self.seed is None else self.seed, where, "seed", 0,

@@ -71,6 +71,7 @@ from ..results.checks import default_limits, grid_error_of
 from ..results.random_response import RandomResponse
 from ..results.sweep import SWEEP_TABLE, Resonance, SweepResult, grouped_warnings, write_sweep
 from ..scenario import Scenario, scenario_to_toml
+from ..scenario.io import as_scenario
 from ..scenario.model import KMH, Analysis
 from ..scenario.speed_rule import RULE, at_speed, capped
 from ..structure import modal_bridge
@@ -416,7 +417,7 @@ class SweepMethod:
         write_sweep(result, out)
 
 
-def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = DEFAULT_ENGINE,
+def run_sweep(scenario: Scenario | str | Path, speeds_kmh: Sequence[float], *, engine: str = DEFAULT_ENGINE,
               workers: int | None = None, executor: Any = None, out: str | Path | None = None, resume: bool = False,
               progress: bool = True, channels: Sequence[str] | None = None, n_freq: int | None = None,
               options: Any = None, keep_psd: bool = False, slices: Sequence[float] | None = None,
@@ -425,7 +426,8 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
 
     Parameters
     ----------
-    scenario : the base scenario (its speed only sets the approach's duration kept at other speeds)
+    scenario : the base scenario (its speed only sets the approach's duration kept at other speeds), or
+        its name or TOML file (loaded)
     speeds_kmh : the speeds [km/h] (e.g. :func:`parse_speeds`, :func:`en1991_speeds`)
     engine, options : the PEM engine and its options (default the batched engine)
     workers, executor, progress : as :func:`tb_exudyn.run_pem`; the speeds are the tasks
@@ -442,6 +444,7 @@ def run_sweep(scenario: Scenario, speeds_kmh: Sequence[float], *, engine: str = 
     keep_checkpoint : keep ``out/checkpoint-sweep`` (and each speed's checkpoint) after the results are
         written (default: removed)
     """
+    scenario = as_scenario(scenario, "run_sweep")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,
                           where="run_sweep", overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     return drive(SweepMethod(scenario, speeds_kmh, engine, channels, n_freq, options, keep_psd, slices, freq_spacing),

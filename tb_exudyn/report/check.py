@@ -68,6 +68,31 @@ def verdict_section(result: Any) -> str:
             + "</p>" + html_table("check-verdict", ["", ""], rows) + "</section>")
 
 
+def criteria_section(result: Any) -> str:
+    """One line per EN 1990 A2.4.4 criterion (``result.criteria``): verdict, utilisation, value and limit, the
+    deciding case, clause and caveats."""
+    items = getattr(result, "criteria", ())
+    if not items:
+        return ""
+    body = []
+    for c in items:
+        u = c.utilisation
+        sign = ">=" if c.bound == "lower" else "<=" if c.bound == "upper" else "vs"
+        body.append([c.criterion, c.verdict, "" if math.isnan(u) else f"{u:.2f}",
+                     "" if math.isnan(c.value) else f"{c.value:.4g} {c.unit}",
+                     "" if math.isnan(c.limit) else f"{sign} {c.limit:.4g} {c.unit}", c.case, c.location,
+                     c.clause + (" [check]" if c.check else ""), c.caveats or "-"])
+    exceeded = [c.criterion for c in items if c.verdict == "exceeds"]
+    head = (f'<p class="warn"><b>Exceeded</b>: {esc(", ".join(exceeded))}</p>' if exceeded else
+            "<p><b>Every evaluated criterion is met.</b></p>")
+    return ('<section id="criteria"><h2>Criteria (EN 1990 A2.4.4)</h2>' + head
+            + html_table("check-criteria", ["criterion", "verdict", "utilisation", "value", "limit", "deciding case",
+                                            "location", "clause", "caveats"], body,
+                         ["", "", "num", "num", "num", "", "", "", ""])
+            + '<p class="meta">Static criteria: tb_exudyn/codes/deformation.py on the bridge\'s finite elements; '
+              "limits and their sources: models/criteria/en1990_a2.toml; docs/en1991.md.</p></section>")
+
+
 def settings_section(result: Any) -> str:
     req, why = result.dynamic_analysis
     rows = [["bridge", result.bridge], ["line speed", f"{_num(result.line_speed_kmh)} km/h (speeds up to 1.2 x)"],
@@ -137,7 +162,7 @@ def render_check_report(result: Any, figure_png: bytes | None = None) -> str:
     the check's figure as PNG bytes, or None (not drawn)."""
     title = f"tb_exudyn EN 1991-2 check: {result.bridge}, line speed {_num(result.line_speed_kmh)} km/h"
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    nav = [("verdict", "Verdict"), ("settings", "What the check did"), ("trains", "Trains"),
+    nav = [("criteria", "Criteria"), ("verdict", "Verdict"), ("settings", "What the check did"), ("trains", "Trains"),
            ("stochastic", "Stochastic rows"), ("figure", "Figure"), ("table", "The table")]
     figure = ('<section id="figure"><h2>Figure</h2>'
               + (_img(figure_png, "peak deck acceleration against speed") if figure_png else
@@ -146,7 +171,7 @@ def render_check_report(result: Any, figure_png: bytes | None = None) -> str:
             f'<p class="meta">{esc(", ".join(result.trains()))}; {len(result.rows)} rows. Generated {esc(now)} by '
             f"tb_exudyn {esc(__version__)}.</p>",
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
-            verdict_section(result), settings_section(result), trains_section(result), stochastic_section(result),
+            criteria_section(result), verdict_section(result), settings_section(result), trains_section(result), stochastic_section(result),
             figure, table_section(result)]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<meta name=\"viewport\" content=\"width=device-width\"><title>{esc(title)}</title>"
@@ -160,4 +185,4 @@ def write_check_report(result: Any, folder: str | Path, figure_png: bytes | None
     return out
 
 
-__all__ = ["CHECK_REPORT", "render_check_report", "write_check_report"]
+__all__ = ["CHECK_REPORT", "criteria_section", "render_check_report", "write_check_report"]

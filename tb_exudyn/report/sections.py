@@ -255,6 +255,14 @@ def _rule_text(q: StudyQuantity) -> str:
     return ""
 
 
+def _why(where: str) -> str:
+    """A finding's ``explained`` ('docs/findings.md section 1') as a link to that file of this source tree
+    (the docs are not installed with the package: plain text then)."""
+    doc = Path(__file__).resolve().parents[2] / where.split(" ", 1)[0]
+    text = f"why: {esc(where)}"
+    return f'<a href="{esc(doc.as_uri())}">{text}</a>' if doc.is_file() else text
+
+
 def findings_section(studies: Sequence[Study], resp: RandomResponse | None, figure_ids: set[str]) -> str:
     """The study's stated findings beside ours ("" when the scenario reproduces no study)."""
     if not studies:
@@ -281,6 +289,8 @@ def findings_section(studies: Sequence[Study], resp: RandomResponse | None, figu
                          Raw(f"{where}<br><small><code>{esc(ch)}</code></small>"),
                          MEASURES[r.quantity.measure][1], _study_text(r.quantity), _ours_text(r),
                          Raw((f'<span class="{cls}">{esc(agreement)}</span>' if cls else esc(agreement))
+                             + (f"<br><small>{_why(r.finding.explained)}</small>"
+                                if agreement == "not matched" and r.finding.explained else "")
                               + (f"<br><small>{esc(rule)}: {esc(r.quantity.basis)}</small>" if rule else
                                  f"<small>{esc(r.quantity.basis)}</small>"))))
         head = ["finding (the study)", "channel", "measure", "the study", "ours", "agreement"]

@@ -18,7 +18,7 @@ from typing import Any, Callable, Sequence
 
 import numpy as np
 
-from ..errors import SettingError
+from ..errors import ArgumentTypeError, SettingError
 from .checks import cached_checks
 
 #: kind of figure -> the plotting function drawing it for one channel
@@ -38,6 +38,20 @@ def figures() -> Any:
     if not _figure_loader:  # a bug: tb_exudyn/__init__.py sets it before any result exists
         raise RuntimeError("no figure loader set (tb_exudyn/__init__.py sets it)")
     return _figure_loader[0]()
+
+
+def channel_name(channel: Any, result: Any) -> str:
+    """``channel`` if it is a channel's name (a string), else ArgumentTypeError saying what to pass: a
+    channel is named, never numbered (``result["bridge.span1.x4/8.acc_z"]``; the names in stored order
+    are ``result.channel_names``)."""
+    if isinstance(channel, str):
+        return channel
+    names = list(getattr(result, "channel_names", ()))
+    example = repr(names[0]) if names else "'bridge.span1.x4/8.acc_z'"
+    hint = f"; the name of row {channel} is result.channel_names[{channel}]" if isinstance(channel, int) else ""
+    raise ArgumentTypeError(type(result).__name__, "channel", channel,
+                            f"a channel's name (a str), e.g. {example}; the names: result.channel_names",
+                            f"a channel is named by a string, not by a value of type {type(channel).__name__}{hint}")
 
 
 class PlotAccessor:
@@ -112,7 +126,9 @@ class ChannelResult:
         raise NotImplementedError
 
     def index(self, channel: str) -> int:
-        """Row of a channel; KeyError listing close names if unknown."""
+        """Row of a channel; KeyError listing close names if unknown (ArgumentTypeError, a TypeError, if
+        ``channel`` is no string)."""
+        channel = channel_name(channel, self)
         names = self.channel_names
         try:
             return names.index(channel)
@@ -140,4 +156,4 @@ class ChannelResult:
         return PlotAccessor(self)
 
 
-__all__ = ["ChannelResult", "ChannelStatistics", "PLOTS", "PlotAccessor", "figures", "set_figure_loader"]
+__all__ = ["ChannelResult", "ChannelStatistics", "PLOTS", "PlotAccessor", "channel_name", "figures", "set_figure_loader"]

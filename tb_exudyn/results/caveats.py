@@ -50,6 +50,11 @@ MODEL_REQUIREMENTS: tuple[ModelRequirement, ...] = (
 )
 
 
+#: a vehicle kind in a reason's words (the kind's name is what a file's ``kind`` holds)
+_KIND_WORDS = {"car15": "the 15-DOF car", "sprung_mass": "a sprung mass", "moving_force": "a moving force",
+               "articulated": "the articulated set"}
+
+
 def unmet_requirement(result: Any, quantity_name: str, channel: str) -> str | None:
     """Why the result's model cannot answer a criterion on ``quantity_name`` at ``channel`` (one
     line: the reason and what to run instead), or None when it can or when the result carries no
@@ -61,7 +66,7 @@ def unmet_requirement(result: Any, quantity_name: str, channel: str) -> str | No
     kind = getattr(sc.train.vehicles[int(m.group(1)) - 1], "kind", "?")
     for req in MODEL_REQUIREMENTS:
         if quantity_name in req.quantities and kind not in req.vehicle_kinds:
-            return f"{req.reason.format(kind=kind)}: {req.instead}"
+            return f"{req.reason.format(kind=_KIND_WORDS.get(kind, kind))}: {req.instead}"
     return None
 
 

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from ..errors import ResultsError
 from ..scenario import Scenario, scenario_to_toml
-from .base import ChannelResult
+from .base import ChannelResult, channel_name
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
 from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values,
                        freeze, load_json, save_result_folder)
@@ -70,6 +70,7 @@ class TimeHistory(ChannelResult):
         return tuple(self.channels)
 
     def __getitem__(self, name: str) -> NDArray[np.float64]:
+        name = channel_name(name, self)
         try:
             return self.channels[name]
         except KeyError:
@@ -78,6 +79,7 @@ class TimeHistory(ChannelResult):
             raise KeyError(f"no channel {name!r}; e.g. {close}") from None
 
     def unit(self, name: str) -> str:
+        self.index(name)  # a name that is no string or no channel: the errors of index
         return self.units[name]
 
     def peak(self, name: str) -> tuple[float, float]:

@@ -1,16 +1,19 @@
 """Loading and saving scenarios, vehicles and bridges as TOML.
 
 ``load_scenario`` accepts a path or a name from the model library; names of vehicles and bridges
-inside a scenario are resolved the same way (or as paths relative to the scenario file).
+inside a scenario are resolved the same way (or as paths relative to the scenario file; in a
+setting, ``with_settings`` / ``--set``, relative to the working folder).
 ``save_scenario`` writes the fully resolved scenario (vehicles and bridge inline), so that
 loading it again gives an equal object.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any, Sequence
 
+from ..errors import ArgumentTypeError, OutputFolderError, SettingError
 from . import model as m
 from .errors import ScenarioError
 from .registry import model_path
@@ -72,13 +75,31 @@ def parse_setting(text: str) -> tuple[str, Any]:
         return key, raw
 
 
+#: how a setting's value names a file (a vehicle or bridge .toml, a modal table's .csv): resolved from
+#: the working folder, as a shell user expects, not from the scenario's folder
+FILE_SUFFIXES = (".toml", ".csv")
+
+
+def from_working_folder(value: Any) -> Any:
+    """A setting's value with each relative file name (a string ending in :data:`FILE_SUFFIXES`, also
+    inside a list) made absolute from the working folder; names of models and other values as given."""
+    if isinstance(value, list):
+        return [from_working_folder(v) for v in value]
+    if isinstance(value, str) and value.lower().endswith(FILE_SUFFIXES) and not os.path.isabs(value):
+        return os.path.abspath(value)
+    return value
+
+
 def with_settings(scenario: m.Scenario, settings: Sequence[tuple[str, Any]]) -> m.Scenario:
     """The scenario with ``settings`` ((dotted key, value), ...: ``("track.lead_in", 150.0)``; a list
     index as a segment: ``train.vehicles.0.body.mass``) applied to its plain form and read again
-    through the schema, so that every value is checked as in a file. Raises ScenarioError naming the
-    key (an unknown key: what the table holds)."""
+    through the schema, so that every value is checked as in a file. A file named in a value
+    (``("bridge", "my/x.toml")``) is found from the working folder (:func:`from_working_folder`), not
+    from the scenario's. Raises ScenarioError naming the key (an unknown key: what the table holds; a
+    missing file: the path tried)."""
     data = to_dict(scenario)
     for key, value in settings:
+        value = from_working_folder(value)
         node: Any = data
         parts = key.split(".")
         for depth, part in enumerate(parts):
@@ -110,12 +131,15 @@ def _is_field(table: dict, key: str) -> bool:
 
 
 def load_scenario(path_or_name: str | Path) -> m.Scenario:
-    """Load a scenario from a TOML file or by name (``tb-exudyn list`` shows the names).
+    """Load a scenario from a TOML file or by name (``tb-exudyn list`` shows the names). Its
+    ``[uncertain]`` table, if any, is left to :func:`tb_exudyn.scenario.uncertain.load_study`.
 
     Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
     """
     path = resolve_model_path(path_or_name, "scenarios")
-    return scenario_from_dict(read_toml(path), str(path))
+    data = read_toml(path)
+    data.pop("uncertain", None)  # the uncertain keys of `tb-exudyn uq` (scenario/uncertain.py: load_study)
+    return scenario_from_dict(data, str(path))
 
 
 def load_vehicle(path_or_name: str | Path) -> m.Vehicle:
@@ -136,7 +160,35 @@ def scenario_to_toml(scenario: m.Scenario) -> str:
 
 
 def save_scenario(scenario: m.Scenario, path: str | Path) -> Path:
-    """Write the scenario as TOML (atomically); ``load_scenario`` on it gives an equal scenario."""
+    """Write the scenario as TOML (atomically); ``load_scenario`` on it gives an equal scenario.
+
+    ``path`` is a file's: a folder or another non-regular entry there is refused (SettingError), and a
+    file that cannot be written (a parent that is a file, no permission) is an OutputFolderError naming
+    it; either way nothing is left behind."""
+    scenario = as_scenario(scenario, "save_scenario")
+    if not isinstance(path, (str, os.PathLike)):
+        raise ArgumentTypeError("save_scenario", "path", path, "a file path (str or pathlib.Path), e.g. 'mine.toml'",
+                                f"a path is a str or a Path, not a value of type {type(path).__name__}")
     path = Path(path)
-    write_text_atomic(path, scenario_to_toml(scenario))
+    if path.is_dir() or (path.exists() and not path.is_file()):
+        raise SettingError("save_scenario", "path", str(path), "a file path, e.g. "
+                           f"{str(path / (scenario.name + '.toml'))!r}",
+                           "is a folder" if path.is_dir() else "exists and is no regular file")
+    try:
+        write_text_atomic(path, scenario_to_toml(scenario))
+    except OSError as exc:
+        raise OutputFolderError.from_parts("save_scenario", "path", str(path), "a file in a folder this user can write",
+                                           f"cannot be written: {exc.strerror or exc}") from None
     return path
+
+
+def as_scenario(scenario: Any, where: str) -> m.Scenario:
+    """The Scenario a public entry point (``run_pem``, ``simulate``, ...) was given: a Scenario as it is,
+    a name or path (str or Path) loaded by :func:`load_scenario`; anything else is an
+    ArgumentTypeError (a TypeError) naming ``where`` and what to pass."""
+    if isinstance(scenario, m.Scenario):
+        return scenario
+    if isinstance(scenario, (str, os.PathLike)):
+        return load_scenario(scenario)
+    raise ArgumentTypeError(where, "scenario", scenario, "a Scenario (tb_exudyn.load_scenario('quick')) or a "
+                            "scenario's name or TOML file", f"a value of type {type(scenario).__name__}")

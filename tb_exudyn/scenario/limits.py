@@ -324,6 +324,16 @@ class Criterion(Validated):
     condition: str = param("", doc="where the criterion applies (e.g. 'ballasted track')")
     check: bool = param(False, doc="true when the clause text was not read: the value must be checked")
     note: str = param("", doc="remarks; required when check is true (what to check)")
+    unverified: str = param("limit", doc="with check = true: what of the clause is not read in its text: 'limit' (the "
+                                         "value itself) or the part that is not, e.g. 'frequency range' (the value read)")
+
+    def unverified_caveat(self) -> tuple[str, str]:
+        """(kind, text) of the caveat on a ``check = true`` criterion: 'limit_unverified' only where the limit
+        value itself is not read, each saying what would verify it (reading the clause named)."""
+        verify = f"reading {self.clause or 'the clause'} in the code text would verify it"
+        if self.unverified == "limit":
+            return "limit_unverified", f"limit not read in the code text [check]; {verify}: {self.note}"
+        return "limit_note", f"limit value read; its {self.unverified} not read [check], {verify}: {self.note}"
 
     @property
     def unit(self) -> str:

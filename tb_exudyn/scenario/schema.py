@@ -22,17 +22,23 @@ from .errors import ScenarioError
 
 @dataclass(frozen=True)
 class Check:
-    """A value check: ``low < x`` (or ``<=``), ``x < high`` (or ``<=``), finite unless inf allowed."""
+    """A value check: ``low < x`` (or ``<=``), ``x < high`` (or ``<=``), finite unless inf allowed;
+    ``zero`` also allows exactly 0 below ``low`` (a part left out); ``why``: the lower bound's reason,
+    told in the message of a value below it."""
 
     low: float | None = None
     high: float | None = None
     low_inclusive: bool = False
     high_inclusive: bool = True
     allow_inf: bool = False
+    zero: bool = False
+    why: str = ""
 
     def ok(self, x: float) -> bool:
         if math.isnan(x):
             return False
+        if self.zero and x == 0.0:
+            return True
         if math.isinf(x) and not (self.allow_inf and x > 0):
             return False
         if self.low is not None and (x < self.low or (x == self.low and not self.low_inclusive)):
@@ -48,9 +54,16 @@ class Check:
         if self.high is not None:
             parts.append(f"{'<=' if self.high_inclusive else '<'} {self.high:g}")
         text = " and ".join(parts) if parts else "any finite number"
+        if self.zero:
+            text = f"0 or {text}"
         if self.allow_inf:
             text += " (inf allowed: rigid)"
         return text
+
+    def reason(self, x: float) -> str:
+        """Why ``x`` is refused: "out of range", and below ``low`` why the lower bound is where it is."""
+        below = self.low is not None and not math.isnan(x) and x < self.low
+        return f"out of range: {self.why}" if self.why and below else "out of range"
 
 
 POSITIVE = Check(low=0.0)
@@ -66,9 +79,15 @@ SPEED_KMH = Check(low=0.0, high=1000.0)
 #: 8.5e7); 1e10 is five times the linear wheel-rail contact stiffness (analysis.contact_stiffness_z,
 #: 2e9), the stiffest element of the model. Beyond it the spring is a rigid link that the time step
 #: does not resolve, and in double precision the model loses the motions it locks (1e30 N/m: NaN
-#: responses)
-VEHICLE_STIFFNESS = Check(low=0.0, high=1e10)
-VEHICLE_STIFFNESS_OR_0 = Check(low=0.0, high=1e10, low_inclusive=True)
+#: responses). From below: the softest real spring, an air spring's lateral stiffness, is about 1e5
+#: N/m (the shipped: 2e5 upwards); below 1e2 N/m, three orders under it, a 40 t body on four such
+#: springs would sway at 0.01 Hz, below every frequency of a crossing: a slip of units (kN/m written
+#: as N/m) or a lost exponent. A spring that is not there is 0 where the key allows it, not 1e-300
+_VEHICLE_SPRINGS = "railway suspension springs are 1e5 N/m or stiffer; below 1e2 is a slip of units (kN/m)"
+_VEHICLE_MASSES = ("rail vehicle parts weigh 1e3 kg or more, with inertias of 1e2 kg m^2 or more; below 1 kg or "
+                   "0.1 kg m^2 is a slip of units")
+VEHICLE_STIFFNESS = Check(low=1e2, high=1e10, low_inclusive=True, why=_VEHICLE_SPRINGS)
+VEHICLE_STIFFNESS_OR_0 = Check(low=1e2, high=1e10, low_inclusive=True, zero=True, why=_VEHICLE_SPRINGS)
 #: a vehicle's damper [N s/m]: real railway dampers are 1e3-1e6 N s/m (the shipped cars: 3e4 to 4e5,
 #: yaw dampers 3e5); 1e9 is a thousand times the largest. Beyond it the damper is a rigid link and the
 #: model loses the motions it locks in round-off (at 1e15 N s/m the ICE car's bogie yaw mode comes out
@@ -78,10 +97,36 @@ VEHICLE_DAMPER = Check(low=0.0, high=1e9)
 #: a vehicle body's mass [kg] and moments of inertia [kg m^2]: the heaviest rail vehicles (locomotives)
 #: weigh about 2e5 kg in all, so 1e6 kg is five times that, and 1e9 kg m^2 more than such a mass
 #: spread over 100 m (m L^2 / 12 = 8.3e8); a larger value is a unit slip (grams, tonnes squared), and
-#: at 1e30 kg the integration overflows and still ends with a result
-VEHICLE_MASS = Check(low=0.0, high=1e6)
-VEHICLE_MASS_OR_0 = Check(low=0.0, high=1e6, low_inclusive=True)
-VEHICLE_INERTIA = Check(low=0.0, high=1e9)
+#: at 1e30 kg the integration overflows and still ends with a result.
+#: From below: the lightest part of a rail vehicle, a wheelset or a light bogie, weighs about 1e3 kg
+#: (the shipped cars: 1800 kg to 48 t; a tram's wheelset some 600 kg), and its smallest moment of
+#: inertia, a wheelset's about its axle, is about 1e2 kg m^2 (the shipped: 150). A mass below 1 kg or an
+#: inertia below 0.1 kg m^2 -- three orders under any of them -- is a slip (tonnes for kg, a lost
+#: exponent), and a body that light gives modes far above every frequency the run resolves (a bogie's
+#: pitch inertia of 1e-300 kg m^2 was accepted and answered)
+VEHICLE_MASS = Check(low=1.0, high=1e6, low_inclusive=True, why=_VEHICLE_MASSES)
+VEHICLE_MASS_OR_0 = Check(low=1.0, high=1e6, low_inclusive=True, zero=True, why=_VEHICLE_MASSES)
+VEHICLE_INERTIA = Check(low=0.1, high=1e9, low_inclusive=True, why=_VEHICLE_MASSES)
+#: a bridge's moduli E and G [N/m^2]: bridge materials are 1e10 N/m^2 or stiffer (timber 1e10, concrete
+#: 3e10, steel 2.1e11; the softest shipped, a smeared beam, 2.9e9); below 1e7 -- rubber, three orders
+#: under timber -- it is a slip of units (MPa or GPa written as N/m^2)
+BRIDGE_MODULUS = Check(low=1e7, low_inclusive=True, why="a bridge's E and G are 1e9 N/m^2 or more; below 1e7 is "
+                                                        "a slip of units (MPa, GPa)")
+#: a bridge section's area [m^2] and second moments / torsion constant [m^4]: railway girders have
+#: 1-20 m^2 and 1-100 m^4 (the shipped: 1 m^2, 1.4 m^4 upwards), a light footbridge's steel beam
+#: 1e-2 m^2 and 1e-4 m^4; below 1e-4 m^2 (1 cm^2) and 1e-6 m^4 (a 6 cm square bar) it is a slip of
+#: units (cm^2, cm^4 or mm^4 written as m^2, m^4)
+BRIDGE_AREA = Check(low=1e-4, low_inclusive=True, why="bridge sections are 1e-2 m^2 or more; below 1e-4 is a slip of "
+                                                      "units (cm^2)")
+BRIDGE_SECOND_MOMENT = Check(low=1e-6, low_inclusive=True, why="bridge sections have 1e-4 m^4 or more; below 1e-6 is "
+                                                              "a slip of units (cm^4, mm^4)")
+#: a bridge section's mass per length [kg/m] and its polar moment per length [kg m^2/m]: railway girders
+#: carry 1e3-5e4 kg/m (the shipped: 2300 upwards), a light footbridge some 1e2 kg/m and 1e1 kg m^2/m;
+#: below 1 kg/m and 1e-2 kg m^2/m it is a slip of units (tonnes for kg) or a lost exponent
+BRIDGE_MASS_PER_LENGTH = Check(low=1.0, low_inclusive=True, why="bridges weigh 1e2 kg/m or more; below 1 is a slip "
+                                                                "of units (t/m)")
+BRIDGE_ROT_MASS = Check(low=1e-2, low_inclusive=True, why="a bridge's polar mass moment is 1e1 kg m^2/m or more; "
+                                                          "below 1e-2 is a slip of units")
 
 
 def param(default: Any = MISSING, *, unit: str = "", doc: str = "", check: Check | None = None):
@@ -193,7 +238,7 @@ def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> An
             raise ctx.error(value, "a number" + (f" {check.describe()}" if check else ""), "wrong type")
         value = float(value)
         if check is not None and not check.ok(value):
-            raise ctx.error(value, check.describe(), "out of range")
+            raise ctx.error(value, check.describe(), check.reason(float(value)))
         return value
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
@@ -202,7 +247,8 @@ def convert(tp: Any, value: Any, ctx: Context, check: Check | None = None) -> An
             else:
                 raise ctx.error(value, "an integer" + (f" {check.describe()}" if check else ""), "wrong type")
         if check is not None and not (abs(value) < 2.0**1000 and check.ok(float(value))):  # float() overflows beyond
-            raise ctx.error(value, check.describe(), "out of range")
+            raise ctx.error(value, check.describe(), check.reason(float(value) if abs(value) < 2.0**1000 else
+                                                                  math.inf if value > 0 else -math.inf))
         return value
     if tp is str:
         if not isinstance(value, str):
@@ -402,7 +448,7 @@ class Validated:
             for i, item in enumerate(items):
                 if isinstance(item, (int, float)) and not isinstance(item, bool) and not check.ok(float(item)):
                     key = f"{f.name}[{i}]" if isinstance(value, tuple) else f.name
-                    raise ScenarioError(None, key, item, check.describe(), "out of range")
+                    raise ScenarioError(None, key, item, check.describe(), check.reason(float(item)))
         validate = getattr(self, "_validate", None)
         if validate is not None:
             validate(Context(None))

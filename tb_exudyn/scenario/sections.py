@@ -8,7 +8,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal
 
-from .schema import ANY, NONNEGATIVE, POSITIVE, STIFFNESS, Check, Validated, appended_fields, param, replace
+from .schema import (ANY, BRIDGE_AREA, BRIDGE_MASS_PER_LENGTH, BRIDGE_MODULUS, BRIDGE_ROT_MASS,
+                     BRIDGE_SECOND_MOMENT, NONNEGATIVE, POSITIVE, STIFFNESS, Check, Validated, appended_fields, param,
+                     replace)
 
 
 class _Replaceable(Validated):
@@ -22,14 +24,14 @@ class BeamSection(_Replaceable):
     """A prismatic beam cross-section. I_y governs bending in the vertical plane (about the lateral
     y axis), I_z lateral bending (about z); J is the torsion constant (G J the torsional stiffness)."""
 
-    E: float = param(unit="N/m^2", doc="Young's modulus", check=POSITIVE)
-    G: float = param(unit="N/m^2", doc="shear modulus", check=POSITIVE)
-    area: float = param(unit="m^2", doc="cross-section area (axial stiffness E A)", check=POSITIVE)
-    I_y: float = param(unit="m^4", doc="second moment about y: vertical bending", check=POSITIVE)
-    I_z: float = param(unit="m^4", doc="second moment about z: lateral bending", check=POSITIVE)
-    J: float = param(unit="m^4", doc="torsion constant", check=POSITIVE)
-    mass_per_length: float = param(unit="kg/m", doc="mass per unit length", check=POSITIVE)
-    rot_mass_per_length: float = param(unit="kg m^2/m", doc="polar mass moment of inertia per length (torsion)", check=POSITIVE)
+    E: float = param(unit="N/m^2", doc="Young's modulus", check=BRIDGE_MODULUS)
+    G: float = param(unit="N/m^2", doc="shear modulus", check=BRIDGE_MODULUS)
+    area: float = param(unit="m^2", doc="cross-section area (axial stiffness E A)", check=BRIDGE_AREA)
+    I_y: float = param(unit="m^4", doc="second moment about y: vertical bending", check=BRIDGE_SECOND_MOMENT)
+    I_z: float = param(unit="m^4", doc="second moment about z: lateral bending", check=BRIDGE_SECOND_MOMENT)
+    J: float = param(unit="m^4", doc="torsion constant", check=BRIDGE_SECOND_MOMENT)
+    mass_per_length: float = param(unit="kg/m", doc="mass per unit length", check=BRIDGE_MASS_PER_LENGTH)
+    rot_mass_per_length: float = param(unit="kg m^2/m", doc="polar mass moment of inertia per length (torsion)", check=BRIDGE_ROT_MASS)
     shear_area_factor: float = param(0.0, unit="-", doc="Timoshenko shear area / area; 0 = Euler-Bernoulli", check=Check(low=0.0, high=1.0, low_inclusive=True))
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import fields, is_dataclass
 from typing import Any, Sequence
 
@@ -54,15 +55,78 @@ def track_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
     return rows
 
 
+#: the model kinds in a bridge engineer's words (the value shown is what a file's ``kind`` holds)
+KIND_WORDS = {"car15": "15-DOF car (body, two bogies, four wheelsets that follow the rail)",
+              "creep_car": "15-DOF car with creep-guided wheelsets (running safety)",
+              "articulated": "articulated set (car bodies on shared bogies)",
+              "sprung_mass": "sprung mass on one axle", "moving_force": "moving force (no mass)",
+              "simple_beam": "simply supported spans on ideal supports",
+              "frame": "simply supported girders on bearings and piers",
+              "continuous": "girder continuous over its supports", "modal_table": "modes imported from tables"}
+#: a listing's line width (a terminal line is at most 200 characters; 160 leaves the meaning readable)
+LISTING_WIDTH = 160
+#: keys said in the heading or the notes, not as rows
+_HEAD_KEYS = ("name", "description", "source", "notes")
+
+
+def model_rows(obj: Any) -> list[tuple[str, str, str, str]]:
+    """(key, value, unit, meaning) of every setting of a scenario, bridge or vehicle, keys as in its file."""
+    rows: list[tuple[str, str, str, str]] = []
+    _rows(obj, "", rows)
+    return [(k, v, u, f"model kind: {KIND_WORDS[v]}" if k.endswith("kind") and v in KIND_WORDS else d)
+            for k, v, u, d in rows]
+
+
+def _group(key: str) -> str:
+    """The group a key is listed under: its first part (a vehicle of the train: train.vehicles[i])."""
+    if key.startswith("(derived)"):
+        return "derived"
+    parts = key.split(".")
+    if len(parts) > 2 and parts[0] == "train" and parts[1].startswith("vehicles["):
+        return ".".join(parts[:2])
+    return parts[0] if len(parts) > 1 else ""
+
+
+def table_text(head: Sequence[str], rows: Sequence[tuple[str, str, str, str]], notes: str = "", source: str = "",
+               width: int = LISTING_WIDTH) -> str:
+    """Key, value, unit and meaning, grouped by the key's first part (a blank line between groups),
+    aligned, the meaning (and a long value) wrapped within ``width`` characters."""
+    rows = [r for r in rows if r[0] not in _HEAD_KEYS]
+    w0 = max((len(r[0]) for r in rows), default=3)
+    w1 = min(max((len(r[1]) for r in rows), default=5), 16)
+    w2 = max((len(r[2]) for r in rows), default=4)
+    indent = " " * (w0 + w1 + w2 + 6)
+    fill = max(width - len(indent), 40)
+    lines = [textwrap.fill(h, width, subsequent_indent="  ", break_on_hyphens=False) for h in head if h]
+    if source:
+        lines.append(textwrap.fill(f"Source: {source}", width, subsequent_indent="  ", break_on_hyphens=False))
+    lines += ["", f"{'key':<{w0}}  {'value':<{w1}}  {'unit':<{w2}}  meaning"]
+    group = None
+    for key, value, unit, doc in rows:
+        if _group(key) != group and group is not None:
+            lines.append("")
+        group = _group(key)
+        meaning = textwrap.wrap(doc, fill, break_on_hyphens=False) or [""]
+        if len(value) > w1:  # a long value on its own lines, the unit and meaning below it
+            lines += textwrap.wrap(f"{key:<{w0}}  {value}", width, subsequent_indent=" " * (w0 + 2),
+                                   break_on_hyphens=False)
+            lines.append(f"{'':<{w0}}  {'':<{w1}}  {unit:<{w2}}  {meaning[0]}".rstrip())
+        else:
+            lines.append(f"{key:<{w0}}  {value:<{w1}}  {unit:<{w2}}  {meaning[0]}".rstrip())
+        lines += [indent + m for m in meaning[1:]]
+    if notes:
+        lines += ["", textwrap.fill(f"Notes: {' '.join(notes.split())}", width, break_on_hyphens=False)]
+    return "\n".join(lines)
+
+
 def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str, str]] = (), *,
                    vehicles_once: bool = True) -> str:
     """Key, value, unit and meaning of every setting, with derived quantities (and ``extra_rows``,
-    e.g. the bridge's frequencies) at the end.
+    e.g. the bridge's frequencies) at the end, grouped and wrapped (:func:`table_text`).
 
     With ``vehicles_once`` a vehicle that appears several times in the train is listed once.
     """
-    rows: list[tuple[str, str, str, str]] = []
-    _rows(scenario, "", rows)
+    rows = model_rows(scenario)
     if vehicles_once:
         seen: dict[str, str] = {}
         kept = []
@@ -76,29 +140,18 @@ def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str,
                 seen.setdefault(name, idx)
             kept.append(row)
         rows = kept
+    rows = [r for r in rows if not r[0].endswith((".notes", ".source"))]
     rows += [
-        ("(derived) speed", _fmt(scenario.speed), "m/s", "train speed"),
+        ("(derived) speed", f"{scenario.speed:.4g}", "m/s", "train speed"),
         ("(derived) train length", _fmt(scenario.train.length), "m", "first to last axle"),
         ("(derived) axles", str(len(scenario.train.axle_positions)), "", "number of axles"),
         ("(derived) bridge length", _fmt(scenario.bridge.length), "m", "sum of spans"),
         *track_rows(scenario),
-        ("(derived) duration", _fmt(scenario.duration), "s", "first axle at -lead_in until last axle run_out past the bridge"),
+        ("(derived) duration", f"{scenario.duration:.4g}", "s", "first axle at -lead_in until last axle run_out past the bridge"),
         ("(derived) time steps", str(int(round(scenario.duration / scenario.analysis.time_step))), "", "duration / time_step"),
         *extra_rows,
     ]
-    w0 = max(len(r[0]) for r in rows)
-    w1 = min(max(len(r[1]) for r in rows), 40)
-    w2 = max(len(r[2]) for r in rows)
-    lines = [f"Scenario {scenario.name}: {scenario.description}", f"Source: {scenario.source}", ""]
-    lines.append(f"{'key':<{w0}}  {'value':<{w1}}  {'unit':<{w2}}  meaning")
-    lines.append("-" * (w0 + w1 + w2 + 20))
-    for key, value, unit, doc in rows:
-        if key in ("name", "description", "source", "notes"):
-            continue
-        lines.append(f"{key:<{w0}}  {value:<{w1}}  {unit:<{w2}}  {doc}")
-    if scenario.notes:
-        lines += ["", f"Notes: {scenario.notes}"]
-    return "\n".join(lines)
+    return table_text([f"Scenario {scenario.name}: {scenario.description}"], rows, scenario.notes, scenario.source)
 
 
 def run_label(scenario: Scenario) -> str:
@@ -132,8 +185,8 @@ def run_label(scenario: Scenario) -> str:
     n_tracks = len(track_lines(scenario.bridge))
     if n_tracks > 1:
         layout += f", track {scenario.track.on} of {n_tracks}"
-    return (f"{train} at {scenario.speed_kmh:g} km/h over {scenario.bridge.name} ({layout}); {irr}; "
+    return (f"{train} at {scenario.speed_kmh:.1f}".removesuffix(".0") + f" km/h over {scenario.bridge.name} ({layout}); {irr}; "
             f"{an.freq_min:.3g}-{an.freq_max:.3g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
 
 
-__all__ = ["run_label", "scenario_table", "track_rows"]
+__all__ = ["KIND_WORDS", "LISTING_WIDTH", "model_rows", "run_label", "scenario_table", "table_text", "track_rows"]

@@ -55,6 +55,8 @@ class StudyFinding(Validated):
     claim: str = param(doc="the study's statement")
     where: str = param("", doc="section or figure of the study")
     quantities: tuple[StudyQuantity, ...] = param((), doc="the quantities compared")
+    explained: str = param("", doc="where our own findings explain the comparison, e.g. 'docs/findings.md section 1' "
+                                   "(the report links a row not matched to it)")
 
 
 @dataclass(frozen=True, kw_only=True)

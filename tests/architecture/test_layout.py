@@ -23,7 +23,7 @@ from .import_graph import ROOT, cycles, edges, modules
 #: the allowed function-level imports of the package's own modules: (importing module, imported module)
 #: (the modules of compiled functions are loads by name through tb_exudyn.jit.load, which sets Numba's
 #: cache directory before their functions are declared)
-LAZY_IMPORTS = {("tb_exudyn.cli", "tb_exudyn.methods"), ("tb_exudyn.cli", "tb_exudyn.report")}
+LAZY_IMPORTS = {("tb_exudyn.cli", "tb_exudyn.methods"), ("tb_exudyn.cli_results", "tb_exudyn.report")}
 MAX_LINES = 600
 
 

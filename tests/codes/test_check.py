@@ -106,10 +106,12 @@ def test_damping_of_a_short_span_with_eq_6_13():
     assert "eq. 6.13" in r.damping_basis
 
 
-def test_hslm_a_refused_below_7_m():
+def test_hslm_b_below_7_m():
+    """A 5 m simple span: HSLM-A gives way to HSLM-B (EN 1991-2 6.4.6.1.1) instead of a refusal."""
     b = load_bridge("single_span_32m").replace(spans=(5.0,))
-    with pytest.raises(SettingError, match="HSLM-B"):
-        check(b, 160.0, trains=["hslm_a"])
+    r = check(b, 160.0, trains=["hslm_a"])
+    assert r.trains() == ["HSLM-B"] and len(r.rows) > 0
+    assert r.criteria[0].criterion.startswith("deck_acceleration") and "HSLM-B" in r.criteria[0].case
 
 
 def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, capsys):
@@ -118,6 +120,7 @@ def test_command_writes_table_and_figure_and_refuses_to_overwrite(tmp_path, caps
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "deck acceleration limit 3.5 m/s^2 (ballasted track) met" in text and "ice_mttm" in text
+    assert "criteria (EN 1990 A2.4.4):" in text and "vertical_deflection: met" in text  # one line per criterion
     assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html", "check.png"]
     with open(out / "check.csv", newline="") as fh:
         assert {r["train"] for r in csv.DictReader(fh)} == {"HSLM-A1", "ice_mttm"}

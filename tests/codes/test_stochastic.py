@@ -146,7 +146,7 @@ def test_the_pem_warnings_are_in_the_result(result, pem):
 
 # ------------------------------------------------------------------------------------ the page
 def test_the_page_opens_with_the_verdict_and_holds_the_figure_and_the_folded_table(result, row):
-    """tb_exudyn.report.check: the first section after the title and navigation is the verdict, naming the
+    """tb_exudyn.report.check: after the title, the navigation and the criteria's verdicts comes the verdict, naming the
     deciding train, speed, case, location and margin of the row with the largest peak deck acceleration
     (CheckResult.deciding_row, the reference); the figure is embedded (no external resource); the whole
     table is inside <details>; the stochastic row's numbers are shown as the table's (3 decimals)."""
@@ -156,12 +156,14 @@ def test_the_page_opens_with_the_verdict_and_holds_the_figure_and_the_folded_tab
     assert CHECK_REPORT == CHECK_PAGE == "check.html"
     page = render_check_report(result, b"\x89PNG fake bytes")
     sections = page.split("<section ")
-    assert sections[1].startswith('id="verdict"')
+    # issue 48: the page opens with one verdict per criterion, the deck acceleration's first; then its details
+    assert sections[1].startswith('id="criteria"') and "deck_acceleration" in sections[1]
+    assert sections[2].startswith('id="verdict"')
     top = result.deciding_row()
     margin = result.limit - top["max_deck_acc_z"]
     for text in (top["train"], f"{top['speed_kmh']:g} km/h", top["case"], top["max_deck_acc_z_location"],
                  f"{margin:+.3f} m/s^2", "met"):
-        assert text in sections[1], text
+        assert text in sections[2], text
     assert 'src="data:image/png;base64,' in page and "http" not in page.replace("https://", "").split("<body>")[0]
     assert not any(f'{attr}="http' in page for attr in ("src", "href"))
     table = page.split('<section id="table">')[1]

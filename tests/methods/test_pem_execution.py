@@ -8,12 +8,10 @@ bitwise equal; the tolerance is zero.
 
 from __future__ import annotations
 
-import os
 import signal
 import subprocess
 import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
@@ -40,7 +38,7 @@ def reference(scenario):
 
 def _same(a, b):
     assert a.channels == b.channels
-    for name in ("time", "mean", "std", "psd", "var_by_type"):
+    for name in ("time", "mean", "std", "psd", "var_by_type", "std_rate", "mean_rate", "rho", "bandwidth"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
 
 
@@ -54,25 +52,30 @@ def test_saved_result_loads_back(scenario, reference, tmp_path):
 
 
 def test_killed_sweep_resumes_to_the_same_result(scenario, reference, tmp_path):
-    """A sweep in another process is killed (SIGKILL: no clean-up at all) after two tasks are on disk;
-    resuming reads the finished tasks and runs only the rest (7 tasks: the mean and 6 columns)."""
+    """A sweep in another process is killed (SIGKILL: no clean-up at all) right after its second task
+    is on disk (the child kills itself there: exact, whatever the machine's load); resuming reads the
+    finished tasks and runs only the rest (7 tasks: the mean and 6 columns)."""
     scenario_file = save_scenario(scenario, tmp_path / "s.toml")
     out = tmp_path / "run"
     code = textwrap.dedent(f"""
+        import os, signal
         import tb_exudyn as tbx
+        from tb_exudyn.execution.checkpoint import Checkpoint
         from tb_exudyn.methods import run_pem
+        save, saved = Checkpoint.save, []
+        def counted(self, task, result):
+            save(self, task, result)
+            saved.append(task.key)
+            if len(saved) == 2:
+                os.kill(os.getpid(), signal.SIGKILL)
+        Checkpoint.save = counted
         run_pem(tbx.load_scenario({str(scenario_file)!r}), workers=1, out={str(out)!r}, progress=False, engine="exudyn")
     """)
-    proc = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    tasks = out / "checkpoint" / "tasks"
-    deadline = time.time() + 120
-    while time.time() < deadline and len(list(tasks.glob("*.npz"))) < 2 and proc.poll() is None:
-        time.sleep(0.05)
-    assert proc.poll() is None, "the sweep ended before it could be killed"
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    done = len(list(tasks.glob("*.npz")))
-    assert 2 <= done < 7, f"the sweep should have been stopped part-way ({done} of 7 tasks)"
+    proc = subprocess.run([sys.executable, "-c", code], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                          text=True, timeout=300)
+    assert proc.returncode == -signal.SIGKILL, proc.stderr[-2000:]
+    done = len(list((out / "checkpoint" / "tasks").glob("*.npz")))
+    assert done == 2, f"killed after its second checkpoint file, {done} on disk"
     resumed = run_pem(scenario, workers=1, out=out, resume=True, progress=False, engine="exudyn")
     assert resumed.provenance["tasks"] == 7
     assert resumed.provenance["tasks_from_checkpoint"] == done

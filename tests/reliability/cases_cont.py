@@ -123,7 +123,7 @@ CASES_CONT: list[Case] = [
     Case("continuous girder, every bearing free vertically", GROUP,
          _modes_case(("'bearings.k_z'", "mechanism"), bearings="k_z = 0.0")),
     Case("continuous girder, span 2's section E 1e-20", GROUP,
-         _modes_case(("'girders[1].E'", "mechanism"), girder=False, girders=("3.45e10", "1e-20", "3.45e10"))),
+         _modes_case(("'girders[1].E'", ">= 1e+07"), girder=False, girders=("3.45e10", "1e-20", "3.45e10"))),
     Case("check of a continuous girder without supports", GROUP, _check_without_supports),
     Case("Continuous() without supports", GROUP, _python_without_supports),
     Case("Continuous.replace with a span more", GROUP, _python_replace_spans),

@@ -84,9 +84,12 @@ def _train_file_missing(d: Path) -> Run:
 
 
 def _hslm_on_a_5_m_span(d: Path) -> Run:
+    """A continuous girder with 5 m spans: HSLM-A is for spans from 7 m and HSLM-B for simply supported spans
+    (a simply supported 5 m span gets HSLM-B, tests/codes/test_check.py)."""
     p = d / "short.toml"
-    text = (Path(__file__).resolve().parents[2] / "models" / "bridges" / "single_span_32m.toml").read_text()
-    p.write_text(text.replace("spans = [32.0]", "spans = [5.0]"))
+    text = (Path(__file__).resolve().parents[2] / "models" / "bridges" / "continuous_3x32m.toml").read_text()
+    assert "spans = [32.0, 32.0, 32.0]" in text
+    p.write_text(text.replace("spans = [32.0, 32.0, 32.0]", "spans = [5.0, 5.0, 5.0]"))
     return Run(argv=("check", str(p), "--line-speed-kmh", "160", "--out", str(d / "out"), "--no-figures"),
                expect=("--trains", "HSLM-B", "7 m"))
 
@@ -119,7 +122,7 @@ CASES_EN1991: list[Case] = [
     Case("check: train file 2.5 km long", GROUP, _train_file_too_long),
     Case("check: train file is a FIFO", GROUP, _train_file_fifo),
     Case("check: train file missing", GROUP, _train_file_missing),
-    Case("check: HSLM-A on a 5 m span", GROUP, _hslm_on_a_5_m_span),
+    Case("check: HSLM-A on a continuous girder of 5 m spans", GROUP, _hslm_on_a_5_m_span),
     Case("check: an earlier check.csv in --out", GROUP, _earlier_check_in_out),
     Case("check: an earlier check.png in --out", GROUP, _earlier_figure_in_out),
     Case("check: --out is a file", GROUP, _out_is_a_file),

@@ -60,8 +60,8 @@ def write_scenario(path: Path, *, name: str = "tiny", speed: float = 300.0, lead
     return path
 
 
-def slow_scenario(path: Path) -> Path:
-    return write_scenario(path, name="slow", lead_in=150.0, n_freq=16)
+def slow_scenario(path: Path, n_freq: int = 16) -> Path:
+    return write_scenario(path, name="slow", lead_in=150.0, n_freq=n_freq)
 
 
 def env() -> dict[str, str]:

@@ -171,8 +171,9 @@ def test_the_checks_slot_in(folder):
     assert [r[0] for r in table] == ["criterion", "Bridge \u00b7 1 OK", "deck vertical acceleration",
                                      "Vehicle \u00b7 1 OK, 1 EXCEEDS", "lateral axle force H", "Q/P"]
     rows = _criterion_rows(table)
-    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y", "170 kN", "49.08 kN", "3.46",
-                       "0.93", "EXCEEDS", "1"]  # est. / limit = 170 / 49.08
+    # est. / limit = 170 / 49.08; a row with a probability says how its location was picked
+    assert rows[1] == ["lateral axle force H", "car 1, axle 1 car1.axle1.force_y (most likely to exceed)", "170 kN",
+                       "49.08 kN", "3.46", "0.93", "EXCEEDS", "1"]
     assert rows[0][5] == "1e-09" and rows[2][1:5] == ["car 1, wheel 11", "0.21", "0.8", "0.26"]  # a ratio: no unit
     assert text.count(caveat) == 1 and '<li id="note-1">' + caveat in text and 'href="#note-1"' in text
     assert '<a href="#fig-car1.axle1.force_y">car 1, axle 1</a>' in text
@@ -327,6 +328,8 @@ def test_the_reference_studys_findings_beside_ours():
     first = table[1]
     assert first[0].startswith("conclusion 1: The PSD peak") and first[3] == "3.3 Hz" and first[4] == "12.3 Hz"
     assert first[5].startswith("not matched") and "within 0.5 Hz: [check]" in first[5]
+    assert "why: docs/findings.md section 1" in first[5]  # a row not matched names our finding that explains it
+    assert 'findings.md">why: docs/findings.md section 1' in text  # linked to the file of this source tree
 
 
 def test_a_bad_study_file_gets_a_one_line_error(tmp_path):

@@ -57,7 +57,9 @@ def test_show_and_label_name_the_train_track(tmp_path):
     sc = _scenario(tmp_path, 2)
     table = scenario_table(sc)
     assert "(derived) track 1" in table and "(derived) track 2" in table
-    line = next(x for x in table.splitlines() if x.startswith("(derived) track 2"))
+    lines = table.splitlines()
+    i = next(i for i, x in enumerate(lines) if x.startswith("(derived) track 2"))
+    line = " ".join([lines[i]] + [x.strip() for x in lines[i + 1:i + 3] if x.startswith(" ")])  # a wrapped meaning
     assert "-2.25, 1.5" in line and "the train's track" in line
     assert "track 2 of 2" in run_label(sc)
     assert "track 1 of" not in run_label(load_scenario("quick")) and "(derived) track" not in scenario_table(load_scenario("quick"))

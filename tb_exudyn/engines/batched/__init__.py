@@ -146,6 +146,18 @@ class BatchedEngine(Engine):
         return _options(options).mean in ("linear", "auto")
 
     @classmethod
+    def compiled_precisions(cls, options: Any, harmonic: bool = True) -> tuple[str, ...]:
+        """The precisions a run compiles code for (:mod:`tb_exudyn.methods.warm_up` compiles them ahead):
+        with the compiled step, PEM's (``harmonic``) float64 columns and float32 grid-error columns,
+        else (Monte Carlo) only the float64 linear mean's; none with the numpy step."""
+        opts = _options(options)
+        if opts.step != "compiled":
+            return ()
+        if harmonic:
+            return tuple(dict.fromkeys(("float64", opts.precision, opts.grid_error_precision)))
+        return ("float64",) if opts.mean in ("linear", "auto") else ()
+
+    @classmethod
     def mean_cost_columns(cls, options: Any) -> float | None:
         """The linear mean (static state, its linear system and components, one column): about
         LINEAR_MEAN_COLUMNS columns; Exudyn's run: not known."""

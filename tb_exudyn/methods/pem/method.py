@@ -24,6 +24,7 @@ from ...scenario import Scenario, scenario_to_toml
 from ...system.derived import derived_provenance
 from ..common import AnalysisSetup, MeanTask, analysis_setup, fingerprint_identity, merge_provenance
 from ..driver import RunPlan, drive
+from .. import warm_up
 from ...errors import SettingError
 from ..grid import (band_mask, check_grid_against_spectra, estimate_cells, local_grids, local_node_factors, locally_refined_variance,
                     midpoint_grid, refined_variance)
@@ -88,6 +89,7 @@ class PemMethod:
         scenario = self.scenario
         check_run_length(scenario)
         cls = check_engine(self.engine, scenario, self.options)
+        warm_up.start(cls, self.options, execution.announce)  # a first run's compile, beside the set-up below
         spectra = prepare_sweep(scenario)
         setup = analysis_setup(scenario, least_count=self.least_count)
         scenario, grid = setup.scenario, setup.grid

@@ -1,0 +1,317 @@
+"""``tb-exudyn show`` and ``modes`` of any model: a scenario, a bridge, a vehicle or a train, named from the
+model library or given as a TOML file (cli.py parses and prints; this module finds what the name is and
+writes the bridge's frequency rows: f1 and f3 by direction, the closed-form f1 of its girder beside the FE
+one and why they differ)."""
+
+from __future__ import annotations
+
+import math
+import re
+import textwrap
+import argparse
+from pathlib import Path
+from typing import Any
+
+from . import cli_scenario
+from .codes.trains import composition_table, load_train, train_files
+from .errors import SettingError
+from .scenario import load_scenario
+from .scenario.io import load_bridge, load_vehicle
+from .scenario.model import BRIDGE_KINDS, VEHICLE_KINDS
+from .scenario.registry import model_files
+from .scenario.show import model_rows, table_text
+from .scenario.toml_io import read_toml
+from .structure import StructureError, modal_bridge
+from .system.damping_guard import merged_messages
+from .system.modes import DIRECTIONS, nth_frequency
+
+#: what `show` and `modes` take, in the order a library name is looked up
+MODEL_KINDS = ("scenario", "bridge", "vehicle", "train")
+_CATEGORY = {"scenario": "scenarios", "bridge": "bridges", "vehicle": "vehicles"}
+#: bridge modes up to this frequency for the rows of a bridge shown alone [Hz] (analysis.mode_max_frequency's default)
+SHOW_MAX_FREQUENCY = 60.0
+#: the width the mode lists wrap at
+LINE_WIDTH = 160
+
+
+def model_kind(text: str) -> str:
+    """What ``text`` names: 'scenario', 'bridge', 'vehicle' or 'train' (a TOML file by its content: a
+    ``kind`` of a bridge or a vehicle, ``cars`` of a train, else a scenario; a name by the library's
+    folders, scenarios first). A name in no folder is a SettingError listing where names come from."""
+    path = Path(text)
+    if path.suffix == ".toml" or path.exists():
+        if not path.is_file():
+            return "scenario"  # load_scenario names the file and why it cannot be read
+        data = read_toml(path)
+        kind = data.get("kind")
+        if isinstance(kind, str) and kind in BRIDGE_KINDS:
+            return "bridge"
+        if isinstance(kind, str) and kind in VEHICLE_KINDS:
+            return "vehicle"
+        return "train" if "cars" in data else "scenario"
+    for kind in MODEL_KINDS:
+        names = train_files() if kind == "train" else model_files(_CATEGORY[kind])
+        if text in names:
+            return kind
+    raise SettingError("command line", "MODEL", text, "a scenario, bridge, vehicle or train name of `tb-exudyn list`, "
+                       "or a path to a .toml file", "unknown name")
+
+
+def load_model(kind: str, text: str) -> Any:
+    """The model ``text`` names, of kind ``kind`` (:func:`model_kind`)."""
+    path = Path(text)
+    if kind == "train":
+        return load_train(path if path.suffix == ".toml" or path.exists() else train_files()[text])
+    return {"scenario": load_scenario, "bridge": load_bridge, "vehicle": load_vehicle}[kind](text)
+
+
+def hand_f1(bridge: Any) -> tuple[float, float] | None:
+    """(f1 [Hz], span [m]): the first vertical frequency of the girder's longest span as a simply supported
+    Euler-Bernoulli beam, pi / (2 L^2) sqrt(E I_y / m), m the girder's mass with the added mass (None for a
+    bridge without girder sections, e.g. a modal_table)."""
+    sections = getattr(bridge, "sections", None)
+    if not sections:
+        return None
+    added = getattr(getattr(bridge, "added_mass", None), "mass_per_length", 0.0)
+    best = None
+    for span, g in zip(bridge.spans, sections):
+        f = math.pi / (2.0 * span ** 2) * math.sqrt(g.E * g.I_y / (g.mass_per_length + added))
+        if best is None or f < best[0]:
+            best = (f, span)
+    return best
+
+
+def _vertical_f1(bridge: Any) -> float:
+    mb = modal_bridge(bridge, SHOW_MAX_FREQUENCY, 0)
+    return nth_frequency(mb.frequencies, mb.mode_types, "vertical", 1)
+
+
+def why_f1_differs(bridge: Any, fe: float, hand: float, span: float) -> str:
+    """One sentence on why the FE f1 differs from the hand value, from the model's own numbers: for
+    bearings below the girder axis, the FE f1 with them moved to the axis (the split computed, not
+    assumed); the rest named by what the bridge has (piers, continuity, shear deformation)."""
+    d = fe / hand - 1.0
+    if abs(d) < 0.001:
+        return f"FE and closed form agree ({100 * d:+.2f} %): in its first mode the girder bends as a simply supported span"
+    parts = []
+    bearings = getattr(bridge, "bearings", None)
+    h = getattr(bearings, "height", 0.0) if bearings is not None else 0.0
+    rest = d
+    if h > 0.0:
+        try:
+            at_axis = _vertical_f1(bridge.replace(bearings=bearings.replace(height=0.0)))
+        except StructureError:
+            at_axis = math.nan
+        if math.isfinite(at_axis):
+            e = fe / at_axis - 1.0
+            rest = at_axis / hand - 1.0
+            parts.append(
+                f"{100 * e:+.1f} % from the bearings {h:g} m below the girder axis (FE with them at the axis: "
+                f"{at_axis:.3f} Hz): as the span bends its ends rotate about the bearings, so the whole girder slides "
+                f"along the bridge and its mass moves lengthwise too (a sine-shape estimate for a simple span: "
+                f"{100 * 2 * math.pi ** 2 * (h / span) ** 2:.1f} % more modal mass, "
+                f"{100 * ((1 + 2 * math.pi ** 2 * (h / span) ** 2) ** -0.5 - 1):+.1f} % in f1)")
+    causes = []
+    if getattr(bridge, "pier", None) is not None:
+        causes.append("the piers' and bearings' flexibility")
+    if bridge.kind == "continuous":
+        causes.append("continuity over the supports")
+    if any(getattr(g, "shear_area_factor", 0.0) > 0.0 for g in bridge.sections):
+        causes.append("shear deformation and rotary inertia (Timoshenko beam)")
+    if abs(rest) >= 0.001 or not parts:
+        parts.append(f"{100 * rest:+.1f} % from " + (" and ".join(causes) or "the FE mesh"))
+    return f"FE {100 * d:+.1f} % against the closed form: " + "; ".join(parts)
+
+
+def frequency_rows(bridge: Any, max_frequency: float = SHOW_MAX_FREQUENCY, max_modes: int = 0,
+                   key: str = "") -> list[tuple[str, str, str, str]]:
+    """Rows with f1 and f3 of the bridge alone by direction (vertical, lateral, torsion) [Hz], the
+    closed-form f1 of its girder and why the two differ (modes up to ``max_frequency``)."""
+    try:
+        mb = modal_bridge(bridge, max_frequency, max_modes)
+    except StructureError as exc:
+        return [(f"{key}modes", "not available", "", str(exc))]
+    source = "from its modes tables" if bridge.kind == "modal_table" else "FE"
+    rows = []
+    for d in DIRECTIONS:
+        f = [nth_frequency(mb.frequencies, mb.mode_types, d, n) for n in (1, 3)]
+        text = ", ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
+        rows.append((f"{key}f1, f3 {d}", text, "Hz", f"1st and 3rd {d} mode of the bridge alone, {source} "
+                     f"('-': none up to {max_frequency:g} Hz)"))
+    hand = hand_f1(bridge)
+    fe = nth_frequency(mb.frequencies, mb.mode_types, "vertical", 1)
+    if hand is not None and math.isfinite(fe):
+        rows.append((f"{key}f1 vertical, closed form", f"{hand[0]:.4g}", "Hz",
+                     f"the girder's {hand[1]:g} m span simply supported, pi / (2 L^2) sqrt(E I_y / m), m with the "
+                     f"added mass; FE {fe:.4g} Hz"))
+        rows.append((f"{key}FE against closed form", f"{100 * (fe / hand[0] - 1):+.1f} %", "",
+                     why_f1_differs(bridge, fe, hand[0], hand[1])))
+    return rows
+
+
+def bridge_modes_text(bridge: Any, band: tuple[float, float] | None = None) -> str:
+    """``modes`` of a bridge alone (no vehicle): every mode up to :data:`SHOW_MAX_FREQUENCY` (or in
+    ``band``) with its frequency, damping ratio and direction, numbered within its direction."""
+    top = SHOW_MAX_FREQUENCY if band is None else band[1]
+    mb = modal_bridge(bridge, top, 0)
+    source = "its modes tables" if bridge.kind == "modal_table" else "finite-element model"
+    lines = [f"modes of bridge {bridge.name} alone (no vehicle; {source}), up to {top:g} Hz",
+             f"{'#':>4} {'f [Hz]':>9} {'zeta':>7}  mode"]
+    count: dict[str, int] = {}
+    shown = 0
+    for f, z, t in zip(mb.frequencies, mb.damping_ratios, mb.mode_types):
+        count[t] = count.get(t, 0) + 1
+        if band is not None and not band[0] <= f <= band[1]:
+            continue
+        shown += 1
+        lines.append(f"{shown:>4} {f:>9.4g} {z:>7.3g}  {t} {count[t]}")
+    if not shown:
+        lines.append("  (no mode in the band)")
+    return "\n".join(lines)
+
+
+def vehicle_scenario(vehicle: Any) -> Any:
+    """A scenario of ``vehicle`` alone on the rigid approach track of the ``quick`` scenario (its contact
+    springs and damping): what ``modes`` of a vehicle computes, at the start of the run (bridge free)."""
+    base = load_scenario("quick")
+    return base.replace(name=f"vehicle {vehicle.name}", train=base.train.replace(vehicles=(vehicle,)),
+                        analysis=base.analysis.replace(channels=("*",)))
+
+
+def train_vehicles(train: Any) -> tuple[list[Any], list[str]]:
+    """The distinct vehicle models among a train's cars, and the names of the parts that are none (axle
+    loads, articulated sets: moving forces without a vehicle model)."""
+    models, others = {}, []
+    for part in train.parts:
+        if part.kind == "vehicle" and part.name not in models:
+            models[part.name] = load_vehicle(part.name)
+        elif part.kind != "vehicle" and part.name not in others:
+            others.append(part.name)
+    return list(models.values()), others
+
+
+_CAR = re.compile(r"^car (\d+) \(([^)]*)\)")
+
+
+def modes_text(table: Any) -> list[str]:
+    """A mode table in few lines: one row per distinct vehicle mode, equal modes of equal cars (same
+    frequency, damping and motion) on one row naming the cars and equal frequencies' motions joined; the
+    wheelsets on their contact springs as one line per direction (their frequency range), the bridge's modes as
+    one list per direction; "not excited here" where no track input reaches a mode."""
+    bridge: dict[str, list[str]] = {}
+    contact: dict[str, list[tuple[float, float]]] = {}
+    rows: dict[tuple, list] = {}
+    reached = table.reached()
+    tau = table.decay_time
+    for i in range(len(table)):
+        f, label, kind, z = table.frequency[i], table.label[i], table.kind[i], table.damping_ratio[i]
+        m = _CAR.match(label)
+        motion = label[m.end():].removeprefix(", ") if m else label
+        if kind == "bridge" and label.startswith("bridge, "):
+            bridge.setdefault(label.removeprefix("bridge, ").rsplit(" ", 1)[0], []).append(f"{f:.4g}")
+            continue
+        if kind == "contact":
+            contact.setdefault(motion.rsplit(", ", 1)[-1], []).append((f, z))
+            continue
+        zs = ">= 1" if table.overdamped[i] else ("-" if not math.isfinite(z) else f"{z:.3g}")
+        key = (f"{f:.4g}", zs, kind, m.group(2) if m else "", bool(reached[i]))
+        row = rows.setdefault(key, [f, tau[i], [], []])
+        if m and m.group(1) not in row[2]:
+            row[2].append(m.group(1))
+        row[3].append(motion)
+    lines = [f"{'f_n [Hz]':>9} {'zeta':>9} {'decay [s]':>9} {'kind':<8} what moves"]
+    for (_, zs, kind, vehicle, hit), (f, t, cars, motions) in rows.items():
+        names = list(dict.fromkeys(motions))
+        n_each = len(motions) // max(len(cars), 1)
+        what = "; ".join(names) + (f" (x{n_each})" if len(names) == 1 and n_each > 1 else "")
+        who = f"car{'s' if len(cars) > 1 else ''} {', '.join(cars)} ({vehicle}): " if cars else ""
+        lines.append(f"{f:>9.4g} {zs:>9} {'inf' if not math.isfinite(t) else f'{t:.3g}':>9} {kind:<8} {who}{what}"
+                     + ("" if hit else " (not excited here: no track input reaches it)"))
+    for direction, fz in contact.items():
+        fs, zs = [f for f, _ in fz], [z for _, z in fz]
+        zr = f"{min(zs):.2g}" if f"{min(zs):.2g}" == f"{max(zs):.2g}" else f"{min(zs):.2g}-{max(zs):.2g}"
+        lines.append(f"{min(fs):>9.4g} {zr:>9} {'':>9} {'contact':<8} every wheelset on its "
+                     f"contact springs, {direction}: {len(fs)} modes, {min(fs):.4g}-{max(fs):.4g} Hz")
+    for direction, fs in bridge.items():
+        lines.append(textwrap.fill(f"bridge {direction} [Hz]: {', '.join(fs)}", LINE_WIDTH, subsequent_indent="  "))
+    lines.append("(f_n undamped |lambda| / 2 pi; zeta >= 1: a non-oscillating motion; decay = 1 / (zeta omega_n))")
+    return lines
+
+
+def command_model(args: argparse.Namespace) -> tuple[str, object]:
+    """(kind, model) of MODEL (model_kind: a scenario, bridge, vehicle or train); --set only for a scenario."""
+    kind = model_kind(args.scenario)
+    if kind != "scenario" and args.settings:
+        raise SettingError("command line", "--set", args.settings[0], "--set with a scenario (its keys); for a "
+                           f"{kind}, edit a copy of its file and name the copy", f"{args.scenario!r} is a {kind}")
+    return kind, (cli_scenario.load(args) if kind == "scenario" else load_model(kind, args.scenario))
+
+
+def vehicle_modes(args: argparse.Namespace, kind: str, model, methods) -> list[str]:  # noqa: ANN001
+    """``modes`` of a vehicle, or of each vehicle model of a train: on rigid track, alone (``methods``: tb_exudyn.methods,
+    imported by the command)."""
+    out: list[str] = []
+    vehicles, others = ([model], []) if kind == "vehicle" else train_vehicles(model)
+    for vehicle in vehicles:
+        scenario = vehicle_scenario(vehicle)
+        table = methods.system_modes(scenario, None)
+        table = table.select([k in ("vehicle", "contact", "decoupled") for k in table.kind])  # not the bridge's
+        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
+        shown = shown.in_band(*args.band) if args.band is not None else shown
+        out.append(f"modes of vehicle {vehicle.name} alone on rigid track (wheel-rail contact springs and damping of the "
+              "quick scenario), linearised about rest")
+        out += modes_text(shown) if len(shown) else ["  (no mode: a moving force has no degree of freedom)"]
+        out.append("")
+    if others:
+        out.append(f"{', '.join(others)}: axle loads without a vehicle model (moving forces), no modes")
+    return out
+
+
+def scenario_modes(args: argparse.Namespace, scenario: Any, methods: Any) -> list[str]:
+    """``modes`` of a scenario: the train at each --position (default: the start of the run: vehicles on
+    rigid track, the bridge alone), in :func:`modes_text`'s few lines, and the damping guard."""
+    out: list[str] = []
+    model = methods.build_model(scenario, warn=False)
+    for position in args.position or [None]:
+        table = methods.system_modes(scenario, position, model=model)
+        shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
+        if args.band is not None:
+            shown = shown.in_band(*args.band)
+        out += [table.description, *modes_text(shown)]
+        if len(shown) < len(table):
+            out.append(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
+                       f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
+        out.append("")
+    if not scenario.track.irregularities:
+        return out + ["damping guard: not applicable (no track irregularities, so no random run)"]
+    warnings = methods.damping_guard(scenario, model=model)
+    out.append(f"damping guard ({scenario.name}, band and run of its random analysis): "
+               + ("no lightly damped mode" if not warnings else f"{len(warnings)} lightly damped modes"))
+    for line in merged_messages(warnings):
+        out.append(textwrap.fill(f"  warning: {line}", LINE_WIDTH, subsequent_indent="    ", break_on_hyphens=False))
+    return out
+
+
+def bridge_text(bridge: Any) -> str:
+    """``show`` of a bridge: its keys (as in its file), its length and tracks, and its frequencies."""
+    rows = model_rows(bridge)
+    rows += [("(derived) length", f"{bridge.length:g}", "m", "sum of spans")]
+    rows += frequency_rows(bridge, key="(derived) ")
+    head = [f"Bridge {bridge.name}: {getattr(bridge, 'description', '')}"]
+    return table_text(head, rows, getattr(bridge, "notes", ""), getattr(bridge, "source", ""))
+
+
+def vehicle_text(vehicle: Any) -> str:
+    """``show`` of a vehicle: its keys (as in its file)."""
+    rows = model_rows(vehicle)
+    head = [f"Vehicle {vehicle.name}: {getattr(vehicle, 'description', '')}"]
+    return table_text(head, rows, getattr(vehicle, "notes", ""), getattr(vehicle, "source", ""))
+
+
+def train_text(train: Any) -> str:
+    """``show`` of a train of models/trains or a train file: its composition."""
+    return composition_table(train)
+
+
+__all__ = ["MODEL_KINDS", "command_model", "scenario_modes", "vehicle_modes", "bridge_modes_text", "bridge_text", "train_vehicles", "vehicle_scenario", "frequency_rows", "hand_f1", "load_model", "model_kind", "modes_text", "train_text",
+           "vehicle_text", "why_f1_differs"]

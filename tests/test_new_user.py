@@ -1,0 +1,83 @@
+"""A new user's first hour on the command line (issue 49): `show` and `modes` of a bridge file, a shipped
+bridge and a vehicle; every command's lines at most 200 characters; the commands that report a result
+(run, sweep, check, modes) in at most 60 lines; one line per command-line error.
+
+The bounds are the issue's acceptance numbers (a terminal line, a screen); the f1 check states its reference."""
+
+from __future__ import annotations
+
+import math
+import shutil
+
+import pytest
+
+from tb_exudyn.cli import main
+from tb_exudyn.scenario.registry import model_files
+
+LINE_MAX, RESULT_LINES = 200, 60
+
+
+def _printed(capsys, argv: list[str]) -> list[str]:
+    code = main(argv)
+    out = capsys.readouterr()
+    assert code == 0, out.err
+    lines = (out.out + out.err).splitlines()
+    wide = [ln for ln in lines if len(ln) > LINE_MAX]
+    assert not wide, f"{' '.join(argv)}: {len(wide)} lines over {LINE_MAX} characters, e.g. {wide[0][:120]}..."
+    return lines
+
+
+def test_list_and_show_of_a_scenario_fit_the_width(capsys):
+    _printed(capsys, ["list"])
+    lines = _printed(capsys, ["show", "li_zhu_2011"])
+    assert any(ln.startswith("train.vehicles[0].kind") and "15-DOF car" in ln for ln in lines)
+
+
+@pytest.mark.slow
+def test_show_and_modes_of_a_bridge_file_a_bridge_name_and_a_vehicle(tmp_path, capsys):
+    mine = tmp_path / "my_bridge.toml"
+    shutil.copy(model_files("bridges")["li_zhu_2011_bridge"], mine)
+    for bridge in (str(mine), "li_zhu_2011_bridge"):
+        text = "\n".join(_printed(capsys, ["show", bridge]))
+        assert "f1, f3 vertical" in text and "closed form" in text
+        # the closed form of the 32 m girder: pi / (2 L^2) sqrt(E I_y / m), E I_y and m (girder + added mass)
+        # from the file; the FE f1 is lower, and the row says by how much the bearings below the axis take
+        hand = math.pi / (2 * 32.0 ** 2) * math.sqrt(3.45e10 * 10.947 / (22222.25 + 11677.75))
+        assert f"{hand:.4g}" in text and "bearings 2.3 m below the girder axis" in text
+        modes = _printed(capsys, ["modes", bridge])
+        assert len(modes) <= RESULT_LINES and "no vehicle" in modes[0] and any("vertical 1" in ln for ln in modes)
+    text = "\n".join(_printed(capsys, ["show", "ice_motor"]))
+    assert "15-DOF car" in text and "body.mass" in text
+    modes = _printed(capsys, ["modes", "ice_motor"])
+    assert len(modes) <= RESULT_LINES and "rigid track" in modes[0] and "bounce" in "\n".join(modes)
+    assert not any("bridge" in ln for ln in modes[1:])  # the vehicle's own modes, no bridge's
+
+
+def test_set_on_a_bridge_and_a_command_line_error_are_one_line(capsys):
+    assert main(["show", "li_zhu_2011_bridge", "--set", "damping_ratio=0.02"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--set" in err[0] and "bridge" in err[0]
+    with pytest.raises(SystemExit) as info:
+        main(["run", "--no-such-option"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--no-such-option" in err[0] and "usage" not in err[0]
+
+
+@pytest.mark.slow
+def test_modes_of_the_main_job_fit_a_screen(capsys):
+    lines = _printed(capsys, ["modes", "li_zhu_2011"])
+    assert len(lines) <= RESULT_LINES, len(lines)
+
+
+@pytest.mark.slow
+def test_run_sweep_and_check_fit_a_screen(tmp_path, capsys):
+    lines = _printed(capsys, ["run", "quick", "--out", str(tmp_path / "q"), "--no-progress", "--workers", "1"])
+    assert len(lines) <= RESULT_LINES, len(lines)
+    assert any("criteria" in ln for ln in lines)  # counted by criterion
+    lines = _printed(capsys, ["sweep", "quick", "--speeds-kmh", "200,250", "--out", str(tmp_path / "s"),
+                              "--no-progress", "--no-figures", "--workers", "1"])
+    assert len(lines) <= RESULT_LINES, len(lines)
+    lines = _printed(capsys, ["check", "yang_yau_1997_beam", "--line-speed-kmh", "160", "--trains", "HSLM-A1",
+                              "--construction", "prestressed_concrete", "--out", str(tmp_path / "c"), "--no-figures"])
+    assert len(lines) <= RESULT_LINES, len(lines)
