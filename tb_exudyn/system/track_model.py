@@ -147,10 +147,13 @@ def track_on_deck(track: TrackModel, deck: ModalBridge, deck_start: float) -> Tr
     phi(x_s - deck_start) q_d (the deck's vertical rail-level shapes ``deck.rail_shapes(x).z``, bending and
     torsion times the track's offset), instead of the ground; the deck's mass-normalised modal coordinates
     q_d (with their own omega^2 and 2 zeta omega) are appended to the DOFs. Supports off the deck stay on
-    the ground. The track's masses move with the deck: the deck's own modes must leave them out (a bridge
+    rigid ground (the chain of ``ground="rigid"``; the ballast's mass on the deck is the deck's). The track's masses move with the deck: the deck's own modes must leave them out (a bridge
     whose added mass holds the rails and sleepers counts them twice)."""
     if track.deck_dofs.size:
         raise ValueError("the track already stands on a deck")
+    if len(track.chain) != 2:  # ground="subgrade": its subgrade spring would end on the deck
+        raise ValueError("track_on_deck takes the track built with ground='rigid' (the ballast or the mortar "
+                         "ends on the deck); a subgrade off the deck is not modelled yet")
     chain = track.chain
     k, c = chain[-1][0], chain[-1][1]
     bottom = track.support_dofs[:, -1]  # the lowest mass of each support (a chain has at least one)

@@ -56,6 +56,8 @@ def test_the_deck_modes_are_appended_and_off_deck_supports_stay_on_the_ground(ca
     assert on_deck.n_dof == track.n_dof + deck.n_modes and on_deck.deck_dofs.size == deck.n_modes
     with pytest.raises(ValueError):
         track_on_deck(on_deck, deck, X_DECK)
+    with pytest.raises(ValueError, match="rigid"):  # the subgrade's spring must not end on the deck
+        track_on_deck(track_model(structure, 10, ground="subgrade"), deck, X_DECK)
 
 
 def test_rail_receptance_on_the_deck_against_track_plus_deck(case):
