@@ -31,6 +31,7 @@ _LAZY = {
     "run_monte_carlo": "tb_exudyn.methods",
     "simulate": "tb_exudyn.methods",
     "BatchedOptions": "tb_exudyn.methods",
+    "run_uq": "tb_exudyn.methods.uq",
 }
 
 
@@ -71,6 +72,7 @@ __all__ = [
     "run_deterministic",
     "run_monte_carlo",
     "run_pem",
+    "run_uq",
     "save_scenario",
     "simulate",
 ]

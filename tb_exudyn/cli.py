@@ -20,7 +20,7 @@ from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
 from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text
+from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
 from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
@@ -180,7 +180,7 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
             raise
         key, value = typed[exc.key]
         raise exc.restated(WHERE, flag(key), value) from None
-    print(f"scenario {scenario.name}: {len(speeds)} speeds {speeds[0]:g}-{speeds[-1]:g} km/h")
+    print(f"scenario {scenario.name}: {len(speeds)} speeds {cli_text.kmh(speeds[0])}-{cli_text.kmh(speeds[-1])} km/h")
     with removed_if_left_empty(args.out):  # one refused later (or interrupted) leaves no new empty --out
         out = check_writable(args.out)
         with folder_lock_of(out):
@@ -424,6 +424,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     cli_results.add_parsers(sub)
     cli_modes.add_parser(sub)
+    cli_uq.add_parser(sub, _methods)
     return parser
 
 

@@ -17,7 +17,7 @@ def rule_lines(result: Any) -> list[str]:
     """The speed rule (each speed's scenario from the base's), and the default key quantities the
     model lacks, each wrapped to the terminal."""
     prov = result.provenance
-    text = f"speed rule (as run --speed-kmh; v0 = {result.base.speed_kmh:g} km/h): {prov.get('speed_rule', '')}"
+    text = f"speed rule (as run --speed-kmh; v0 = {format_number(result.base.speed_kmh)} km/h): {prov.get('speed_rule', '')}"
     out = textwrap.wrap(text, TERMINAL_WIDTH, subsequent_indent="  ", break_on_hyphens=False)
     left = prov.get("quantities_left_out") or []
     if left:

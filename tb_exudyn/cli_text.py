@@ -39,6 +39,9 @@ def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]
 
 #: channels listed on the terminal, the largest max |mean| + 3 sigma relative to max |mean| first
 SHOWN_CHANNELS = 8
+#: a value at most this fraction of the largest of its unit is round-off (a lateral mean of a vertical-only
+#: load, 6e-19 mm): shown as 0
+NOISE = 1e-9
 
 
 def summary_table(result, k: float = 3.0) -> str:
@@ -69,8 +72,12 @@ def short_summary(result, table_path, k: float = 3.0) -> str:
                  "output folder):")
     lines.append(f"  {'channel':<{width}}  {'max |mean|':>12} {'max sigma':>12} {f'max |mean| + {k:g} sigma':>20}")
     unanswered = ""
+    scale: dict[str, float] = {}  # per unit the largest value: what is 1e-9 of it is round-off, shown as 0
+    for _, u, m, sd, p in rows:
+        scale[u] = max(scale.get(u, 0.0), abs(m), abs(sd), abs(p))
     for n, u, m, sd, p in key:
         du = display_unit(u)
+        m, sd, p = (0.0 if abs(x) <= NOISE * scale[u] else x for x in (m, sd, p))
         why = unmet_requirement(result, "axle_force_y", n) if fnmatch.fnmatchcase(n, "car*.axle*.force_y") else None
         unanswered = unanswered or (why or "").split(":")[0].split("; ")[-1]
         lines.append(f"  {n:<{width}}  {format_number(du.factor * m):>12} {format_number(du.factor * sd):>12} "
@@ -88,6 +95,11 @@ _ASKS = re.compile(r"use ((?:track|analysis|bridge|train)\.[A-Za-z0-9_.]+) (?:>=
 TERMINAL_WIDTH, WARNING_LINES = 100, 2
 #: no line a command prints is longer
 LINE_MAX = 200
+
+
+def kmh(v: float) -> str:
+    """A speed [km/h] to 0.1 km/h, what a speed means on a line (204.724 -> '204.7', 250.0 -> '250')."""
+    return f"{v:.1f}".removesuffix(".0")
 
 
 def fitted(text: str, width: int = LINE_MAX) -> str:
@@ -163,4 +175,4 @@ def library_listing() -> str:
     return "\n".join(out)
 
 
-__all__ = ["LINE_MAX", "fitted", "library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]
+__all__ = ["LINE_MAX", "fitted", "kmh", "library_listing", "SHOWN_CHANNELS", "bridge_frequency_rows", "short_summary", "summary_table", "terminal_warning", "with_set_hint"]

@@ -46,6 +46,7 @@ EXPECTED: dict[str, tuple[str, ...]] = {
                        "350/pem/meta.json"),
     "li_zhu_2011_verification.py": ("comparison.txt", "pem/meta.json", "mc/meta.json", "figures/*.pem_vs_mc.png"),
     "creep_car_stability.py": ("stability.txt",),
+    "uq_reference_bridge.py": ("uq/meta.json", "uq/arrays.npz", "uq.txt"),
     "imported_modal_bridge.py": ("bridge/bridge.toml", "bridge/modes.csv", "bridge/shapes.csv", "scenario.toml",
                                  "comparison.txt", "alpha_1/det/meta.json"),
 }

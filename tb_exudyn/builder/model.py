@@ -30,6 +30,7 @@ from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
 from ..scenario.sections import track_lines
+from ..scenario.track_structure import refuse_unmodelled_track
 from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
@@ -440,6 +441,7 @@ def build_model(
     -------
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
+    refuse_unmodelled_track(scenario)  # the engines have no track layer yet: never the wheel on the deck silently
     bridge = (modal_bridge if modal_bridge is not None else bridge_modes(scenario)).on_track(scenario.track.on)
     check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
     model = TrainBridgeModel(scenario, bridge)

@@ -88,6 +88,8 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     twist_at = f"track {t + 1}, rails from x = {sd.twist_x[t]:.3g} m over 3 m"
     out.append(_verdict(c, alpha * phi * v, c.limit_value(speed_kmh=line_speed_kmh),
                         f"{load}, track {t + 1} loaded, line speed {line_speed_kmh:g} km/h", twist_at, a_note))
+    out.append(_dynamic_twist_verdict(crits.criterion("deck_twist_3m_dynamic"), responses, cases, train_names,
+                                      line_speed_kmh))
     c = crits.criterion("deck_twist_3m_total")
     out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}, track {t + 1} loaded", twist_at,
                         "the track's own twist taken as 0 (no cant transition in the bridge data); " + a_note))
@@ -136,6 +138,24 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     out.append(_envelope_verdict(crits.criterion("dynamic_factor_envelope"), rows, responses, cases, train_names,
                                  alpha * phi * np.max([d.max() for d in sd.deflection[:1]]), load))
     return tuple(out)
+
+
+def _dynamic_twist_verdict(c, responses, cases, train_names, line_speed_kmh: float) -> CriterionVerdict:  # noqa: ANN001
+    """The largest twist peak of the moving-force responses (every train, speed and mass case)."""
+    best, where = -1.0, None
+    k = 0
+    for case in cases:
+        for name in train_names:
+            resp = responses[k]
+            k += 1
+            if resp.max_twist.size and resp.max_twist.max() > best:
+                s, j = np.unravel_index(int(np.argmax(resp.max_twist)), resp.max_twist.shape)
+                best, where = float(resp.max_twist[s, j]), (name, case, float(resp.speeds_kmh[j]), float(resp.twist_x[s]))
+    if where is None:
+        return _verdict(c, math.nan, math.nan, "-", "-", "no twist station computed")
+    name, case, v, x = where
+    return _verdict(c, best, c.limit_value(speed_kmh=line_speed_kmh), f"{name} at {v:g} km/h ({case} case)",
+                    f"track 1, rails from x = {x:.3g} m over 3 m", "moving forces on the modes up to the cut-off")
 
 
 def _envelope_verdict(c, rows, responses, cases, train_names, lm71_phi: float, load: str) -> CriterionVerdict:  # noqa: ANN001

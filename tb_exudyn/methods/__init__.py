@@ -31,7 +31,7 @@ from ..results.random_response import RandomResponse
 from ..scenario import Scenario
 from ..scenario.io import as_scenario
 from ..system.linear import LINEARIZATIONS
-from . import monte_carlo, pem, sweep
+from . import monte_carlo, pem, sweep, uq
 from .deterministic import DeterministicMethod, run_deterministic, summarize
 from .driver import Method, RunPlan, drive
 from .monte_carlo import LossOfContactWarning, MonteCarloMethod

@@ -48,7 +48,7 @@ from ..errors import SettingError
 from ..scenario import Scenario, ScenarioError
 from ..system.columns import ProfileColumns
 from ..system.excitation import ProfileExcitation
-from ..track import HarmonicProfile, band_from_wavelengths, fft_profile, get_spectrum, sample_rng
+from ..track import HarmonicProfile, band_from_wavelengths, fft_profile, sample_rng, track_spectrum
 from .grid import FrequencyGrid, band_mask, check_grid_against_spectra, scenario_grid
 from .pem import kind_and_unit
 
@@ -102,7 +102,7 @@ class ProfileSampler:
             raise ScenarioError(scenario.where, "track.irregularities", [], "at least one spectrum name",
                                 "no irregularity to sample")
         self.scenario, self.discretisation = scenario, discretisation
-        self.spectra = tuple(get_spectrum(n) for n in names)
+        self.spectra = tuple(track_spectrum(n, scenario.track.irregularity_level) for n in names)
         self.kinds = tuple(kind_and_unit(n, scenario.where) for n in names)  # (kind, "angle" | "height")
         xl_units = {u for k, u in self.kinds if k == "cross_level"}
         #: cross-level as given if all spectra agree, else heights are converted to angles

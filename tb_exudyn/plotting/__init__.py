@@ -15,9 +15,10 @@ from .data import (
 from .figures import (mark_crossing, plot_bounds, plot_pem_vs_mc, plot_psd_map, plot_psd_slices, plot_speed_sweep,
                       plot_time_history)
 from .files import draw_jobs, figure_jobs, plot_folder, save_figure
+from .uq_figure import plot_uq_band, plot_uq_sobol
 
 __all__ = ["plot_check", 
     "Crossing", "KEY_CHANNELS", "axis_label", "channel_label", "crossing_times", "default_channels", "display_unit",
     "draw_jobs", "figure_jobs", "mark_crossing", "plot_bounds", "plot_folder", "plot_pem_vs_mc", "plot_psd_map",
-    "plot_psd_slices", "plot_speed_sweep", "plot_time_history", "psd_slices", "save_figure", "select_channels",
+    "plot_psd_slices", "plot_speed_sweep", "plot_time_history", "plot_uq_band", "plot_uq_sobol", "psd_slices", "save_figure", "select_channels",
 ]

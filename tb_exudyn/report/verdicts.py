@@ -236,6 +236,10 @@ def _top_table(groups: list[tuple[str, str, list[CheckEntry]]], notes: _Notes, f
             reason = reason_of(c) if c.verdict == "NOT EVALUATED" else None
             if reason is None:
                 cells = _cells(c, notes, figure_ids)
+                if c.probability is not None:  # the row's location: the criterion's most probable exceedance
+                    cells = (Raw(cells[0].html + ' <small title="of the criterion\'s locations, the one whose '
+                                 'probability of exceeding the limit is largest">(most likely to exceed)</small>'),
+                             *cells[1:])
                 out.append(f"<tr><td>{criterion}</td>" + "".join(_td(cell, cls) for cell, cls in zip(cells, _CLASSES)) + "</tr>")
                 i += 1
                 continue

@@ -46,6 +46,7 @@ import fnmatch
 import math
 import os
 import re
+import textwrap
 import weakref
 from dataclasses import dataclass
 from typing import Any
@@ -57,6 +58,7 @@ from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, qua
 from ..scenario.registry import model_files, models_dir
 from ..scenario.schema import source_file
 from ..system import statistics as st
+from ..system.labels import channel_label
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
                       unmet_requirement, window_effect)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
@@ -543,21 +545,17 @@ def cached_checks(result: Any, limits: Any = None, *, probability: float = DEFAU
 
 
 def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
-    """Lines for a terminal summary (the CLI), each under about 100 characters: the counts, then per
-    limit set (the bridge's first) one line per criterion with its deciding location, estimate, limit
-    and probability, and once per set why its rows are not evaluated or conditional."""
+    """Lines for a terminal summary (the CLI), at most 160 characters: the counts by criterion, then per limit set
+    (the bridge's first) a line per criterion with its deciding location, estimate, limit and probability (those
+    not evaluated on one line), and once per set why its rows are not evaluated or conditional."""
     table = cached_checks(result, limits, **options)
-    counts = table.counts()
     n_cond = sum(r.conditional for r in table.rows)
-    worst = table.worst()  # one row per criterion: the location that decides it
-    by_criterion = {v: sum(r.verdict == v for r in worst) for v in VERDICTS}
+    worst = table.worst()  # one row per criterion: the location that decides it; counted by criterion first
+    said = lambda rows: ", ".join(f"{n} {v}" for v in VERDICTS if (n := sum(r.verdict == v for r in rows)))  # noqa: E731
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): {len(worst)} criteria: "
-             + ", ".join(f"{by_criterion[v]} {v}" for v in VERDICTS if by_criterion[v])
-             + f" (at {len(table.rows)} locations: " + ", ".join(f"{counts[v]} {v}" for v in VERDICTS if counts[v])
-             + (f"; {n_cond} conditional" if n_cond else "") + ")"]
+             f"{said(worst)} (at {len(table.rows)} locations: {said(table.rows)}{f'; {n_cond} conditional' if n_cond else ''})"]
     if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
-        lines.append(f" value vs limit: the value is the level exceeded with P {table.target:.3g} in one passage, at "
-                     "the location most likely to exceed the limit")
+        lines.append(f" value vs limit: the level exceeded with P {table.target:.3g} in one passage, at the location most likely to exceed")
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
                   key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
     for name in sets:
@@ -567,10 +565,15 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
             shown = "" if r.probability is None else format_probability(r)
             p = "" if not shown else f", P {shown}" if shown.startswith("<") else f", P = {shown}"
             est = format_value(r.estimate, r.unit, with_unit=False)
-            where = r.channel.removeprefix("bridge.")
+            where = channel_label(r.channel).rsplit(", ", 1)[0]  # the place in words (the criterion names the quantity)
             value = "" if r.verdict == "NOT EVALUATED" else f": {est} vs {format_value(r.limit, r.unit)}{p}"
-            lines.append(f"  {r.verdict_text:<21} {r.criterion.split('/', 1)[1]} at {where}{value}")
             short = r.criterion.split("/", 1)[1]
+            if r.verdict == "NOT EVALUATED" and lines[-1].startswith("  NOT EVALUATED  "):  # one line for them all
+                lines[-1] += f", {short}"
+            elif r.verdict == "NOT EVALUATED":
+                lines.append(f"  NOT EVALUATED  {short}")
+            else:
+                lines.append(f"  {r.verdict_text:<21} {short} at {where}{value}")
             for c in r.caveats:
                 if c.kind == "model":
                     text = c.text
@@ -588,7 +591,8 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
         for text in notes:  # a model's reason and what to run instead on two lines
             first, _, then = text.partition(": ")
             lines.append(f"    note: {first}" + ("" if not then else f"\n          {then}"))
-    return [ln for line in lines for ln in line.split("\n")]
+    return [w for line in lines for ln in line.split("\n") for w in (textwrap.wrap(
+        ln, 160, subsequent_indent=" " * 17, break_on_hyphens=False) if ln.startswith("  NOT EVALUATED  ") else [ln])]
 
 
 __all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "MODEL_REQUIREMENTS",

@@ -131,12 +131,15 @@ def _is_field(table: dict, key: str) -> bool:
 
 
 def load_scenario(path_or_name: str | Path) -> m.Scenario:
-    """Load a scenario from a TOML file or by name (``tb-exudyn list`` shows the names).
+    """Load a scenario from a TOML file or by name (``tb-exudyn list`` shows the names). Its
+    ``[uncertain]`` table, if any, is left to :func:`tb_exudyn.scenario.uncertain.load_study`.
 
     Raises ScenarioError naming the file, key, value and what is allowed for any bad input.
     """
     path = resolve_model_path(path_or_name, "scenarios")
-    return scenario_from_dict(read_toml(path), str(path))
+    data = read_toml(path)
+    data.pop("uncertain", None)  # the uncertain keys of `tb-exudyn uq` (scenario/uncertain.py: load_study)
+    return scenario_from_dict(data, str(path))
 
 
 def load_vehicle(path_or_name: str | Path) -> m.Vehicle:

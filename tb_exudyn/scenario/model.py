@@ -380,6 +380,11 @@ class Track(_Replaceable):
     half_gauge: float = param(0.75, unit="m", doc="b: half the distance between the rail centres", check=POSITIVE)
     on: int = param(1, doc="the track the train runs on: 1, 2, ... of the bridge's tracks (bridge.tracks)",
                     check=Check(low=1.0, low_inclusive=True, high=100.0))
+    irregularity_level: float = param(
+        1.0, unit="-", check=Check(low=0.0, high=100.0),
+        doc="factor on the PSD level of every irregularity spectrum (track quality; 1: the spectra as given, "
+            "2: twice their variance)",
+    )
     taper_length: float = param(
         20.0, unit="m", check=NONNEGATIVE,
         doc="the irregularity rises from 0 (cosine taper) over this length after the first axle's start "

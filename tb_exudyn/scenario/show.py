@@ -185,7 +185,7 @@ def run_label(scenario: Scenario) -> str:
     n_tracks = len(track_lines(scenario.bridge))
     if n_tracks > 1:
         layout += f", track {scenario.track.on} of {n_tracks}"
-    return (f"{train} at {scenario.speed_kmh:g} km/h over {scenario.bridge.name} ({layout}); {irr}; "
+    return (f"{train} at {scenario.speed_kmh:.1f}".removesuffix(".0") + f" km/h over {scenario.bridge.name} ({layout}); {irr}; "
             f"{an.freq_min:.3g}-{an.freq_max:.3g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
 
 

@@ -23,7 +23,8 @@ def read_toml(path: Path) -> dict:
     try:
         text = read_text(path, max_bytes=MAX_TOML_BYTES, follow_symlinks=True)
     except FileNotFoundError:
-        raise ScenarioError(str(path), "<file>", str(path), "an existing TOML file", "file not found") from None
+        tried = "" if Path(path).is_absolute() else f" (looked for {Path(path).absolute()})"
+        raise ScenarioError(str(path), "<file>", str(path), "an existing TOML file", "file not found" + tried) from None
     except FileRefused as exc:
         raise ScenarioError(str(path), "<file>", str(path), allowed, str(exc)) from None
     try:

@@ -176,5 +176,16 @@ def check_track_structure(structure: str, bridge, track_line_height: float, ctx:
                         "the track does not fit the bridge's track height")
 
 
+def refuse_unmodelled_track(scenario) -> None:  # noqa: ANN001
+    """A run of a scenario with a ``track.structure`` is refused (one ScenarioError naming the key) until the
+    engines model the track layer: its data is read, checked and shown, but a run would silently give the
+    wheel on the deck (docs/track.md says what exists: the track alone and a wheel on it, in numpy)."""
+    if scenario.track.structure:
+        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure,
+                            "empty: the engines do not model the track layer yet (docs/track.md); the "
+                            "EN 1991-2 load distribution is in tb_exudyn.codes.load_distribution",
+                            "a track structure no run models yet")
+
+
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",
-           "track_structure_path"]
+           "refuse_unmodelled_track", "track_structure_path"]

@@ -511,7 +511,7 @@ class ModeTable:
             lines.append(
                 f"{i + 1:>4} {self.frequency[i]:>10.4f} {fd:>10} {zs:>9} "
                 f"{_fmt_time(tau[i]):>9} {self.kind[i]:<9} {self.label[i]}"
-                + ("" if reached[i] else " [no input reaches it here]")
+                + ("" if reached[i] else " (not excited here: no track input reaches it)")
             )
         lines.append("(f_n = |lambda| / 2 pi undamped, f_d = Im lambda / 2 pi damped; decay = 1 / (zeta omega_n); "
                      "zeta >= 1: a real eigenvalue lambda, a non-oscillating motion decaying as exp(lambda t), "

@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..scenario.track_structure import TrackStructure
+from ..structure.modal import ModalBridge, RailShapes
 
 
 def beam_element(ei: float, mass_per_length: float, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -138,6 +139,63 @@ def track_model(structure: TrackStructure, n_supports: int, elements_per_bay: in
                       n_rail=n_rail, support_dofs=support_dofs, chain=chain, M=M, K=K, C=C)
 
 
+def hermite_slope(xi: np.ndarray, h: float) -> np.ndarray:
+    """(n, 4): d/dx of the cubic Hermite shape functions at local coordinates xi of an element of length h."""
+    xi = np.asarray(xi, dtype=float)
+    return np.stack([(-6 * xi + 6 * xi**2) / h, 1 - 4 * xi + 3 * xi**2, (6 * xi - 6 * xi**2) / h,
+                     3 * xi**2 - 2 * xi], axis=-1)
+
+
+@dataclass(frozen=True)
+class ModalTrack:
+    """The track in the form the wheel-rail coupling reads (tb_exudyn.system.coupling): ``bridge`` a
+    :class:`~tb_exudyn.structure.modal.ModalBridge` whose modes are the track's (mass-normalised, undamped
+    modes of M, K up to ``max_frequency``) and whose rail shapes are the rail's Hermite rows times the
+    modes (``z``, ``dz``; the lateral rows zero; zero off the rail); ``damping`` (n, n) the track's damping
+    in these coordinates, Phi^T C Phi: not diagonal (the pads' and the ballast's dampers are not
+    proportional), so it belongs in the linear system's D0, not in modal ratios."""
+
+    bridge: ModalBridge
+    damping: np.ndarray = field(repr=False)
+    modes: np.ndarray = field(repr=False)
+
+
+def modal_track(track: TrackModel, max_frequency: float | None = None) -> ModalTrack:
+    """The track's modes (all of them, or up to ``max_frequency`` [Hz]) as a ModalTrack (dense eigen-
+    solution: for tracks of a few hundred DOFs)."""
+    from scipy.linalg import eigh
+
+    lam, phi = eigh(track.K.toarray(), track.M.toarray())
+    lam = np.maximum(lam, 0.0)
+    freq = np.sqrt(lam) / (2 * np.pi)
+    keep = np.ones(freq.size, bool) if max_frequency is None else freq <= max_frequency
+    freq, phi = freq[keep], phi[:, keep]
+    damping = phi.T @ (track.C @ phi)
+    ratios = np.diag(damping) / (2 * np.maximum(2 * np.pi * freq, 1e-300))
+    n_el = int(round(track.length / track.h))
+    length = track.length
+
+    def shapes(x: np.ndarray) -> RailShapes:
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        on = (x >= 0.0) & (x <= length)
+        xc = np.clip(x, 0.0, length)
+        e = np.minimum((xc / track.h).astype(int), n_el - 1)
+        xi = xc / track.h - e
+        dofs = 2 * e[:, None] + np.arange(4)[None, :]
+        rows = phi[dofs]  # (n_x, 4, n)
+        z = np.einsum("xk,xkn->xn", hermite(xi, track.h), rows) * on[:, None]
+        dz = np.einsum("xk,xkn->xn", hermite_slope(xi, track.h), rows) * on[:, None]
+        zero = np.zeros_like(z)
+        return RailShapes(zero, z, zero, zero.copy(), dz, zero.copy())
+
+    bridge = ModalBridge(frequencies=freq, damping_ratios=ratios, length=length,
+                         mode_types=("track",) * freq.size, station_names=(),
+                         station_shapes=np.zeros((0, 3, freq.size)), rail_shape_function=shapes,
+                         description=f"track {track.structure_name}: {freq.size} modes of one rail on "
+                                     f"{track.support_x.size} supports")
+    return ModalTrack(bridge=bridge, damping=damping, modes=phi)
+
+
 def _spring(upper: np.ndarray, lower: np.ndarray | None, value: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """COO entries of springs (or dampers) of one value between DOFs ``upper`` and ``lower`` (None: the ground)."""
     n = upper.size
@@ -149,4 +207,4 @@ def _spring(upper: np.ndarray, lower: np.ndarray | None, value: float) -> tuple[
     return r, c, v
 
 
-__all__ = ["TrackModel", "beam_element", "hermite", "track_model"]
+__all__ = ["ModalTrack", "TrackModel", "beam_element", "hermite", "hermite_slope", "modal_track", "track_model"]

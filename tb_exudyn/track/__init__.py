@@ -10,7 +10,7 @@ from .sampling import (CombinedProfile, GridProfile, HarmonicProfile, TrackProfi
                        harmonic_profile, rail_profiles, sample_rng)
 from .spectra import (HALF_RAIL_DISTANCE, FrybaSpectrum, PowerLawSpectrum, RationalSpectrum, Spectrum,
                       SpectrumError, TableSpectrum, band_from_wavelengths, get_spectrum, spectrum_names,
-                      wavelengths_from_band)
+                      track_spectrum, wavelengths_from_band)
 from .table import user_table_spectrum
 
 __all__ = [
@@ -18,6 +18,6 @@ __all__ = [
     "PowerLawSpectrum", "RationalSpectrum", "Spectrum", "SpectrumError", "TableSpectrum", "TrackProfile",
     "band_from_wavelengths", "band_variance", "check_band", "closed_form_variance", "fft_bins", "fft_profile",
     "get_spectrum", "harmonic_profile", "pseudo_excitation", "pseudo_excitation_hz", "quadrature_weights",
-    "rail_profiles", "sample_rng", "spectrum_names", "temporal_psd_hz", "temporal_psd_rad",
+    "rail_profiles", "sample_rng", "spectrum_names", "temporal_psd_hz", "track_spectrum", "temporal_psd_rad",
     "user_table_spectrum", "wavelengths_from_band", "welch_psd",
 ]

@@ -386,6 +386,34 @@ def spectrum_names() -> list[str]:
     return list(_registry())
 
 
+@dataclass(frozen=True, eq=False)
+class LevelledSpectrum(Spectrum):
+    """A spectrum whose PSD is ``level`` times that of ``base`` (the scenario's
+    ``track.irregularity_level``: the track's quality as a factor on the spectra's level)."""
+
+    base: Spectrum = None  # type: ignore[assignment]
+    level: float = 1.0
+
+    def _psd(self, omega: NDArray[np.float64]) -> NDArray[np.float64]:
+        return self.level * self.base._psd(omega)
+
+    def breakpoints(self) -> tuple[float, ...]:
+        return self.base.breakpoints()
+
+    def closed_form_variance(self, omega_min: float, omega_max: float) -> float:
+        return self.level * self.base.closed_form_variance(omega_min, omega_max)
+
+
+def track_spectrum(name: str, level: float = 1.0) -> Spectrum:
+    """The spectrum ``name`` at the track's level (``track.irregularity_level``): the ONE place where the
+    level factor is applied; at level 1 the registry's spectrum itself (bitwise as before)."""
+    s = get_spectrum(name)
+    if level == 1.0:
+        return s
+    return LevelledSpectrum(name=s.name, kind=s.kind, unit=s.unit, source=s.source + f"; PSD level x {level:g}",
+                            default_band=s.default_band, validity=s.validity, base=s, level=float(level))
+
+
 def get_spectrum(name: str) -> Spectrum:
     """Built-in spectrum by name; SpectrumError naming the bad name and listing the allowed ones."""
     try:

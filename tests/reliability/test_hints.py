@@ -38,11 +38,11 @@ SCENARIO_KEY = r"(?:track|analysis|bridge|train)"
 #: (pattern over a message's text, the hint it gives) -- the hint's identity: the flag or the --set key
 HINT_PATTERNS: tuple[tuple[re.Pattern[str], Callable[[re.Match[str]], str]], ...] = (
     (re.compile(rf"--set ({SCENARIO_KEY}[A-Za-z0-9_.]*)="), lambda m: f"--set {m[1]}"),
-    (re.compile(rf"\buse ({SCENARIO_KEY}\.[A-Za-z0-9_.]+) (?:>=|<=|=) "), lambda m: f"--set {m[1]}"),
-    (re.compile(r"run again with (--[a-z-]+|resume)\b"), lambda m: "--resume" if m[1] == "resume" else m[1]),
+    (re.compile(rf"\b(?i:use) ({SCENARIO_KEY}\.[A-Za-z0-9_.]+) (?:>=|<=|=) "), lambda m: f"--set {m[1]}"),
+    (re.compile(r"(?i:run again with) (--[a-z-]+|resume)\b"), lambda m: "--resume" if m[1] == "resume" else m[1]),
     (re.compile(r"\b(overwrite|resume|keep_checkpoint)=True"), lambda m: "--" + m[1].replace("_", "-")),
     (re.compile(r"\banother (?:out folder|--out|output folder)"), lambda m: "--out"),
-    (re.compile(r"\b(?:use|fewer|or|with) (--[a-z][a-z-]+)"), lambda m: m[1]),
+    (re.compile(r"\b(?i:use|fewer|or|with) (--[a-z][a-z-]+)"), lambda m: m[1]),
 )
 
 
@@ -182,6 +182,19 @@ def case_memory_flags(d: Path) -> None:
     assert done.returncode == 0, done.stderr
 
 
+def case_sweep_freq_spacing(d: Path) -> None:
+    """The sweep report on a grid not converged: 'Use --freq-spacing adaptive or more frequencies
+    (--n-freq)': a sweep of a scenario with 40 linear frequencies, with --freq-spacing adaptive added,
+    runs (each speed takes the count its adaptive grid needs)."""
+    sc = load_scenario("quick")
+    path = save_scenario(sc.replace(analysis=sc.analysis.replace(freq_spacing="linear", n_freq=40)), d / "q40.toml")
+    argv = ["sweep", str(path), "--speeds-kmh", "200,250", "--out", str(d / "s"), "--no-figures", "--workers", "1"]
+    done = tb(*argv, "--freq-spacing", "adaptive", cwd=d)
+    assert done.returncode == 0, done.stderr
+    more = tb(*argv, "--n-freq", "80", "--out", str(d / "s2"), cwd=d)
+    assert more.returncode == 0, more.stderr
+
+
 def case_check_resume(d: Path) -> None:
     """Ctrl-C during `check` prints 'run again with --resume' (the message is common to all commands);
     `check` must take it (helper checksafe's part of issue 49)."""
@@ -203,6 +216,7 @@ CASES: dict[str, tuple[Callable[[Path], None], ...]] = {
     "--engine": (case_engine,),
     "--workers": (case_memory_flags,),
     "--psd-channels": (case_memory_flags,),
+    "--freq-spacing": (case_sweep_freq_spacing,),
 }
 
 

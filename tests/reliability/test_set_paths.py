@@ -52,6 +52,10 @@ def test_a_set_file_that_is_missing_names_the_path_tried(layout, capsys):
     assert main(["show", str(scenario), "--set", "bridge=sc/x.toml"]) == 2
     err = _one_line(capsys)
     assert str(tmp / "sc" / "x.toml") in err and "file not found" in err and "'bridge=sc/x.toml'" in err
+    # a scenario file given relative to the working folder: the message names where it looked
+    assert main(["show", "sc/missing.toml"]) == 2
+    err = _one_line(capsys)
+    assert "sc/missing.toml" in err and str(tmp / "sc" / "missing.toml") in err and "file not found" in err
 
 
 def test_a_bad_value_in_a_set_file_names_that_file_and_its_key(layout, capsys):

@@ -83,3 +83,18 @@ def test_bad_track_data_is_one_line_and_exit_2(tmp_path, capsys, changes, scenar
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and expect in err and "Traceback" not in err, err
     assert str(path) in err or "track.structure" in err, err
+
+
+def test_a_run_with_a_track_structure_is_refused_until_the_engines_model_it(tmp_path, capsys):
+    """No engine models the track layer yet: a run must not give the wheel on the deck silently."""
+    out = tmp_path / "out"
+    assert main(["run", "quick", "--set", "track.structure=ballasted_uic60", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "track.structure" in err and "no run models yet" in err, err
+    assert not out.exists()
+    from tb_exudyn.builder import build_model
+    from tb_exudyn.scenario import ScenarioError
+
+    sc = load_scenario("quick")
+    with pytest.raises(ScenarioError, match="track.structure"):
+        build_model(sc.replace(track=sc.track.replace(structure="ballasted_uic60")))

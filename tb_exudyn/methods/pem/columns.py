@@ -17,7 +17,7 @@ from ...scenario import Scenario
 from ...system.columns import HarmonicColumns
 from ...system.conventions import cross_level_scale, spatial_frequency
 from ...system.excitation import KINDS
-from ...track import get_spectrum
+from ...track import get_spectrum, track_spectrum
 from ..grid import FrequencyGrid, band_mask
 from ..pseudo_reduction import PseudoReduction
 from ..reduction import ReductionPlan
@@ -67,7 +67,7 @@ def pem_tasks(scenario: Scenario, grid: FrequencyGrid) -> list[PemTask]:
     omegas, d_omegas = grid.omega_spatial, grid.d_omega_spatial  # properties: computed once, not per k
     out = []
     for ti, name in enumerate(scenario.track.irregularities):
-        s = get_spectrum(name)
+        s = track_spectrum(name, scenario.track.irregularity_level)
         for k in np.flatnonzero(mask):
             omega, d_omega = omegas[k], d_omegas[k]
             amp = math.sqrt(float(s.psd(omega)) * d_omega)  # one by one: bitwise as before (not vectorised)

@@ -1,0 +1,133 @@
+"""``tb-exudyn uq``: polynomial chaos over PEM runs under uncertain scenario keys (issue 46), for the
+command line (cli.py adds the command and hands it the methods package, loaded when it runs).
+
+Everything a user can get wrong (the scenario, the ``[uncertain]`` table or file, the options, every
+node's scenario) is checked before ``--out`` is created or written: one line, exit 2."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from .atomic import write_atomic
+from .cli_flags import WHERE
+from .errors import SettingError
+from .execution.output import removed_if_left_empty
+from .scenario.io import parse_setting
+from .scenario.uncertain import load_study
+from .storage import check_writable
+
+#: run_uq's arguments and the options that give them
+UQ_FLAGS = {"order": "--order", "nodes": "--nodes", "design": "--design", "channels": "--channels",
+            "keys": "--uncertain-file", "window": "--window", "workers": "--workers"}
+
+
+def _int(text: Any, option: str, low: int) -> int | None:
+    if text is None:
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        raise SettingError(WHERE, option, text, f"a whole number >= {low}", "not a whole number") from None
+    if value < low:
+        raise SettingError(WHERE, option, value, f"a whole number >= {low}", "out of range")
+    return value
+
+
+def _settings(args: argparse.Namespace) -> list[tuple[str, Any]]:
+    out = []
+    for text in args.settings or ():
+        try:
+            out.append(parse_setting(text))
+        except ValueError as exc:
+            raise SettingError(WHERE, "--set", text, str(exc)) from None
+    return out
+
+
+def _study(args: argparse.Namespace) -> tuple[Any, Any]:
+    return load_study(args.scenario, args.uncertain_file, _settings(args))
+
+
+def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
+    """The command: the study loaded and checked, then :func:`tb_exudyn.methods.uq.run_uq` into --out."""
+    order, nodes, workers = _int(args.order, "--order", 1), _int(args.nodes, "--nodes", 2), _int(args.workers, "--workers", 1)
+    scenario, keys = _study(args)
+    design = args.design or ("sobol" if nodes is not None else "tensor")
+    window = None if args.window is None else tuple(args.window)
+    common = dict(order=order, design=design, nodes=nodes, channels=args.channels, window=window)
+    try:  # every check of the study (design, keys, each node's scenario) before --out is touched
+        methods.uq.UqMethod(scenario, tuple(keys), order, design, nodes, channels=args.channels,
+                            window=window).plan_checks()
+    except SettingError as exc:
+        if exc.where != "run_uq" or exc.key not in UQ_FLAGS:
+            raise
+        raise exc.restated(WHERE, UQ_FLAGS[exc.key]) from None
+    print(f"scenario {scenario.name}: {len(keys)} uncertain keys ({', '.join(k.key for k in keys)}), "
+          f"order {order}, {design} design")
+    with removed_if_left_empty(args.out):
+        out = check_writable(args.out)
+        result = methods.uq.run_uq(scenario, keys, workers=workers, out=out, resume=args.resume,
+                                   progress=not args.no_progress, overwrite=args.overwrite, **common)
+    for line in summary_lines(result):
+        print(line)
+    if not args.no_figures:
+        print(f"figures: {', '.join(p.name for p in save_figures(result, out))}")
+    print(f"({result.provenance['n_nodes']} nodes in {result.provenance['seconds']:.1f} s, "
+          f"{result.provenance.get('tasks_from_checkpoint', 0)} from the checkpoint) result in {(out / 'uq').resolve()}")
+    return 0
+
+
+#: the channels whose sigma(t) band is drawn (the first of the study's)
+BAND_FIGURES = 4
+
+
+def save_figures(result: Any, out: Path) -> list[Path]:
+    """``out/uq_sobol.png`` (the Sobol bars) and ``out/uq_band.<channel>.png`` for the first
+    :data:`BAND_FIGURES` channels, each written atomically (matplotlib loaded now, by the result)."""
+    items = [("uq_sobol.png", result.plot_sobol())]
+    items += [(f"uq_band.{ch}.png", result.plot_band(ch)) for ch in result.channels[:BAND_FIGURES]]
+    return [write_atomic(out / name, lambda fh, f=fig: f.savefig(fh, format="png", dpi=100)) for name, fig in items]
+
+
+def summary_lines(result: Any) -> list[str]:
+    """The study's table: per quantity its mean, std, leave-one-out error and the key of the largest
+    total Sobol index; then P_f per criterion."""
+    lines = [f"{'quantity':<52} {'mean':>11} {'std':>11} {'LOO':>8}  most influential key (total Sobol)"]
+    for name in result.quantities:
+        q = result.quantity(name)
+        key, s = max(q["sobol_total"].items(), key=lambda kv: -1.0 if kv[1] != kv[1] else kv[1])
+        lines.append(f"{name:<52} {q['mean']:>11.4g} {q['std']:>11.4g} {q['loo']:>8.2g}  {key} ({s:.2f})")
+    for c, p in zip(result.criteria, result.pf):
+        lines.append(f"P_f {c}: {p:.3g} (E over the keys of the probability of exceeding in one passage)")
+    return lines
+
+
+def add_parser(sub: Any, methods: Any) -> Any:
+    """Add ``uq`` to the command line's subparsers; ``methods()``: the methods package (loaded when the
+    command runs)."""
+    p = sub.add_parser("uq", help="polynomial chaos over PEM runs: the response under uncertain scenario keys")
+    p.add_argument("scenario", help="scenario name or .toml file (its [uncertain] table names the uncertain keys)")
+    p.add_argument("--uncertain-file", dest="uncertain_file", default=None, metavar="FILE",
+                   help="a TOML file whose [uncertain] table replaces the scenario's")
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help="set a scenario key, checked as in a file (repeatable)")
+    p.add_argument("--order", default="3", help="the expansion's total degree (default 3; 1 ... 8)")
+    p.add_argument("--design", choices=("tensor", "sparse", "sobol"), default=None,
+                   help="tensor or sparse Gauss quadrature (order + 1 points per key; default tensor), or a Sobol "
+                        "design fitted by least squares (the default with --nodes)")
+    p.add_argument("--nodes", default=None, help="the Sobol design's node count (default twice the basis size)")
+    p.add_argument("--channels", nargs="+", default=None, help="channel patterns (default the sweep's key quantities)")
+    p.add_argument("--window", nargs=2, type=float, default=None, metavar=("T0", "T1"),
+                   help="the times [s] over which a channel's max sigma is taken (default the whole run)")
+    p.add_argument("--out", default="uq", help="output folder (default ./uq; the result in OUT/uq)")
+    p.add_argument("--workers", default=None, help="worker processes (default all cores); the nodes are the tasks")
+    p.add_argument("--resume", action="store_true", help="reuse the nodes finished in --out")
+    p.add_argument("--overwrite", action="store_true", help="replace an earlier study's result and checkpoint in --out")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-figures", action="store_true", help="no figures (uq_sobol.png, uq_band.<channel>.png)")
+    p.set_defaults(func=lambda a: cmd_uq(a, methods()))
+    return p
+
+
+__all__ = ["BAND_FIGURES", "UQ_FLAGS", "add_parser", "cmd_uq", "save_figures", "summary_lines"]

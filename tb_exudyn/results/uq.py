@@ -1,0 +1,169 @@
+"""The result of an uncertainty study (:func:`tb_exudyn.run_uq`): PEM under uncertain scenario keys.
+
+One labelled schema (:data:`UQ_SCHEMA`) drives the npz members, the load-time checks and
+:meth:`UqResult.to_xarray` (NetCDF). Over the uncertain keys theta (the expansion's moments, the bands
+from the surrogate):
+
+- per channel and time: the mean over theta of sigma(t) (``mean_sigma``) and of the mean response
+  (``mean_response``), the standard deviation over theta of sigma(t) (``std_sigma``), and the 5, 50
+  and 95 % points of sigma(t) (``sigma_band``);
+- per quantity (``max_sigma:<channel>``: the largest sigma over the crossing; ``probability:<criterion>``:
+  the probability of exceeding the criterion's limit in one passage at its deciding location;
+  ``estimate:<criterion>``: the criterion's estimate): its mean and standard deviation over theta, the
+  Sobol first-order and total indices per key, and the surrogate's leave-one-out error (relative to
+  the variance);
+- per criterion: P_f = E_theta[P(exceed | theta)] (``pf``);
+- the nodes: each key's value and the quadrature weight (NaN for a least-squares design) of every node,
+  and every quantity at every node.
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from .._version import __version__
+from ..scenario import Scenario, scenario_to_toml
+from ..scenario.io import scenario_from_dict
+from ..storage import Member, NpzFile, check_members, check_values, json_default, load_json, save_result_folder
+from .base import figures
+from .schema import Variable, need_xarray
+
+#: the result folder's name in an output folder
+UQ_FOLDER = "uq"
+#: the percentiles of sigma(t) in ``sigma_band``
+PERCENTILES = (5.0, 50.0, 95.0)
+#: the leave-one-out error above which the result warns that the surrogate is not accurate
+LOO_WARNING = 0.01
+
+_CT = ("channel", "time")
+#: every array of a :class:`UqResult`
+UQ_SCHEMA: tuple[Variable, ...] = (
+    Variable("time", ("time",), "output time", units="s", required=True, coordinate=True),
+    Variable("mean_sigma", _CT, "mean over the uncertain keys of sigma(t)", units_coordinate="unit", required=True,
+             nonnegative=True),
+    Variable("std_sigma", _CT, "standard deviation over the uncertain keys of sigma(t)", units_coordinate="unit",
+             required=True, nonnegative=True),
+    Variable("mean_response", _CT, "mean over the uncertain keys of the mean response", units_coordinate="unit",
+             required=True),
+    Variable("sigma_band", ("percentile", "channel", "time"), "5, 50 and 95 % points of sigma(t) over the keys",
+             units_coordinate="unit", required=True),
+    Variable("quantity_mean", ("quantity",), "mean over the uncertain keys", required=True, finite=False),
+    Variable("quantity_std", ("quantity",), "standard deviation over the uncertain keys", required=True, finite=False),
+    Variable("sobol_first", ("key", "quantity"), "first-order Sobol index", units="1", required=True, finite=False),
+    Variable("sobol_total", ("key", "quantity"), "total Sobol index", units="1", required=True, finite=False),
+    Variable("loo", ("quantity",), "leave-one-out error of the surrogate, relative to the variance", units="1",
+             required=True, finite=False),
+    Variable("pf", ("criterion",), "P_f = E_theta[P(exceed | theta)] in one passage", units="1", required=True,
+             finite=False),
+    Variable("node_values", ("node", "key"), "each key's value at each node", required=True),
+    Variable("node_weights", ("node",), "quadrature weight of each node (NaN: least squares)", units="1",
+             required=True, finite=False),
+    Variable("node_quantities", ("node", "quantity"), "each quantity at each node", required=True, finite=False),
+)
+_SIZES = {"time": "nt", "channel": "nc", "percentile": 3, "quantity": "nq", "key": "nk", "criterion": "ncr",
+          "node": "nn"}
+
+
+@dataclass(frozen=True)
+class UqResult:
+    """An uncertainty study's result (module docstring); ``keys``: each uncertain key as a dict
+    (key, distribution, mean, std, low, high, nominal)."""
+
+    scenario: Scenario
+    keys: tuple[dict[str, Any], ...]
+    channels: tuple[str, ...]
+    units: tuple[str, ...]
+    quantities: tuple[str, ...]
+    criteria: tuple[str, ...]
+    data: Mapping[str, np.ndarray]
+    provenance: dict[str, Any] = field(default_factory=dict)
+    schema: tuple[Variable, ...] = UQ_SCHEMA
+
+    def __getattr__(self, name: str) -> np.ndarray:
+        data = self.__dict__.get("data")
+        if data is not None and name in data:
+            return data[name]
+        raise AttributeError(name)
+
+    @property
+    def key_names(self) -> tuple[str, ...]:
+        return tuple(k["key"] for k in self.keys)
+
+    def index(self, channel: str) -> int:
+        return self.channels.index(channel)
+
+    def quantity(self, name: str) -> dict[str, Any]:
+        """One quantity's mean, std, Sobol indices (per key name) and leave-one-out error."""
+        q = self.quantities.index(name)
+        return {"mean": float(self.data["quantity_mean"][q]), "std": float(self.data["quantity_std"][q]),
+                "sobol_first": dict(zip(self.key_names, map(float, self.data["sobol_first"][:, q]))),
+                "sobol_total": dict(zip(self.key_names, map(float, self.data["sobol_total"][:, q]))),
+                "loo": float(self.data["loo"][q])}
+
+    def plot_sobol(self, quantities: Any = None) -> Any:
+        """The Sobol bars (:func:`tb_exudyn.plotting.plot_uq_sobol`, a matplotlib Figure)."""
+        return figures().plot_uq_sobol(self, quantities)
+
+    def plot_band(self, channel: str) -> Any:
+        """``channel``'s sigma(t) band over the keys (:func:`tb_exudyn.plotting.plot_uq_band`)."""
+        return figures().plot_uq_band(self, channel)
+
+    def to_xarray(self) -> Any:
+        """The result as an :class:`xarray.Dataset` (:data:`UQ_SCHEMA`)."""
+        xr = need_xarray("UqResult.to_xarray")
+        coords: dict[str, Any] = {"channel": ("channel", list(self.channels)),
+                                  "unit": ("channel", list(self.units)), "percentile": ("percentile", list(PERCENTILES)),
+                                  "quantity": ("quantity", list(self.quantities)), "key": ("key", list(self.key_names)),
+                                  "criterion": ("criterion", list(self.criteria)),
+                                  "node": ("node", np.arange(self.data["node_weights"].size))}
+        out: dict[str, Any] = {}
+        for v in self.schema:
+            a = np.asarray(self.data[v.name])
+            if v.coordinate:
+                coords[v.labelled_name] = (v.labelled_name, a, v.attrs())
+            elif a.size:
+                out[v.labelled_name] = (v.dims, a, v.attrs())
+        attrs = {"title": f"tb_exudyn uncertainty study, scenario {self.scenario.name}", "source": f"tb_exudyn {__version__}",
+                 "kind": "uq", "scenario_toml": scenario_to_toml(self.scenario),
+                 "keys_json": json.dumps(self.keys, default=json_default),
+                 "provenance_json": json.dumps(self.provenance, sort_keys=True, default=json_default)}
+        return xr.Dataset({k: v for k, v in out.items() if all(d in coords or d == "time" for d in v[0])},
+                          coords=coords, attrs=attrs)
+
+    def save(self, folder: str | Path) -> Path:
+        """Write ``folder`` (``arrays.npz``, ``meta.json``) whole or not at all."""
+        meta = {"kind": "uq", "version": __version__, "scenario_toml": scenario_to_toml(self.scenario),
+                "keys": list(self.keys), "channels": list(self.channels), "units": list(self.units),
+                "quantities": list(self.quantities), "criteria": list(self.criteria), "provenance": self.provenance}
+        return save_result_folder(folder, {v.name: np.asarray(self.data[v.name]) for v in self.schema}, meta)
+
+
+def load_uq(folder: str | Path) -> UqResult:
+    """A result written by :meth:`UqResult.save` (its arrays checked against :data:`UQ_SCHEMA`)."""
+    folder = Path(folder)
+    meta = load_json(folder / "meta.json")
+    sizes = {"nc": len(meta["channels"]), "nq": len(meta["quantities"]), "nk": len(meta["keys"]),
+             "ncr": len(meta["criteria"])}
+    with NpzFile(folder / "arrays.npz") as npz:
+        members = {v.name: _member(v) for v in UQ_SCHEMA}
+        check_members(npz, members, sizes, {})
+        data = {v.name: npz.read(v.name) for v in UQ_SCHEMA}
+    check_values(folder / "arrays.npz", data, members)
+    scenario = scenario_from_dict(tomllib.loads(meta["scenario_toml"]), str(folder), resolve_names=False)
+    return UqResult(scenario=scenario, keys=tuple(meta["keys"]), channels=tuple(meta["channels"]),
+                    units=tuple(meta["units"]), quantities=tuple(meta["quantities"]), criteria=tuple(meta["criteria"]),
+                    data=data, provenance=meta.get("provenance", {}))
+
+
+def _member(v: Variable) -> Member:
+    return Member(tuple(_SIZES[d] for d in v.dims), required=v.required, finite=v.finite, nonnegative=v.nonnegative,
+                  max_abs=v.max_abs)
+
+
+__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq"]
