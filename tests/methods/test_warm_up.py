@@ -49,6 +49,23 @@ def test_a_loader_waits_while_a_warm_up_holds_the_lock(tmp_path):
     assert not waiter.is_alive(), "the loader still waits after the warm-up ended"
 
 
+def test_no_second_warm_up_while_one_runs(tmp_path, monkeypatch):
+    """A sweep's workers each plan a PEM: none of them starts a warm-up while the parent's runs."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.delenv(jit.WARMING_ENV, raising=False)
+    fd = os.open(tmp_path / jit.LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+    fcntl.flock(fd, fcntl.LOCK_SH)
+    child = subprocess.Popen([sys.executable, "-c", "import sys; sys.stdin.read()"], stdin=subprocess.PIPE,
+                             pass_fds=(fd,))
+    os.close(fd)
+    try:
+        said = []
+        assert not jit.warm_up("tb_exudyn.no_such_module", ("float64",), said.append) and not said
+    finally:
+        child.stdin.close()
+        child.wait(timeout=60)
+
+
 def test_no_lock_no_wait(tmp_path):
     jit._await_warm_up(tmp_path)  # no lock file: returns at once (a hang fails by the suite's timeout)
     (tmp_path / jit.LOCK).touch()
