@@ -14,7 +14,7 @@ from typing import Any
 
 from . import cli_scenario
 from .codes.trains import composition_table, load_train, train_files
-from .errors import SettingError
+from .errors import ScenarioError, SettingError
 from .scenario import load_scenario
 from .scenario.io import load_bridge, load_vehicle
 from .scenario.model import BRIDGE_KINDS, VEHICLE_KINDS
@@ -48,6 +48,9 @@ def model_kind(text: str) -> str:
             return "bridge"
         if isinstance(kind, str) and kind in VEHICLE_KINDS:
             return "vehicle"
+        if "kind" in data:  # neither a bridge's nor a vehicle's: say which kinds are
+            raise ScenarioError(str(path), "kind", kind, "a bridge kind (" + ", ".join(BRIDGE_KINDS) + ") or a vehicle "
+                                "kind (" + ", ".join(VEHICLE_KINDS) + ")", "unknown model kind")
         return "train" if "cars" in data else "scenario"
     for kind in MODEL_KINDS:
         names = train_files() if kind == "train" else model_files(_CATEGORY[kind])
@@ -213,6 +216,7 @@ def modes_text(table: Any) -> list[str]:
         if kind == "contact":
             contact.setdefault(motion.rsplit(", ", 1)[-1], []).append((f, z))
             continue
+        z = 0.0 if abs(z) < 1e-9 else z  # an undamped mode's round-off (-0, 1e-17) is 0
         zs = ">= 1" if table.overdamped[i] else ("-" if not math.isfinite(z) else f"{z:.3g}")
         key = (f"{f:.4g}", zs, kind, m.group(2) if m else "", bool(reached[i]))
         row = rows.setdefault(key, [f, tau[i], [], []])

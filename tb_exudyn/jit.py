@@ -123,8 +123,8 @@ def warm_up(module: str, precisions: tuple[str, ...], announce: Callable[[str], 
     """Compile the code in the background if the cache is cold (the module docstring): one process
     ``python -m module precision`` per precision of ``precisions`` not yet in the cache (the module
     marks it done: :func:`mark_warm`), ``announce`` told one line.
-    Returns whether processes were started (not where the cache cannot be written, or when it is warm,
-    or in a warm-up process itself)."""
+    Returns whether processes were started (not where the cache cannot be written, when it is warm,
+    while another warm-up runs, or in a warm-up process itself)."""
     if os.environ.get(WARMING_ENV):
         return False
     todo = [p for p in precisions if not is_warm((p,))]
@@ -138,6 +138,10 @@ def warm_up(module: str, precisions: tuple[str, ...], announce: Callable[[str], 
 
     fd = os.open(path / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
     try:
+        try:  # exclusive first: fails while another warm-up runs (or starts), whose code this run then waits for
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            return False
         fcntl.flock(fd, fcntl.LOCK_SH)  # held on the children's behalf: they inherit this very lock
         env = {**os.environ, WARMING_ENV: "1", "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"}
         for precision in todo:

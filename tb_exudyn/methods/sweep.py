@@ -78,6 +78,7 @@ from ..structure import modal_bridge
 from ..system.modes import DIRECTIONS, nth_frequency
 from .common import analysis_high, analysis_setup, fingerprint_identity, whole_number
 from .driver import RunPlan, drive
+from . import warm_up
 from .speed_series import (EN1991_SPEED_FACTOR, MAX_SPEEDS, SPEED_CHECK, check_speeds, en1991_speeds, parse_speeds,
                            range_count, speed_label, speed_range)
 from .pem import GRID_ERROR_TOLERANCE, prepare_sweep
@@ -380,6 +381,7 @@ class SweepMethod:
         scenario = self.scenario
         speeds, quantities, cls, scenarios, left_out = _plan(scenario, self.speeds_kmh, self.engine, self.channels,
                                                              self.n_freq, self.options, self.freq_spacing)
+        warm_up.start(cls, self.options, execution.announce)  # a first run's compile, not in every worker
         root = execution.output_folder()
         cuts = tuple(self.slices) if self.slices is not None else SWEEP_SLICES
         tasks = [Task(f"speed-{speed_label(v)}", SpeedTask(

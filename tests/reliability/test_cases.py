@@ -28,7 +28,7 @@ def run_case(run: Run, cwd: Path, capsys: pytest.CaptureFixture, monkeypatch: py
     if run.isolate:
         env = {**os.environ, **run.env, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", "OMP_NUM_THREADS": "1",
                "OPENBLAS_NUM_THREADS": "1"}
-        proc = subprocess.run(subprocess_command(run, sys.executable), capture_output=True, text=True, timeout=60,
+        proc = subprocess.run(subprocess_command(run, sys.executable), capture_output=True, text=True, timeout=300,
                               env=env, cwd=cwd)
         return proc.returncode, proc.stderr
     for key, value in run.env.items():

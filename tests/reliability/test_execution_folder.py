@@ -46,16 +46,17 @@ def reference(scenarios, tmp_path_factory):
 
 # ------------------------------------------------------------------------------------- the lock
 HOLD = textwrap.dedent("""
-    import sys, time
+    import sys
     from tb_exudyn.execution import folder_lock
     with folder_lock(sys.argv[1], "holder"):
         print("locked", flush=True)
-        time.sleep(120)
+        sys.stdin.read()  # held until the test ends it (an event: a delay could run out under load)
 """)
 
 
 def hold_lock(folder):
-    proc = subprocess.Popen([sys.executable, "-c", HOLD, str(folder)], stdout=subprocess.PIPE, text=True, env=env())
+    proc = subprocess.Popen([sys.executable, "-c", HOLD, str(folder)], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            text=True, env=env())
     assert proc.stdout.readline().strip() == "locked"
     return proc
 

@@ -47,7 +47,7 @@ def test_ctrl_c_prints_one_line_and_exits_130_without_worker_tracebacks(tmp_path
     while they run tasks."""
     proc, out, kids = started_sweep(tmp_path, new_session=True, tasks=tasks)
     os.killpg(proc.pid, signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+    _, err = proc.communicate(timeout=300)
     assert proc.returncode == 130 and "Traceback" not in err, err[-2000:]
     assert error_lines(err) == ["tb-exudyn: interrupted; finished tasks are kept (run again with --resume)"]
     assert wait_for(lambda: not alive(kids), 30), "worker processes outlived the interrupted run"
@@ -79,7 +79,7 @@ def test_a_worker_killed_from_outside_ends_the_run_with_one_line(tmp_path):
     cmdlines = {p: open(f"/proc/{p}/cmdline", "rb").read() for p in kids}
     worker = next(p for p, cmd in cmdlines.items() if b"resource_tracker" not in cmd)
     os.kill(worker, signal.SIGKILL)
-    _, err = proc.communicate(timeout=60)
+    _, err = proc.communicate(timeout=300)
     assert proc.returncode == 2 and "Traceback" not in err, err[-2000:]
     lines = error_lines(err)
     assert len(lines) == 1 and "a worker process ended abruptly" in lines[0] and "resume" in lines[0], lines

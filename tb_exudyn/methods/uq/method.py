@@ -188,7 +188,7 @@ class UqMethod:
         names, crit = arrays.pop("quantities"), arrays.pop("criteria")
         w = state.weights if state.weights is not None else np.full(state.x.shape[1], np.nan)
         arrays.update(time=first["time"], node_values=state.values.T.copy(), node_weights=np.asarray(w, dtype=float))
-        notes = loo_warnings(names, arrays["loo"], arrays["quantity_mean"])
+        notes = loo_warnings(names, arrays["loo"], arrays["quantity_mean"], arrays["quantity_std"])
         node_notes = list(dict.fromkeys(str(m) for s in state.summaries for m in s["warnings"]))
         result = UqResult(
             scenario=self.scenario, keys=tuple(keys_json(self.keys)), channels=tuple(map(str, first["channels"])),
