@@ -44,6 +44,7 @@ from . import stochastic as stoch
 from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
 from .a2_verdicts import a2_verdicts, check_alpha
 from .hslm_b import HSLM_B_SPANS, hslm_b
+from . import interaction as vbi
 
 #: the table's file in an output folder
 CHECK_CSV = "check.csv"
@@ -125,6 +126,8 @@ class CheckResult:
     mesh_basis: str = ""
     stochastic_scenarios: dict[str, Any] = field(default_factory=dict, repr=False)
     stochastic_basis: str = ""
+    #: per train of vehicle models, with ``check(..., interaction=True)``: interaction against moving forces
+    interaction: tuple = ()
     target_probability: float | None = None
     warnings: tuple[str, ...] = ()
     #: one verdict per EN 1990 A2.4.4 criterion (tb_exudyn.codes.a2_verdicts), deck acceleration first
@@ -208,7 +211,7 @@ class CheckResult:
             if self.warnings:
                 lines.append(f"  {len(self.warnings)} warning(s) of the PEM runs (CheckResult.warnings), e.g. "
                              f"{self.warnings[0][:160]}")
-        return "\n".join(lines)
+        return "\n".join(lines + vbi.summary_lines(self.interaction))
 
     def csv_text(self) -> str:
         buf = io.StringIO()
@@ -252,6 +255,7 @@ def check(
     stochastic: bool = False,
     stochastic_speeds: Sequence[float] | None = None,
     stochastic_scenario: Any = None,
+    interaction: bool = False,
     workers: int | None = None,
     executor: Any = None,
     progress: bool = False,
@@ -285,6 +289,8 @@ def check(
         series is added to it (for the trains with stochastic rows), within the series' range
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
+    interaction : per train given as vehicle models, its vehicle-bridge interaction run beside its moving forces
+        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_rows`; one Exudyn run per train)
     workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
     alpha : the classified-load factor alpha of EN 1991-2 6.3.2(3) on LM71 and SW/0 in the static criteria
         (None: 1.0, which the verdicts say was not given)
@@ -412,6 +418,7 @@ def check(
         source_scenario = stoch.scenario_source(stochastic_scenario, where,
                                                 names.get("stochastic_scenario", "stochastic_scenario"))
 
+    interaction_trains = vbi.check_trains(train_list, interaction, err)
     alpha_value = check_alpha(alpha, where, names.get("alpha", "alpha"))
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:
@@ -539,6 +546,7 @@ def check(
             f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
             f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
             f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
+    inter = vbi.check_rows(bridge, interaction_trains, rows, zeta_vehicles, cutoff, ref_case) if interaction_trains else ()
     verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
                            [t.name for t in train_list], limit, alpha_value, alpha is not None)
     return CheckResult(
@@ -551,6 +559,7 @@ def check(
         resonant_speeds_kmh=resonant, columns=columns, rows=tuple(rows), responses=tuple(responses),
         seconds=time.perf_counter() - t0, stochastic_scenarios=bases, stochastic_basis=stochastic_basis,
         target_probability=float(DEFAULT_TARGET_PROBABILITY) if stochastic_trains else None, warnings=tuple(dict.fromkeys(messages)),
+        interaction=inter,
     )
 
 

@@ -28,12 +28,13 @@ import math
 import time
 import warnings
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
 from ..errors import SettingError
 from ..scenario import Scenario
+from ..scenario.code_data import with_mass_case
 from ..scenario.model import Analysis, Track, Train
 from ..structure import modal_bridge
 from . import en1991 as code
@@ -48,6 +49,11 @@ DEFAULT_TIME_STEP = 1e-3
 #: the approach before the bridge [m]: the vehicles start in static equilibrium and the track is smooth,
 #: so nothing moves before the first axle reaches the bridge
 DEFAULT_LEAD_IN = 10.0
+#: the moving-force runs' samples per period of the highest mode (``moving_force_response``): its loads vary
+#: linearly between steps, an O(dx^2) error in the peak; on the 15 m span of tests/codes/test_interaction.py
+#: (ice_mttm at 283 km/h) 20 samples (the check's default, at its lowest speed) give 4.9550 m/s^2, 40 4.9580,
+#: 80 4.9588 and 160 4.9589: 80 is within 3e-5 of the converged peak, for one speed a few ms
+MF_SAMPLES_PER_PERIOD = 80.0
 #: the builder's warning on a short approach concerns runs that start at rest (PEM, Monte Carlo); the
 #: deterministic run starts in static equilibrium (its module docstring), so it does not apply here
 _LEAD_IN_WARNING = r"track\.lead_in = .*start at rest"
@@ -79,6 +85,12 @@ class InteractionComparison:
     planned_end_time_s: float = 0.0
     scenario: Scenario | None = field(default=None, repr=False)
     seconds: float = 0.0
+    case: str = "nominal"
+
+    @property
+    def difference(self) -> float:
+        """Interaction minus moving forces (largest mid-span peaks) [m/s^2]: < 0 where interaction lowers it."""
+        return self.max_interaction - self.max_moving_force
 
     @property
     def max_moving_force(self) -> float:
@@ -135,11 +147,11 @@ def interaction_scenario(bridge: Any, train: ForceTrain, speed_kmh: float, *, ma
 
 def interaction_comparison(bridge: Any, train: ForceTrain, speed_kmh: float, *,
                            max_frequency: float = DEFAULT_MAX_FREQUENCY, time_step: float = DEFAULT_TIME_STEP,
-                           lead_in: float = DEFAULT_LEAD_IN) -> InteractionComparison:
+                           lead_in: float = DEFAULT_LEAD_IN, case: str = "nominal") -> InteractionComparison:
     """``train`` crossing ``bridge`` (a bridge of the scenario, its own damping ratio on every mode) at
     ``speed_kmh`` as moving forces and with interaction (the module docstring). SettingError for a train
     without vehicle models or a speed <= 0; SimulationIncomplete (from the run) if the interaction run
-    stops before its end time."""
+    stops before its end time. ``case``: the bridge's mass case, a label recorded in the result."""
     start = time.perf_counter()
     v_kmh = float(speed_kmh)
     if not (math.isfinite(v_kmh) and v_kmh > 0):
@@ -149,8 +161,9 @@ def interaction_comparison(bridge: Any, train: ForceTrain, speed_kmh: float, *,
     mb = modal_bridge(bridge, max_frequency)
     zeta = float(bridge.damping_ratio)
     dz = code.additional_damping_eq_6_13(max(spans))
-    mf = moving_force_response(mb, train, [v_kmh], spans)
-    mf_dz = moving_force_response(mb, train, [v_kmh], spans, damping_ratio=zeta + dz)
+    mf = moving_force_response(mb, train, [v_kmh], spans, samples_per_period=MF_SAMPLES_PER_PERIOD)
+    mf_dz = moving_force_response(mb, train, [v_kmh], spans, damping_ratio=zeta + dz,
+                                  samples_per_period=MF_SAMPLES_PER_PERIOD)
     sc = interaction_scenario(bridge, train, v_kmh, max_frequency=max_frequency, time_step=time_step,
                               lead_in=lead_in, run_out=mf.tail_s * v_kmh / 3.6 + 1.0)
     with warnings.catch_warnings():
@@ -166,8 +179,57 @@ def interaction_comparison(bridge: Any, train: ForceTrain, speed_kmh: float, *,
         moving_force_dz_acc=mf_dz.max_acc[mf_dz.mid_stations, 0].copy(), interaction_acc=inter,
         frequencies=mb.frequencies.copy(), end_time_s=float(th.time[-1]),
         planned_end_time_s=float(sc.duration), scenario=sc,
-        seconds=time.perf_counter() - start)
+        seconds=time.perf_counter() - start, case=case)
 
 
-__all__ = ["DEFAULT_LEAD_IN", "DEFAULT_MAX_FREQUENCY", "DEFAULT_TIME_STEP", "InteractionComparison",
-           "interaction_comparison", "interaction_scenario"]
+# ------------------------------------------------------------------ the check's rows (codes/check.py)
+def check_trains(trains: Sequence[ForceTrain], asked: Any, err: Callable[..., Exception]) -> list[ForceTrain]:
+    """The trains of the check's interaction rows (``check(..., interaction=True)``): those given as vehicle
+    models; none when not asked. ``err(key, value, allowed, reason)`` makes the check's error: raised for
+    ``asked`` not a bool, or asked with no such train."""
+    if not isinstance(asked, bool):
+        raise err("interaction", asked, "True or False")
+    if not asked:
+        return []
+    chosen = [t for t in trains if t.vehicles]
+    if not chosen:
+        raise err("interaction", [t.name for t in trains], "trains given as vehicle models among the trains (ice_mttm, "
+                  "ave_s103 or a train .toml file of vehicles): HSLM trains are moving forces",
+                  "no train for the interaction rows")
+    return chosen
+
+
+def check_rows(bridge: Any, trains: Sequence[ForceTrain], rows: Sequence[dict[str, Any]], damping_ratio: float,
+               cutoff_hz: float, case: str) -> tuple[InteractionComparison, ...]:
+    """One comparison per train of ``trains`` for the check: on ``bridge`` in mass case ``case`` (the check's
+    mesh) at ``damping_ratio`` (the check's without eq. 6.13's Delta zeta, which is for moving-force models),
+    the modes up to ``cutoff_hz``, at the speed of the train's largest mid-span peak among the check's
+    ``rows`` of that case (its ``acc_z_mid_span<i>`` columns). One interaction run per train."""
+    b = (with_mass_case(bridge, case) if bridge.code is not None else bridge).replace(damping_ratio=float(damping_ratio))
+    mids = [f"acc_z_mid_span{i + 1}" for i in range(len(b.spans))]
+    out = []
+    for train in trains:
+        mine = [r for r in rows if r["train"] == train.name and r["case"] == case]
+        top = max(mine, key=lambda r: max(r[m] for m in mids))
+        out.append(interaction_comparison(b, train, top["speed_kmh"], max_frequency=cutoff_hz * (1.0 + 1e-9),
+                                          case=case))
+    return tuple(out)
+
+
+def summary_lines(comparisons: Sequence[InteractionComparison]) -> list[str]:
+    """The check summary's lines of its interaction rows (none without them)."""
+    if not comparisons:
+        return []
+    lines = ["interaction (vehicle models, deterministic run, smooth track) against moving forces, largest "
+             "mid-span peak at the train's deciding speed:",
+             f"  {'train':<10} {'km/h':>7} {'case':<8} {'moving F':>9} {'interact.':>9} {'difference':>11} "
+             f"{'+dzeta 6.13':>11}"]
+    for c in comparisons:
+        lines.append(f"  {c.train:<10} {c.speed_kmh:>7.1f} {c.case:<8} {c.max_moving_force:>9.3f} "
+                     f"{c.max_interaction:>9.3f} {c.difference:>+7.3f} ({-100 * c.reduction:+.0f} %) "
+                     f"{c.max_moving_force_dz:>7.3f}")
+    return lines
+
+
+__all__ = ["DEFAULT_LEAD_IN", "DEFAULT_MAX_FREQUENCY", "DEFAULT_TIME_STEP", "InteractionComparison", "MF_SAMPLES_PER_PERIOD", "check_rows",
+           "check_trains", "interaction_comparison", "interaction_scenario", "summary_lines"]
