@@ -73,8 +73,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     speeds = _speeds(args.stochastic_speeds)
     # --out as it is, read only: what no later step can change is refused at once
     check_writable(args.out, create=False)
-    if Path(args.out).is_dir():
-        refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)
+    refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)  # (or a result folder's)
     files: dict[str, bytes] | None = None
     taken: list[Path] = []
     try:

@@ -155,12 +155,15 @@ def _out_in_proc(d: Path) -> Run:
                expect=("'/proc'", "not writable", "allowed: a folder"))
 
 
-def _out_in_a_result_folder(d: Path) -> Run:
-    (d / "pem").mkdir()
-    for name in ("arrays.npz", "meta.json"):
-        (d / "pem" / name).write_bytes(b"{}")
-    return Run(argv=_argv(d)[:-3] + ("--out", str(d / "pem"), "--no-figures"),
-               expect=(str(d / "pem"), "inside the result folder", "another --out"))
+def _out_in_a_result_folder(sub: str):
+    def build(d: Path) -> Run:
+        (d / "pem").mkdir()
+        for name in ("arrays.npz", "meta.json"):
+            (d / "pem" / name).write_bytes(b"{}")
+        out = d / "pem" / sub
+        return Run(argv=_argv(d)[:-3] + ("--out", str(out), "--no-figures"),
+                   expect=(str(out), "inside the result folder", "another --out"))
+    return build
 
 
 def _edited_copy_of_a_shipped_bridge(d: Path) -> Run:
@@ -204,6 +207,7 @@ CASES_EN1991: list[Case] = [
     Case("check: --out is a FIFO", GROUP, _out_is_a_fifo),
     Case("check: --out under a file", GROUP, _out_under_a_file),
     Case("check: --out is /proc", GROUP, _out_in_proc),
-    Case("check: --out inside a result folder", GROUP, _out_in_a_result_folder),
+    Case("check: --out is a result folder", GROUP, _out_in_a_result_folder("")),
+    Case("check: --out a new folder inside a result folder", GROUP, _out_in_a_result_folder("new")),
     Case("check: an edited copy of a shipped bridge, no mode below 480 Hz", GROUP, _edited_copy_of_a_shipped_bridge),
 ]
