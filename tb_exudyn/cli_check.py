@@ -89,9 +89,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
                            construction=args.construction, additional_damping=args.additional_damping,
                            where=WHERE, option_names=options("line_speed_kmh", "trains", "track", "construction",
                                                              "bridge", "stochastic", "stochastic_speeds",
-                                                             "stochastic_scenario"),
+                                                             "stochastic_scenario", "interaction"),
                            stochastic=args.stochastic, stochastic_speeds=speeds,
-                           stochastic_scenario=args.stochastic_scenario, workers=args.workers,
+                           stochastic_scenario=args.stochastic_scenario, interaction=args.interaction,
+                           workers=args.workers,
                            progress=not args.no_progress, before_work=take_out)
             out = taken[0]
             files = report_package().check_files(result, None if args.no_figures else result.plot())
@@ -148,6 +149,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
                    help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
                         "li_zhu_2011, German low interference)")
+    p.add_argument("--interaction", action="store_true",
+                   help="also, per train given as vehicle models, its run with vehicle-bridge interaction (the "
+                        "deterministic run, smooth track) at the speed of its largest mid-span peak, beside the moving "
+                        "forces and eq. 6.13's damping (one Exudyn run per train; terminal and check.html)")
     p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)

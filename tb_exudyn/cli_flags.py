@@ -56,6 +56,7 @@ FLAGS: dict[str, str] = {
     "stochastic": "--stochastic",
     "stochastic_speeds": "--stochastic-speeds",
     "stochastic_scenario": "--stochastic-scenario",
+    "interaction": "--interaction",
 }
 
 #: how a library message mentions an argument -> what the command line says instead
