@@ -12,15 +12,13 @@ import math
 import sys
 import textwrap
 import warnings
-from pathlib import Path
 from typing import Sequence
 
-from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
 from .engines import DEFAULT_ENGINE, ENGINES
 from .errors import SettingError, UserError
-from .execution.output import SWEEP_FIGURE, refuse_earlier_files, removed_if_left_empty
+from .execution.output import SWEEP_FIGURE, removed_if_left_empty
 from ._version import __version__
-from . import cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
+from . import cli_check, cli_flags, cli_modes, cli_results, cli_scenario, cli_show, cli_sweep, cli_text, cli_uq
 from .cli_flags import WHERE, flag
 from .cli_results import folder_lock_of, report_package
 from .atomic import write_text_atomic
@@ -206,48 +204,6 @@ def _sweep(args: argparse.Namespace, methods, scenario: Scenario, speeds, out, o
     return EXIT_OK
 
 
-def _cmd_check(args: argparse.Namespace) -> int:
-    """EN 1991-2 dynamic check (tb_exudyn.codes): the table, the figure, the verdict; nothing is written
-    before the computation has succeeded."""
-    try:
-        line_speed = float(args.line_speed_kmh)
-    except ValueError:
-        raise SettingError("command line", "--line-speed-kmh", args.line_speed_kmh, "a speed in (0, 600] km/h",
-                           "not a number") from None
-    out = Path(args.out)
-    refuse_earlier_files(out, (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE), "check", overwrite=args.overwrite, where=WHERE)
-    options = cli_flags.options("line_speed_kmh", "trains", "track", "construction", "bridge", "stochastic",
-                                "stochastic_speeds", "stochastic_scenario")
-    workers = _int_option(args.workers, "--workers", 1)
-    speeds = None
-    if args.stochastic_speeds is not None:
-        try:
-            speeds = [float(x) for x in args.stochastic_speeds.split(",") if x.strip()]
-        except ValueError:
-            raise SettingError("command line", "--stochastic-speeds", args.stochastic_speeds,
-                               "speeds [km/h] separated by commas, e.g. 250,280.5", "not a number") from None
-    result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
-                   construction=args.construction, additional_damping=args.additional_damping,
-                   where="command line", option_names=options, stochastic=args.stochastic,
-                   stochastic_speeds=speeds, stochastic_scenario=args.stochastic_scenario, workers=workers,
-                   progress=not args.no_progress)
-    figure = None if args.no_figures else result.plot()  # drawn before anything is written
-    out = check_writable(out)
-    with folder_lock_of(out):
-        result.to_csv(out / CHECK_CSV)
-        png = None
-        if figure is not None:
-            _figures().save_figure(figure, out / CHECK_FIGURE)
-            png = (out / CHECK_FIGURE).read_bytes()
-        elif (out / CHECK_FIGURE).exists() or (out / CHECK_FIGURE).is_symlink():
-            (out / CHECK_FIGURE).unlink()  # --overwrite --no-figures: no stale figure beside the new table
-        _figures().write_check_report(result, out, png)
-    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
-    print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
-          + ("" if figure is None else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
-    return EXIT_OK
-
-
 class _Parser(argparse.ArgumentParser):
     """argparse's parser with a one-line error (no usage block), naming the command's --help; exit 2."""
 
@@ -255,6 +211,10 @@ class _Parser(argparse.ArgumentParser):
         command = self.prog.partition(" ")[2]
         self.exit(EXIT_USER_ERROR, f"tb-exudyn: error: {command + ': ' if command else ''}{message} "
                                    f"(the options: {self.prog} --help)\n")
+
+
+#: what show and modes take
+MODEL_HELP = "a scenario, bridge, vehicle or train: a name (see `tb-exudyn list`) or a .toml file"
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -275,14 +235,15 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     p = sub.add_parser("list", help="named vehicles, bridges, scenarios and track spectra")
     p.set_defaults(func=_cmd_list)
-    p = sub.add_parser("show", help="the resolved scenario as a table (a train of models/trains: its composition)")
-    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p = sub.add_parser("show", help="a scenario, bridge, vehicle or train as a table (a bridge: with f1 and f3)")
+    p.add_argument("scenario", metavar="MODEL", help=MODEL_HELP)
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
                    help=cli_scenario.SET_HELP)
     p.set_defaults(func=_cmd_show)
 
-    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves, and the damping guard")
-    p.add_argument("scenario", help="scenario name (see `tb-exudyn list`) or path to a .toml file")
+    p = sub.add_parser("modes", help="natural frequencies, damping ratios and what moves (of a scenario, a bridge "
+                                     "alone, a vehicle alone)")
+    p.add_argument("scenario", metavar="MODEL", help=MODEL_HELP)
     p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
                    help=cli_scenario.SET_HELP)
     p.add_argument("--position", type=float, nargs="+", default=None, metavar="X",
@@ -385,43 +346,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-figures", action="store_true", help="no figure (the report is written without it)")
     p.set_defaults(func=_cmd_sweep)
 
-    p = sub.add_parser("check", help="EN 1991-2 dynamic check: HSLM-A and real trains as moving forces over a speed series",
-                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
-  tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
-  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
-  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 250 --trains ice_mttm --stochastic --stochastic-speeds 250,300
-""")
-    p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
-    p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
-                   help="maximum line speed at the site, (0, 600] km/h: speeds from 40 m/s to 1.2 V (6.4.6.2)")
-    p.add_argument("--trains", nargs="+", default=["hslm_a"], metavar="NAME",
-                   help="hslm_a (default: HSLM-A1 ... A10), HSLM-A3, a train of models/trains or a train .toml file")
-    p.add_argument("--track", default="ballasted", metavar="TRACK",
-                   help="ballasted (limit 3.5 m/s^2, default) or direct (direct fastening, 5 m/s^2)")
-    p.add_argument("--construction", default=None, metavar="TYPE",
-                   help="Table 6.6 damping: steel_composite, prestressed_concrete, reinforced_concrete or filler_beam "
-                        "(default: the bridge's own, code.construction of its file)")
-    p.add_argument("--additional-damping", dest="additional_damping", action="store_true",
-                   help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
-    p.add_argument("--out", default="check", help="output folder (default: ./check)")
-    p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier check's check.csv, check.png and check.html in --out (with --no-figures: "
-                        "remove the png)")
-    p.add_argument("--no-figures", action="store_true", help="no figure")
-    p.add_argument("--stochastic", action="store_true",
-                   help="also the PEM of the random track irregularity for the trains given as vehicle models "
-                        "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "
-                        "run per speed, about 12 s each for ice_mttm over li_zhu_2011_bridge)")
-    p.add_argument("--stochastic-speeds", dest="stochastic_speeds", default=None, metavar="V,V,...",
-                   help="only these speeds [km/h] for --stochastic (added to the series if not in it; default: every "
-                        "speed of the series)")
-    p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
-                   help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
-                        "li_zhu_2011, German low interference)")
-    p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
-    p.set_defaults(func=_cmd_check)
-
+    cli_check.add_parser(sub)
     cli_results.add_parsers(sub)
     cli_modes.add_parser(sub)
     cli_uq.add_parser(sub, _methods)
@@ -454,6 +379,8 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     for attr, option in PATH_OPTIONS.items():
         if getattr(args, attr, None) is not None and not str(getattr(args, attr)).strip():
             raise SettingError("command line", option, getattr(args, attr), "a file or folder path", "empty")
+    if args.command == "check":
+        args.workers = _int_option(args.workers, "--workers", 1)
     if args.command == "sweep":
         n_freq = next(f.metadata["check"] for f in dataclasses.fields(Analysis) if f.name == "n_freq")
         args.workers = _int_option(args.workers, "--workers", 1)
@@ -508,9 +435,10 @@ def main(argv: Sequence[str] | None = None) -> int:
               "analysis.n_freq or fewer analysis.channels, or --psd-channels key; finished tasks are kept for --resume)",
               file=sys.stderr)
         return EXIT_USER_ERROR
-    except KeyboardInterrupt:
-        print("tb-exudyn: interrupted; finished tasks are kept (run again with --resume)", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt:  # a command without --resume has nothing to resume (check: cli_check says what is left)
+        kept = "; finished tasks are kept (run again with --resume)" if hasattr(args, "resume") else ""
+        print(f"tb-exudyn: interrupted{kept}", file=sys.stderr)
+        return cli_check.EXIT_INTERRUPTED
     finally:
         warnings.showwarning = shown
 

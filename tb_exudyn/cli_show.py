@@ -14,7 +14,7 @@ from typing import Any
 
 from . import cli_scenario
 from .codes.trains import composition_table, load_train, train_files
-from .errors import SettingError
+from .errors import ScenarioError, SettingError
 from .scenario import load_scenario
 from .scenario.io import load_bridge, load_vehicle
 from .scenario.model import BRIDGE_KINDS, VEHICLE_KINDS
@@ -48,6 +48,9 @@ def model_kind(text: str) -> str:
             return "bridge"
         if isinstance(kind, str) and kind in VEHICLE_KINDS:
             return "vehicle"
+        if "kind" in data:  # neither a bridge's nor a vehicle's: say which kinds are
+            raise ScenarioError(str(path), "kind", kind, "a bridge kind (" + ", ".join(BRIDGE_KINDS) + ") or a vehicle "
+                                "kind (" + ", ".join(VEHICLE_KINDS) + ")", "unknown model kind")
         return "train" if "cars" in data else "scenario"
     for kind in MODEL_KINDS:
         names = train_files() if kind == "train" else model_files(_CATEGORY[kind])
@@ -92,7 +95,8 @@ def why_f1_differs(bridge: Any, fe: float, hand: float, span: float) -> str:
     assumed); the rest named by what the bridge has (piers, continuity, shear deformation)."""
     d = fe / hand - 1.0
     if abs(d) < 0.001:
-        return f"FE and closed form agree ({100 * d:+.2f} %): in its first mode the girder bends as a simply supported span"
+        return (f"FE and closed form agree ({100 * d:+.2f} %): in its first mode the girder bends as a simply "
+                "supported span")
     parts = []
     bearings = getattr(bridge, "bearings", None)
     h = getattr(bearings, "height", 0.0) if bearings is not None else 0.0
@@ -105,15 +109,19 @@ def why_f1_differs(bridge: Any, fe: float, hand: float, span: float) -> str:
         if math.isfinite(at_axis):
             e = fe / at_axis - 1.0
             rest = at_axis / hand - 1.0
-            parts.append(
-                f"{100 * e:+.1f} % from the bearings {h:g} m below the girder axis (FE with them at the axis: "
-                f"{at_axis:.3f} Hz): as the span bends its ends rotate about the bearings, so the whole girder slides "
-                f"along the bridge and its mass moves lengthwise too (a sine-shape estimate for a simple span: "
-                f"{100 * 2 * math.pi ** 2 * (h / span) ** 2:.1f} % more modal mass, "
-                f"{100 * ((1 + 2 * math.pi ** 2 * (h / span) ** 2) ** -0.5 - 1):+.1f} % in f1)")
+            said = (f"{100 * e:+.1f} % from the bearings {h:g} m below the girder axis (FE with them at the axis: "
+                    f"{at_axis:.3f} Hz)")
+            if bridge.kind == "frame" and e < -0.001:  # simple spans, one end fixed lengthwise: the mechanism
+                r = 2 * math.pi ** 2 * (h / span) ** 2
+                said += (": as the span bends its ends rotate about the bearings, so the whole girder slides along the "
+                         f"bridge and its mass moves lengthwise too (a sine-shape estimate: {100 * r:.1f} % more modal "
+                         f"mass, {100 * ((1 + r) ** -0.5 - 1):+.1f} % in f1)")
+            parts.append(said)
     causes = []
     if getattr(bridge, "pier", None) is not None:
-        causes.append("the piers' and bearings' flexibility")
+        causes.append("the piers' flexibility")
+    if bearings is not None and any(math.isfinite(getattr(bearings, k, math.inf)) for k in ("k_z", "k_x_fixed")):
+        causes.append("the bearings' springs")
     if bridge.kind == "continuous":
         causes.append("continuity over the supports")
     if any(getattr(g, "shear_area_factor", 0.0) > 0.0 for g in bridge.sections):
@@ -213,6 +221,7 @@ def modes_text(table: Any) -> list[str]:
         if kind == "contact":
             contact.setdefault(motion.rsplit(", ", 1)[-1], []).append((f, z))
             continue
+        z = 0.0 if abs(z) < 1e-9 else z  # an undamped mode's round-off (-0, 1e-17) is 0
         zs = ">= 1" if table.overdamped[i] else ("-" if not math.isfinite(z) else f"{z:.3g}")
         key = (f"{f:.4g}", zs, kind, m.group(2) if m else "", bool(reached[i]))
         row = rows.setdefault(key, [f, tau[i], [], []])
@@ -248,8 +257,8 @@ def command_model(args: argparse.Namespace) -> tuple[str, object]:
 
 
 def vehicle_modes(args: argparse.Namespace, kind: str, model, methods) -> list[str]:  # noqa: ANN001
-    """``modes`` of a vehicle, or of each vehicle model of a train: on rigid track, alone (``methods``: tb_exudyn.methods,
-    imported by the command)."""
+    """``modes`` of a vehicle, or of each vehicle model of a train: on rigid track, alone (``methods``:
+    tb_exudyn.methods, imported by the command)."""
     out: list[str] = []
     vehicles, others = ([model], []) if kind == "vehicle" else train_vehicles(model)
     for vehicle in vehicles:
@@ -258,8 +267,8 @@ def vehicle_modes(args: argparse.Namespace, kind: str, model, methods) -> list[s
         table = table.select([k in ("vehicle", "contact", "decoupled") for k in table.kind])  # not the bridge's
         shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
         shown = shown.in_band(*args.band) if args.band is not None else shown
-        out.append(f"modes of vehicle {vehicle.name} alone on rigid track (wheel-rail contact springs and damping of the "
-              "quick scenario), linearised about rest")
+        out.append(f"modes of vehicle {vehicle.name} alone on rigid track (wheel-rail contact springs and damping "
+                   "of the quick scenario), linearised about rest")
         out += modes_text(shown) if len(shown) else ["  (no mode: a moving force has no degree of freedom)"]
         out.append("")
     if others:
@@ -279,8 +288,8 @@ def scenario_modes(args: argparse.Namespace, scenario: Any, methods: Any) -> lis
             shown = shown.in_band(*args.band)
         out += [table.description, *modes_text(shown)]
         if len(shown) < len(table):
-            out.append(f"({len(table) - len(shown)} of {len(table)} modes not shown: "
-                       f"{'outside --band; ' if args.band else ''}{'' if args.all else 'decoupled weak-spring modes (--all)'})")
+            why = ("outside --band; " if args.band else "") + ("" if args.all else "decoupled weak-spring modes (--all)")
+            out.append(f"({len(table) - len(shown)} of {len(table)} modes not shown: {why})")
         out.append("")
     if not scenario.track.irregularities:
         return out + ["damping guard: not applicable (no track irregularities, so no random run)"]
@@ -313,5 +322,6 @@ def train_text(train: Any) -> str:
     return composition_table(train)
 
 
-__all__ = ["MODEL_KINDS", "command_model", "scenario_modes", "vehicle_modes", "bridge_modes_text", "bridge_text", "train_vehicles", "vehicle_scenario", "frequency_rows", "hand_f1", "load_model", "model_kind", "modes_text", "train_text",
-           "vehicle_text", "why_f1_differs"]
+__all__ = ["MODEL_KINDS", "bridge_modes_text", "bridge_text", "command_model", "frequency_rows", "hand_f1", "load_model",
+           "model_kind", "modes_text", "scenario_modes", "train_text", "train_vehicles", "vehicle_modes",
+           "vehicle_scenario", "vehicle_text", "why_f1_differs"]

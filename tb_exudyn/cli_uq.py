@@ -46,7 +46,12 @@ def _settings(args: argparse.Namespace) -> list[tuple[str, Any]]:
 
 
 def _study(args: argparse.Namespace) -> tuple[Any, Any]:
-    return load_study(args.scenario, args.uncertain_file, _settings(args))
+    try:
+        return load_study(args.scenario, args.uncertain_file, _settings(args))
+    except SettingError as exc:  # a --set the scenario refuses
+        if exc.where != "load_study":
+            raise
+        raise exc.restated(WHERE, "--set") from None
 
 
 def cmd_uq(args: argparse.Namespace, methods: Any) -> int:

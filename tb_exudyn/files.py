@@ -31,6 +31,7 @@ import errno
 import os
 import re
 import stat
+import tempfile
 from pathlib import Path
 from typing import BinaryIO, Callable, Sequence, Union
 
@@ -54,6 +55,16 @@ def _kind(mode: int) -> str:
     if stat.S_ISSOCK(mode):
         return "a socket"
     return "not a regular file"
+
+
+def entry_kind(path: str | Path) -> str | None:
+    """What ``path`` is when it is not a regular file or a symbolic link ('a directory', 'a FIFO (named
+    pipe)', ...); None for a regular file, a symbolic link or nothing."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return None
+    return None if stat.S_ISREG(mode) or stat.S_ISLNK(mode) else _kind(mode)
 
 
 def _size_text(n: int) -> str:
@@ -151,6 +162,12 @@ def _refused(where: str, key: str, named: Path, what: str, allowed: str) -> Outp
                              key=key, value=str(named), allowed=allowed, reason=what)
 
 
+def owning_folder(path: Path) -> str | None:
+    """The result or checkpoint folder that ``path`` (resolved) would be written into, if any, as a
+    phrase ('the result folder 'X''); these folders hold only their own files."""
+    return _owner(path)
+
+
 def _owner(path: Path) -> str | None:
     """The result or checkpoint folder that ``path`` (resolved) would be written into, if any."""
     if path.name in RESULT_FOLDER_FILES and any(os.path.lexists(path.parent / n) for n in RESULT_FOLDER_FILES):
@@ -237,7 +254,7 @@ Content = Union[bytes, memoryview, Callable[[Path], object]]
 
 
 def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, overwrite: bool, where: str, key: str,
-                 size: int | None = None) -> list[Path]:
+                 size: int | None = None, remove: Sequence[Path] = ()) -> list[Path]:
     """Write the files ``items`` (path, bytes or ``write(temporary path)``) checked by
     :func:`output_targets`, atomically and as one (:func:`tb_exudyn.atomic.write_atomic_group`).
 
@@ -245,7 +262,9 @@ def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, ov
     callables) and a margin (SPACE_MARGIN_BLOCKS blocks per file, 1 %); any OSError of the write (a
     full disk after all, no permission) is an OutputFolderError naming ``named`` and the file that
     failed; nothing is left behind. ``overwrite=False``: a file that appeared meanwhile is not
-    replaced (the files of the group already in place are taken back)."""
+    replaced (the files of the group already in place are taken back). ``remove``: stale files of an
+    earlier write that this one has no counterpart for, removed with the renames (a Ctrl-C there is
+    held until they are done)."""
     named = Path(named)
     need = sum(memoryview(c).nbytes for _, c in items if not callable(c)) + (size or 0)
     space = _free_space(Path(items[0][0]).parent)
@@ -267,7 +286,8 @@ def write_output(items: Sequence[tuple[Path, Content]], *, named: str | Path, ov
 
     paths = [Path(p) for p, _ in items]
     try:
-        return write_atomic_group([(p, writer(c)) for p, c in zip(paths, (c for _, c in items))], replace=overwrite)
+        return write_atomic_group([(p, writer(c)) for p, c in zip(paths, (c for _, c in items))], replace=overwrite,
+                                  remove=remove)
     except FileExistsError as exc:
         raise _refused(where, key, named, f"{_which(exc, paths)}appeared while it was written: not replaced",
                        f"a new file name, or {OVERWRITE} to replace the file") from None
@@ -288,5 +308,65 @@ def _which(exc: OSError, paths: Sequence[Path]) -> str:
     return f"file {str(name)!r} "
 
 
+#: what an output folder may be, for the messages of check_writable
+WRITABLE_FOLDER = "a folder this user can create files in, or a new folder's path under one"
+
+
+def check_writable(folder: str | Path, *, create: bool = True) -> Path:
+    """Create ``folder`` if needed and check that files can be written there (before any run starts).
+
+    ``create=False``: the same checks read only, nothing created or written, for a command that checks
+    its output folder before its other arguments: the folder, or for a new one the nearest existing
+    folder of its path, must be a folder this user may write in (``os.access``). A place only a write
+    can test (/proc, /sys, a read-only folder for root, whom permissions do not stop) is found by the
+    call with ``create=True`` that follows before any work.
+
+    Raises OutputFolderError (an OSError the CLI reports as a user error) naming the folder, why it is
+    not one (a file, a FIFO, a file on its path, no permission, a file system that takes no files such
+    as /proc) and what is allowed (:data:`WRITABLE_FOLDER`).
+    """
+    folder = Path(folder)
+    if not create:
+        why = None if folder.is_dir() else _not_a_folder(folder)
+        if why is not None:
+            raise _not_writable(folder, why)
+        place = folder if folder.is_dir() else next((p for p in folder.parents if p.is_dir()), None)
+        if place is not None and not os.access(place, os.W_OK | os.X_OK):
+            raise _not_writable(folder, "this user may not create files in it" if place == folder else
+                                f"cannot be created: this user may not create files in {str(place)!r}")
+        return folder
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _not_writable(folder, _not_a_folder(folder) or f"cannot be created ({exc.strerror or exc})") from None
+    try:
+        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".write-test.")
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        raise _not_writable(folder, f"no file can be created in it ({exc.strerror or exc})") from None
+    return folder
+
+
+def _not_writable(folder: Path, why: str) -> OutputFolderError:
+    return OutputFolderError(f"output folder {str(folder)!r} is not writable: {why} (allowed: {WRITABLE_FOLDER})",
+                             key="out", value=str(folder), allowed=WRITABLE_FOLDER, reason=why)
+
+
+def _not_a_folder(folder: Path) -> str | None:
+    """Why ``folder`` cannot be a folder: it, or a path it lies under, is something else (None if not)."""
+    for i, path in enumerate((folder, *folder.parents)):
+        try:
+            mode = os.stat(path).st_mode
+        except OSError:
+            continue
+        if stat.S_ISDIR(mode):
+            return None
+        what = entry_kind(path) or "a file"
+        return f"it is {what}" if i == 0 else f"{str(path)!r} on its path is {what}, not a folder"
+    return None
+
+
 __all__ = ["CHECKPOINT_FOLDER_FILES", "MIB", "RESULT_FOLDER_FILES", "SPACE_MARGIN_BLOCKS", "FileRefused", "decode_utf8",
-           "open_regular", "output_targets", "read_regular", "read_text", "write_output"]
+           "check_writable", "entry_kind", "open_regular", "output_targets", "owning_folder", "read_regular", "read_text",
+           "write_output"]

@@ -38,7 +38,6 @@ import re
 import secrets
 import shutil
 import socket
-import tempfile
 import time
 import zipfile
 from dataclasses import dataclass
@@ -49,7 +48,7 @@ import numpy as np
 
 from .atomic import write_atomic, write_text_atomic
 from .errors import OutputFolderError, ResultsError
-from .files import MIB, FileRefused, decode_utf8, open_regular, read_regular
+from .files import MIB, FileRefused, check_writable, decode_utf8, open_regular, read_regular  # noqa: F401 (check_writable: its old home)
 
 #: the files of a result folder, and what a save may replace with them (derived from the old result)
 RESULT_FILES = ("arrays.npz", "meta.json")
@@ -556,22 +555,6 @@ def check_output_times(path: Path, time: np.ndarray) -> None:
     if time.size < 2:
         raise _error(path, f"array 'time' holds {time.size} output time(s) (allowed: at least 2, the output times "
                            "of a crossing)")
-
-
-def check_writable(folder: str | Path) -> Path:
-    """Create ``folder`` if needed and check that files can be written there (before any run starts).
-
-    Raises OutputFolderError (an OSError the CLI reports as a user error) naming the folder.
-    """
-    folder = Path(folder)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=".write-test.")
-        os.close(fd)
-        os.unlink(tmp)
-    except OSError as exc:
-        raise OutputFolderError(f"output folder {str(folder)!r} is not writable: {exc.strerror or exc}") from None
-    return folder
 
 
 def iter_leftovers(folder: str | Path) -> Iterator[Path]:

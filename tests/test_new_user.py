@@ -75,9 +75,49 @@ def test_run_sweep_and_check_fit_a_screen(tmp_path, capsys):
     lines = _printed(capsys, ["run", "quick", "--out", str(tmp_path / "q"), "--no-progress", "--workers", "1"])
     assert len(lines) <= RESULT_LINES, len(lines)
     assert any("criteria" in ln for ln in lines)  # counted by criterion
+    _printed(capsys, ["run", "quick", "--method", "mc", "--samples", "4", "--out", str(tmp_path / "q"), "--no-progress",
+                      "--no-figures", "--workers", "1"])
+    _printed(capsys, ["compare", str(tmp_path / "q" / "pem"), str(tmp_path / "q" / "mc_linear")])
+    _printed(capsys, ["report", str(tmp_path / "q")])
     lines = _printed(capsys, ["sweep", "quick", "--speeds-kmh", "200,250", "--out", str(tmp_path / "s"),
                               "--no-progress", "--no-figures", "--workers", "1"])
     assert len(lines) <= RESULT_LINES, len(lines)
     lines = _printed(capsys, ["check", "yang_yau_1997_beam", "--line-speed-kmh", "160", "--trains", "HSLM-A1",
                               "--construction", "prestressed_concrete", "--out", str(tmp_path / "c"), "--no-figures"])
     assert len(lines) <= RESULT_LINES, len(lines)
+
+
+class _Sweep:
+    """A sweep's result as the terminal reads it: 100 speeds, two quantities, one criterion evaluated and
+    two not (one reason)."""
+
+    quantities = [("deck_acc_z", None, None), ("wheel_force_y", None, None)]
+
+    def rows(self):
+        return [{"speed_kmh": 100.0 + 2.5 * i, "deck_acc_z_max_abs_mean_plus_3sigma": 0.1 + 0.01 * i - 1e-4 * i * i,
+                 "wheel_force_y_max_abs_mean_plus_3sigma": 5e4 + (3e4 if i == 37 else 0.0),
+                 "a/x_verdict": "OK", "a/x_utilisation": 0.01 * i, "b/y_verdict": "NOT EVALUATED",
+                 "b/y_reason": "running safety needs creep-guided wheelsets; " * 4, "c/z_verdict": "NOT EVALUATED",
+                 "c/z_reason": "running safety needs creep-guided wheelsets; " * 4} for i in range(100)]
+
+    def criteria(self):
+        return ["a/x", "b/y", "c/z"]
+
+    def quantity_unit(self, key):
+        return "m/s^2" if key == "deck_acc_z" else "N"
+
+
+def test_a_long_sweep_fits_a_screen():
+    """100 speeds: at most TABLE_SPEEDS rows, with each quantity's largest (deck_acc_z peaks at i = 50,
+    125 km/h + 100 = 225 km/h; wheel_force_y at i = 37, 192.5 km/h); the two criteria not evaluated for one
+    reason on one wrapped line, the reason whole."""
+    from tb_exudyn.cli_sweep import TABLE_SPEEDS, quantity_table, verdict_lines
+
+    table = quantity_table(_Sweep())
+    speeds = [ln.split()[0] for ln in table[3:-1]]
+    assert len(speeds) <= TABLE_SPEEDS and {"225", "192.5", "100", "347.5"} <= set(speeds)
+    assert table[-1].startswith(f"({len(speeds)} of 100 speeds")
+    lines = verdict_lines(_Sweep())
+    assert all(len(ln) <= 160 for ln in lines)
+    text = " ".join(ln.strip() for ln in lines)
+    assert "NOT EVALUATED: b/y, c/z (" in text and text.count("creep-guided") == 4 and "..." not in text

@@ -24,7 +24,7 @@ import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 import numpy as np
 
@@ -35,13 +35,16 @@ from ..scenario.io import load_bridge
 from ..scenario.code_data import MASS_CASES, with_mass_case
 from ..scenario.model import Continuous, Frame, SimpleBeam
 from ..scenario.registry import model_files
-from ..structure import StructureError, modal_bridge
+from ..scenario.schema import source_file
 from . import en1991 as code
-from .moving_force import MAX_STEPS, MovingForceResponse, moving_force_response
+from .check_modes import FIRST_MODE_LIMIT_HZ, MODE_LIMIT_CAP_HZ  # noqa: F401 - the check's, named here too
+from .check_modes import modes_for_check as _modes_for_check, vertical as _vertical
+from .moving_force import MAX_STEPS, MovingForceResponse, integration_steps, moving_force_response
 from . import stochastic as stoch
-from .trains import ForceTrain, resolve_trains
+from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
 from .a2_verdicts import a2_verdicts, check_alpha
 from .hslm_b import HSLM_B_SPANS, hslm_b
+from . import interaction as vbi
 
 #: the table's file in an output folder
 CHECK_CSV = "check.csv"
@@ -57,9 +60,11 @@ HSLM_A_MIN_SPAN = 7.0
 #: deck accelerations at speeds off resonance follow it (up to 32 % apart under HSLM-A1); 64 give 43.26
 #: Hz and every speed's mid-span acceleration within 0.83 % of the closed form (tests/codes/test_check.py)
 CHECK_ELEMENTS_PER_SPAN = 64
-#: the first modes are computed up to this frequency, raised until three vertical modes are found [Hz]
-FIRST_MODE_LIMIT_HZ = 60.0
-MODE_LIMIT_CAP_HZ = 480.0
+#: the lowest line speed a check takes [km/h]: its series is rounded to 1e-6 km/h (1e-300 km/h would round to
+#: a speed of 0) and its time steps grow as 1 / v (HSLM-A1 over single_span_32m at 1.2 km/h needs 1.2 million,
+#: refused by MAX_STEPS with its own message); a railway line speed is tens to hundreds of km/h, so a value
+#: below 1 km/h can only be a mistake (a unit, a typo)
+MIN_LINE_SPEED_KMH = 1.0
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 
@@ -121,10 +126,14 @@ class CheckResult:
     mesh_basis: str = ""
     stochastic_scenarios: dict[str, Any] = field(default_factory=dict, repr=False)
     stochastic_basis: str = ""
+    #: per train of vehicle models, with ``check(..., interaction=True)``: interaction against moving forces
+    interaction: tuple = ()
     target_probability: float | None = None
     warnings: tuple[str, ...] = ()
     #: one verdict per EN 1990 A2.4.4 criterion (tb_exudyn.codes.a2_verdicts), deck acceleration first
     criteria: tuple = ()
+    #: the bridge's file as the user gave it, where it is not the shipped bridge of that name ('' if so)
+    bridge_file: str = ""
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -174,7 +183,8 @@ class CheckResult:
         """A one-screen summary: the verdict, the settings, the largest values per train."""
         lines = [*(["criteria (EN 1990 A2.4.4):"] + ["  " + c.line() for c in self.criteria] if self.criteria else []),
                  self.verdict_line(),
-                 f"bridge {self.bridge}: {self.construction.replace('_', ' ')} ({self.construction_basis}), "
+                 f"bridge {self.bridge}{f' ({self.bridge_file})' if self.bridge_file else ''}: "
+                 f"{self.construction.replace('_', ' ')} ({self.construction_basis}), "
                  f"{self.damping_basis}; mass cases {', '.join(self.cases)}",
                  f"{len(self.mode_frequencies)} modes up to {self.cutoff_hz:.3g} Hz ({self.cutoff_basis}), at the track "
                  f"line (torsion included), {self.mesh_basis}, nominal case: " + ", ".join(f"{f:.3g}" for f in self.mode_frequencies) + " Hz",
@@ -201,7 +211,7 @@ class CheckResult:
             if self.warnings:
                 lines.append(f"  {len(self.warnings)} warning(s) of the PEM runs (CheckResult.warnings), e.g. "
                              f"{self.warnings[0][:160]}")
-        return "\n".join(lines)
+        return "\n".join(lines + vbi.summary_lines(self.interaction))
 
     def csv_text(self) -> str:
         buf = io.StringIO()
@@ -229,46 +239,6 @@ def _prefixed(exc: UserError, prefix: str) -> UserError:
     return out
 
 
-def _vertical(mb) -> np.ndarray:  # noqa: ANN001
-    return np.flatnonzero(np.array([t == "vertical" for t in mb.mode_types]))
-
-
-def _modes_for_check(bridge, err):  # noqa: ANN001, ANN202
-    """The bridge's modes up to the cut-off: (ModalBridge, modes used, f1, f3, cutoff, basis). Every
-    mode up to the cut-off is used, at the track line (``rail_shapes(x).z``: bending plus torsion
-    times the track's offset, EN 1990 A2.4.4.2.1 'along each track'); f1 and f3 of the cut-off are
-    those of the vertical bending modes."""
-    limit = FIRST_MODE_LIMIT_HZ
-    while True:
-        try:
-            mb = modal_bridge(bridge, limit)
-        except StructureError as exc:
-            if getattr(exc, "key", None) == "max_frequency" and limit < MODE_LIMIT_CAP_HZ:  # a stiff short span
-                limit *= 2.0
-                continue
-            raise err("bridge", getattr(bridge, "name", bridge), "a bridge a modal model can be built of",
-                      str(exc)) from None
-        vert = _vertical(mb)
-        f_v = mb.frequencies[vert]
-        if f_v.size >= 3 and code.cutoff_frequency(f_v[0], f_v[2]) <= limit:
-            break
-        if limit >= MODE_LIMIT_CAP_HZ:
-            if not f_v.size:
-                raise err("bridge", bridge.name, f"a bridge with a vertical bending mode below {MODE_LIMIT_CAP_HZ:g} Hz",
-                          "no vertical mode found")
-            break
-        limit *= 2.0
-    cutoff = code.cutoff_frequency(f_v[0], f_v[2] if f_v.size >= 3 else None)
-    f1 = float(f_v[0])
-    f3 = float(f_v[2]) if f_v.size >= 3 else None
-    used = np.flatnonzero(mb.frequencies <= cutoff * (1.0 + 1e-9))
-    terms = {"30 Hz": code.MIN_CUTOFF_HZ, f"1.5 f1 = {1.5 * f1:.3g} Hz": 1.5 * f1}
-    if f3 is not None:
-        terms[f"f3 = {f3:.3g} Hz"] = f3
-    basis = "max(" + ", ".join(terms) + "), f1 and f3 of the vertical bending modes"
-    return mb, used, f1, f3, cutoff, basis
-
-
 def check(
     bridge,  # noqa: ANN001
     line_speed_kmh: float,
@@ -285,17 +255,19 @@ def check(
     stochastic: bool = False,
     stochastic_speeds: Sequence[float] | None = None,
     stochastic_scenario: Any = None,
+    interaction: bool = False,
     workers: int | None = None,
     executor: Any = None,
     progress: bool = False,
     alpha: float | None = None,
+    before_work: Callable[[], None] | None = None,
 ) -> CheckResult:
     """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
 
     Parameters
     ----------
     bridge : a bridge name of models/bridges, a .toml path, or a ``SimpleBeam`` / ``Frame``
-    line_speed_kmh : the maximum line speed at the site, in (0, 600] km/h; speeds up to 1.2 x it
+    line_speed_kmh : the maximum line speed at the site, in [1, 600] km/h (MIN_LINE_SPEED_KMH); speeds up to 1.2 x it
     trains : 'hslm_a' (HSLM-A1 ... A10), 'HSLM-A3', a real train of models/trains, or ForceTrain objects
     track : 'ballasted' (limit 3.5 m/s^2) or 'direct' (5.0 m/s^2)
     construction : the Table 6.6 type: steel_composite, prestressed_concrete, reinforced_concrete,
@@ -317,9 +289,14 @@ def check(
         series is added to it (for the trains with stochastic rows), within the series' range
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
+    interaction : per train given as vehicle models, its vehicle-bridge interaction run beside its moving forces
+        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_rows`; one Exudyn run per train)
     workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
     alpha : the classified-load factor alpha of EN 1991-2 6.3.2(3) on LM71 and SW/0 in the static criteria
         (None: 1.0, which the verdicts say was not given)
+    before_work : called once, after every argument is checked and the work planned (modes, speed series,
+        the integrations' sizes, the stochastic rows' scenarios), before the first integration: the command
+        line takes its output folder there, so that a refused argument leaves it untouched
 
     Raises SettingError naming ``where`` and the argument for any value outside what is allowed.
     """
@@ -330,9 +307,12 @@ def check(
         return SettingError(where, names.get(key, key), value, allowed, reason)
 
     ok = isinstance(line_speed_kmh, (int, float)) and not isinstance(line_speed_kmh, bool) and math.isfinite(
-        line_speed_kmh) and 0.0 < line_speed_kmh <= code.MAX_LINE_SPEED_KMH
+        line_speed_kmh) and MIN_LINE_SPEED_KMH <= line_speed_kmh <= code.MAX_LINE_SPEED_KMH
     if not ok:
-        raise err("line_speed_kmh", line_speed_kmh, f"a speed in (0, {code.MAX_LINE_SPEED_KMH:g}] km/h")
+        raise err("line_speed_kmh", line_speed_kmh,
+                  f"a speed in [{MIN_LINE_SPEED_KMH:g}, {code.MAX_LINE_SPEED_KMH:g}] km/h",
+                  "out of range" if isinstance(line_speed_kmh, (int, float)) and not isinstance(line_speed_kmh, bool)
+                  and math.isfinite(line_speed_kmh) else "")
     if track not in code.DECK_ACCELERATION_LIMITS:
         raise err("track", track, " or ".join(code.DECK_ACCELERATION_LIMITS))
     if maintenance not in code.IRREGULARITY_FACTOR:
@@ -341,6 +321,8 @@ def check(
         raise err("speed_step_kmh", speed_step_kmh, f"0 < step <= {code.MAX_SPEED_STEP_KMH:g} km/h")
     if damping_ratio is not None and not (isinstance(damping_ratio, (int, float)) and 0.0 <= damping_ratio < 1.0):
         raise err("damping_ratio", damping_ratio, "a ratio in [0, 1), or none for Table 6.6")
+    label = str(bridge) if isinstance(bridge, (str, Path)) else (
+        source_file(bridge) or getattr(bridge, "name", type(bridge).__name__))  # the bridge as the user gave it
     if isinstance(bridge, (str, Path)):
         text = str(bridge)
         known = model_files("bridges")
@@ -348,8 +330,7 @@ def check(
             raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
         bridge = load_bridge(bridge)
     if not isinstance(bridge, (SimpleBeam, Frame, Continuous)):  # e.g. a modal_table: no section data
-        raise err("bridge", getattr(bridge, "name", type(bridge).__name__),
-                  "a bridge name, a .toml path, SimpleBeam, Frame or Continuous",
+        raise err("bridge", label, "a bridge name, a .toml path, SimpleBeam, Frame or Continuous",
                   f"a {getattr(bridge, 'kind', 'bridge')} bridge has no section data for the code's mass cases"
                   if hasattr(bridge, "kind") else "")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
@@ -359,7 +340,7 @@ def check(
         bridge = bridge.replace(elements_per_span=CHECK_ELEMENTS_PER_SPAN)
     if construction is None:
         if bridge.code is None:
-            raise err("bridge", bridge.name, "a bridge whose file declares its construction type ([code] table, "
+            raise err("bridge", label, "a bridge whose file declares its construction type ([code] table, "
                       f"code.construction: {', '.join(code.CONSTRUCTION_TYPES)}), or a construction type given",
                       "no construction type")
         construction, construction_basis = bridge.code.construction, "the bridge's data (code.construction)"
@@ -379,15 +360,17 @@ def check(
     given = [trains] if isinstance(trains, (str, ForceTrain)) else list(trains)
     if not given:
         raise err("trains", given, "hslm_a, HSLM-A1 ... HSLM-A10 or a train of models/trains", "no train")
-    train_list: list[ForceTrain] = []
-    for t in given:
-        for one in ([t] if isinstance(t, ForceTrain) else resolve_trains([t], where, names.get("trains", "trains"))):
-            if one.name not in {x.name for x in train_list}:
-                train_list.append(one)
+    key_trains = names.get("trains", "trains")
+    pairs = [pair for t in given for pair in ([(t, TrainSource(t.name, f"the ForceTrain object {t.name!r}", id(t)))]
+                                              if isinstance(t, ForceTrain) else train_sources(t, where, key_trains))]
+    train_list = distinct_trains(pairs, where, key_trains)  # two trains with one name: refused, naming both
     spans = [float(s) for s in bridge.spans]
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN and not isinstance(
             bridge, Continuous) and min(spans) >= HSLM_B_SPANS[0]:  # HSLM-B instead (EN 1991-2 6.4.6.1.1)
-        train_list = [t for t in train_list if not t.name.startswith("HSLM-A")] + [hslm_b(min(spans))]
+        b = hslm_b(min(spans))
+        train_list = distinct_trains([p for p in pairs if not p[0].name.startswith("HSLM-A")] + [
+            (b, TrainSource("hslm_a", f"EN 1991-2's {b.name} (HSLM-A's stand-in under 7 m)", "hslm_b"))],
+            where, key_trains)
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
                   f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans under 7 m "
@@ -435,6 +418,7 @@ def check(
         source_scenario = stoch.scenario_source(stochastic_scenario, where,
                                                 names.get("stochastic_scenario", "stochastic_scenario"))
 
+    interaction_trains = vbi.check_trains(train_list, interaction, err)
     alpha_value = check_alpha(alpha, where, names.get("alpha", "alpha"))
     span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
     if damping_ratio is not None:
@@ -452,8 +436,8 @@ def check(
     limit = code.deck_acceleration_limit(track)
     k_irr = code.IRREGULARITY_FACTOR[maintenance]
     # each mass case its own bridge and modes; the nominal case's (or the first's) describe the result
-    modes_of = {case: _modes_for_check(with_mass_case(bridge, case) if bridge.code is not None else bridge, err)
-                for case in cases}
+    modes_of = {case: _modes_for_check(with_mass_case(bridge, case) if bridge.code is not None else bridge, err,
+                                       label) for case in cases}
     ref_case = NOMINAL_CASE if NOMINAL_CASE in modes_of else cases[0]
     mb, used, f1, _f3, cutoff, cutoff_basis = modes_of[ref_case]
     dyn_required = code.dynamic_analysis_required(line_speed_kmh, span, f1)
@@ -492,6 +476,19 @@ def check(
                               f"its analysis at {v:g} km/h (the speed rule: its band x v / v0, at most "
                               f"0.1 / analysis.time_step): analysis.{exc.key}: {exc.reason}"
                               ) from None
+    def too_many_steps(train: ForceTrain, steps: Any) -> ResourceError:
+        return ResourceError.from_parts(
+            where, names.get("line_speed_kmh", "line_speed_kmh"), line_speed_kmh,
+            "a higher line speed: the lowest speed of the series sets the step",
+            f"{train.name} at {series[train.name][0]:g} km/h needs {steps} steps, more than {MAX_STEPS}")
+
+    for case, train in ((c, t) for c in cases for t in train_list):  # every integration's size, before any
+        mb_c, used_c = modes_of[case][:2]
+        steps = integration_steps(mb_c.length, mb_c.frequencies[used_c], train, series[train.name], spans).n_steps
+        if steps > MAX_STEPS:
+            raise too_many_steps(train, steps)
+    if before_work is not None:  # every argument checked and the work planned: the caller's turn (its --out)
+        before_work()
     rows, responses, resonant = [], [], {}
     for case, train in ((c, t) for c in cases for t in train_list):
         mb_c, used_c, f1_c, _, cutoff_c, _ = modes_of[case]
@@ -500,11 +497,7 @@ def check(
         try:
             resp = moving_force_response(mb_c, train, speeds, spans, damping_ratio=zeta, modes=used_c)
         except ResourceError as exc:
-            raise ResourceError.from_parts(
-                where, names.get("line_speed_kmh", "line_speed_kmh"), line_speed_kmh,
-                "a higher line speed: the lowest speed of the series sets the step",
-                f"{train.name} at {speeds[0]:g} km/h needs {getattr(exc, 'steps', '?')} steps, more than "
-                f"{MAX_STEPS}") from None
+            raise too_many_steps(train, getattr(exc, "steps", "?")) from None
         responses.append(resp)
         phi_dyn = resp.phi_dyn.max(axis=0)
         mids = resp.mid_stations
@@ -553,10 +546,12 @@ def check(
             f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
             f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
             f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
+    inter = vbi.check_rows(bridge, interaction_trains, rows, zeta_vehicles, cutoff, ref_case) if interaction_trains else ()
     verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
                            [t.name for t in train_list], limit, alpha_value, alpha is not None)
     return CheckResult(
-        criteria=verdicts, bridge=bridge.name, line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
+        criteria=verdicts, bridge=bridge.name, bridge_file="" if label == bridge.name else label,
+        line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
         damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,
         mode_frequencies=tuple(float(f) for f in mb.frequencies[used]),
         vertical_frequencies=tuple(float(f) for f in mb.frequencies[_vertical(mb)] if f <= cutoff * (1.0 + 1e-9)),
@@ -564,6 +559,7 @@ def check(
         resonant_speeds_kmh=resonant, columns=columns, rows=tuple(rows), responses=tuple(responses),
         seconds=time.perf_counter() - t0, stochastic_scenarios=bases, stochastic_basis=stochastic_basis,
         target_probability=float(DEFAULT_TARGET_PROBABILITY) if stochastic_trains else None, warnings=tuple(dict.fromkeys(messages)),
+        interaction=inter,
     )
 
 

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import NamedTuple, Sequence
 
 import numpy as np
 
@@ -178,6 +178,30 @@ def modal_loads(bridge: ModalBridge, modes: np.ndarray, train: ForceTrain, dx: f
     return out
 
 
+class Steps(NamedTuple):
+    """The integration of :func:`moving_force_response`: ``n_steps`` steps of ``dx`` [m], the train's
+    passage its first ``n_pass``, then a free tail of ``tail_s`` seconds."""
+
+    n_steps: int
+    dx: float
+    n_pass: int
+    tail_s: float
+
+
+def integration_steps(length: float, freq: np.ndarray, train: ForceTrain, speeds_kmh: np.ndarray,
+                      spans: Sequence[float], samples_per_period: float = 20.0, tail_periods: float = 2.0) -> Steps:
+    """The steps of :func:`moving_force_response`'s integration over a bridge ``length`` m long whose
+    modes used have frequencies ``freq`` [Hz]: the train's passage and the free tail, at the steps the
+    lowest speed and the highest mode set (its docstring). A caller checks them against MAX_STEPS
+    before any work."""
+    v = np.asarray(speeds_kmh, dtype=float) / 3.6
+    freq = np.asarray(freq, dtype=float)
+    dx = min(v.min() / (samples_per_period * freq.max()), min(spans) / 100.0)
+    tail_s = tail_periods / freq.min()
+    n_pass = int(math.ceil((length + train.length) / dx)) + 1
+    return Steps(n_pass + int(math.ceil(tail_s * v.max() / dx)), dx, n_pass, tail_s)
+
+
 def moving_force_response(
     bridge: ModalBridge,
     train: ForceTrain,
@@ -231,10 +255,8 @@ def moving_force_response(
         raise SettingError(where, "damping_ratio", damping_ratio, "ratios in [0, 1)")
     omega = 2.0 * np.pi * freq
     v = v_kmh / 3.6
-    dx = min(v.min() / (samples_per_period * freq.max()), min(spans) / 100.0)
-    tail_s = tail_periods / freq.min()
-    n_pass = int(math.ceil((bridge.length + train.length) / dx)) + 1
-    n_steps = n_pass + int(math.ceil(tail_s * v.max() / dx))
+    n_steps, dx, n_pass, tail_s = integration_steps(bridge.length, freq, train, v_kmh, spans, samples_per_period,
+                                                    tail_periods)
     if n_steps > MAX_STEPS:
         exc = ResourceError.from_parts(where, "speeds_kmh", f"{v_kmh.min():g}-{v_kmh.max():g} km/h",
                                        f"at most {MAX_STEPS} steps (fewer high modes, higher lowest speed)",
@@ -283,4 +305,5 @@ def moving_force_response(
     )
 
 
-__all__ = ["MovingForceResponse", "TWIST_BASE", "TWIST_GAUGE", "deck_stations", "twist_stations", "modal_loads", "moving_force_response"]
+__all__ = ["MovingForceResponse", "Steps", "TWIST_BASE", "TWIST_GAUGE", "deck_stations", "integration_steps",
+           "modal_loads", "moving_force_response", "twist_stations"]

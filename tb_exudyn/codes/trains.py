@@ -12,8 +12,10 @@ Jacobs bogies), in running order. Pure numpy.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -413,37 +415,69 @@ def _hslm_number(name: str) -> int | None:
     return None
 
 
+@dataclass(frozen=True)
+class TrainSource:
+    """Where a train of a check comes from: ``given`` as the user wrote it (a name or a path), ``label``
+    as a message names it, ``identity`` equal for two givens of the same train (an HSLM-A number, a
+    file's resolved path, a ForceTrain object)."""
+
+    given: str
+    label: str
+    identity: Any
+
+
+def distinct_trains(pairs: Sequence[tuple["ForceTrain", TrainSource]], where: str = "check",
+                    key: str = "trains") -> list["ForceTrain"]:
+    """The trains of ``pairs``, each once (a train given twice, e.g. ``hslm_a`` and ``HSLM-A3``, or a file
+    by two spellings of its path, counts once), in order. Two different trains with one name (two train
+    files with the same ``name``, or a file named like an HSLM-A train) raise SettingError naming both:
+    the rows are by train name, so one would be lost."""
+    first: dict[str, TrainSource] = {}
+    out: list[ForceTrain] = []
+    for train, source in pairs:
+        seen = first.get(train.name)
+        if seen is None:
+            first[train.name] = source
+            out.append(train)
+        elif seen.identity != source.identity:
+            raise SettingError(where, key, [seen.given, source.given],
+                               "trains with distinct names (a train file's name key; HSLM-A1 ... HSLM-A10 and HSLM-B are EN "
+                               "1991-2's)", f"two trains named {train.name!r}: {seen.label} and {source.label}")
+    return out
+
+
+def train_sources(name: Any, where: str = "check", key: str = "trains") -> list[tuple["ForceTrain", TrainSource]]:
+    """The trains one given ``name`` stands for (``hslm_a``: all ten), each with its :class:`TrainSource`."""
+    text = str(name)
+    number = _hslm_number(text)
+    if text.strip().lower() == HSLM_A_GROUP or number is not None:
+        numbers = list(HSLM_A_TABLE) if number is None else [number]
+        return [(hslm_a(i), TrainSource(text, f"EN 1991-2's HSLM-A{i} ({text!r})", ("hslm_a", i))) for i in numbers]
+    files = train_files()
+    if text in files:
+        path = files[text]
+        label = f"{text!r} (models/trains/{path.name})"
+    elif text.endswith(".toml"):  # read_toml names a missing, non-regular or malformed file
+        path, label = Path(text), f"file {text!r}"
+    else:
+        allowed = "hslm_a, HSLM-A1 ... HSLM-A10, " + ", ".join(files) + " or a train .toml file"
+        raise SettingError(where, key, text, allowed, "unknown train")
+    train = load_train(path)
+    return [(train, TrainSource(text, label, ("file", os.path.realpath(path))))]
+
+
 def resolve_trains(names, where: str = "check", key: str = "trains") -> list[ForceTrain]:
     """The trains named by ``names``: ``hslm_a`` (all ten), ``HSLM-A3`` or ``hslm_a3``, a real train of
     models/trains, or a path to a train .toml file; each at most once, in the order given. An unknown
-    name raises SettingError naming ``where`` and ``key`` and listing the names."""
+    name raises SettingError naming ``where`` and ``key`` and listing the names; two different trains
+    with one name (:func:`distinct_trains`) too."""
     if isinstance(names, str):
         names = [names]
     names = list(names)
     if not names:
         raise SettingError(where, key, names, "hslm_a, HSLM-A1 ... HSLM-A10 or a train of models/trains", "no train")
-    files = train_files()
-    out: list[ForceTrain] = []
-    for name in names:
-        text = str(name)
-        if text.strip().lower() == HSLM_A_GROUP:
-            out.extend(hslm_a(i) for i in HSLM_A_TABLE)
-        elif _hslm_number(text) is not None:
-            out.append(hslm_a(_hslm_number(text)))
-        elif text in files:
-            out.append(load_train(files[text]))
-        elif text.endswith(".toml"):  # read_toml names a missing, non-regular or malformed file
-            out.append(load_train(text))
-        else:
-            allowed = "hslm_a, HSLM-A1 ... HSLM-A10, " + ", ".join(files) + " or a train .toml file"
-            raise SettingError(where, key, text, allowed, "unknown train")
-    seen, unique = set(), []
-    for t in out:
-        if t.name not in seen:
-            seen.add(t.name)
-            unique.append(t)
-    return unique
+    return distinct_trains([pair for name in names for pair in train_sources(name, where, key)], where, key)
 
 
 __all__ = ["CAR_KEYS", "ForceTrain", "GRAVITY", "TrainPart", "composition_table", "train_view", "HSLM_A_GROUP", "HSLM_A_TABLE", "hslm_a", "hslm_a_positions", "list_trains",
-           "load_train", "resolve_trains", "train_files", "train_names", "trains_dir"]
+           "TrainSource", "distinct_trains", "load_train", "resolve_trains", "train_sources", "train_files", "train_names", "trains_dir"]

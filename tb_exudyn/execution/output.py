@@ -26,6 +26,7 @@ from pathlib import Path
 from typing import Iterator, Sequence
 
 from ..errors import OutputFolderError, UserError
+from ..files import entry_kind, owning_folder
 
 #: files of an output folder drawn from all its results (tb_exudyn.plotting.files.plot_folder writes
 #: ``figures/<channel>.pem_vs_mc.<format>``, tb_exudyn.report.write_report ``report.html``)
@@ -134,10 +135,28 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
 
 
 def refuse_earlier_files(folder: str | Path, names: Sequence[str], what: str, *, overwrite: bool, where: str) -> None:
-    """OutputFolderError when ``folder`` holds any of the files ``names`` of an earlier ``what`` (a
-    symbolic link counts) and not ``overwrite``: for a command that writes fixed file names into its
-    folder without a result folder of its own (the EN 1991-2 check)."""
+    """Check the fixed file ``names`` that a command writes into ``folder`` without a result folder of
+    its own (the EN 1991-2 check), before any work; call with the folder's lock held, so that the test
+    and the write are one step for other runs. OutputFolderError (nothing changed) when:
+
+    - an entry of one of the names is not a file (a folder, a FIFO, ...): no option replaces it;
+    - ``folder`` lies inside a result or checkpoint folder, which holds only its own files;
+    - it holds any of them (a symbolic link counts: with ``overwrite`` the link itself is replaced, never
+      what it points to) of an earlier ``what`` and not ``overwrite``."""
     folder = Path(folder)
+    move = f"move it away, or {_OPTIONS['out']}"
+    for name in names:
+        kind = entry_kind(folder / name)
+        if kind is not None:
+            raise OutputFolderError(f"output folder {str(folder)!r} holds {name}, {kind}, where the {what} writes its "
+                                    f"file: not replaced (allowed: {move})", where=where, key="out",
+                                    value=str(folder), allowed=move)
+    owner = owning_folder(Path(os.path.realpath(folder)) / names[0])
+    if owner is not None:
+        allowed = f"{_OPTIONS['out']}, outside result and checkpoint folders"
+        raise OutputFolderError(f"output folder {str(folder)!r} is inside {owner}, which holds only the result's own "
+                                f"files (allowed: {allowed})", where=where, key="out", value=str(folder),
+                                allowed=allowed)
     held = [n for n in names if os.path.lexists(folder / n)]
     if held and not overwrite:
         allowed = f"{_OPTIONS['overwrite']} to replace it, or {_OPTIONS['out']}"
@@ -199,5 +218,5 @@ def _only_unstarted_checkpoints(folder: Path) -> bool:
     return True
 
 
-__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "remove_entry",
-           "removed_if_left_empty"]
+__all__ = ["SWEEP_FIGURE", "SWEEP_PAGE", "RunFiles", "clear_run", "holdings", "prepare_folder", "refuse_earlier_files",
+           "remove_entry", "removed_if_left_empty"]

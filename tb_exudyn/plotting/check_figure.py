@@ -32,7 +32,8 @@ def plot_check(result, resonant_orders: int = 4):  # noqa: ANN001, ANN201
         for case in cases:
             line = [r for r in rows if r["case"] == case]
             ax.plot([r["speed_kmh"] for r in line], [r["max_deck_acc_z"] for r in line], color=color, lw=1.2,
-                    ls=CASE_STYLES.get(case, "-"), label=name if len(cases) == 1 else f"{name} ({case})")
+                    ls=CASE_STYLES.get(case, "-"), marker="o" if len(line) == 1 else None,  # one speed: a point
+                    label=name if len(cases) == 1 else f"{name} ({case})")
         stoch = [r for r in rows if r.get("level_at_target") is not None and np.isfinite(r["level_at_target"])]
         if stoch:
             ax.plot([r["speed_kmh"] for r in stoch], [r["level_at_target"] for r in stoch], ls="none", marker="x",
@@ -41,7 +42,8 @@ def plot_check(result, resonant_orders: int = 4):  # noqa: ANN001, ANN201
             if lo <= v <= hi:
                 ax.axvline(v, color=color, lw=0.6, ls=":", alpha=0.8)
     ax.axhline(result.limit, color="red", lw=1.5, label=f"limit {result.limit:g} m/s$^2$ ({result.track})")
-    ax.set_xlim(lo, hi)
+    pad = 5.0 if hi - lo < 1e-6 else 0.0  # a series of one speed (1.2 x the line speed below 144 km/h): +- a step
+    ax.set_xlim(lo - pad, hi + pad)
     levels = [r["level_at_target"] for r in result.rows if r.get("level_at_target") is not None
               and np.isfinite(r["level_at_target"])]
     ax.set_ylim(0.0, max(1.1 * result.limit, 1.05 * max(result.column("max_deck_acc_z")), *(1.05 * x for x in levels)))

@@ -63,7 +63,7 @@ from .entries import (CheckEntry, CodeLimit, FindingRow, ModeEntry, Result, Summ
                       verdicts_of)
 from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_section, findings_section, link, modes_section,
                    provenance_section, result_name, scenario_section, warnings_section)
-from .check import CHECK_REPORT, render_check_report, write_check_report
+from .check import CHECK_REPORT, check_files, render_check_report, write_check_report
 from .sweep import SWEEP_REPORT, render_sweep_report, write_sweep_report
 from .verdicts import verdicts_section
 
@@ -232,4 +232,4 @@ __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "Study
            "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
            "SWEEP_REPORT", "render_sweep_report", "write_sweep_report",
-           "CHECK_REPORT", "render_check_report", "write_check_report"]
+           "CHECK_REPORT", "check_files", "render_check_report", "write_check_report"]

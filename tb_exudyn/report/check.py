@@ -24,20 +24,25 @@ from __future__ import annotations
 
 import datetime as _dt
 import html
+import io
 import math
 from pathlib import Path
 from typing import Any
 
 from .._version import __version__
 from ..atomic import write_text_atomic
+from ..plotting.files import DPI
 from ..results.checks_table import SMALLEST_SHOWN
 from ..system.labels import format_number
 from .sections import STYLE, _img, html_table, link
 
 esc = html.escape
 
-#: the check's page in its output folder, beside check.csv (the same name as tb_exudyn.codes.CHECK_PAGE)
+#: the check's page in its output folder, beside check.csv (the same names as tb_exudyn.codes.CHECK_PAGE,
+#: CHECK_CSV and CHECK_FIGURE)
 CHECK_REPORT = "check.html"
+CHECK_TABLE = "check.csv"
+CHECK_FIGURE = "check.png"
 
 
 def _num(x: Any) -> str:
@@ -95,7 +100,8 @@ def criteria_section(result: Any) -> str:
 
 def settings_section(result: Any) -> str:
     req, why = result.dynamic_analysis
-    rows = [["bridge", result.bridge], ["line speed", f"{_num(result.line_speed_kmh)} km/h (speeds up to 1.2 x)"],
+    bridge = result.bridge + (f" ({result.bridge_file})" if getattr(result, "bridge_file", "") else "")
+    rows = [["bridge", bridge], ["line speed", f"{_num(result.line_speed_kmh)} km/h (speeds up to 1.2 x)"],
             ["construction", f"{result.construction.replace('_', ' ')} ({result.construction_basis})"],
             ["damping", result.damping_basis], ["mass cases", ", ".join(result.cases)],
             ["modes", f"{len(result.mode_frequencies)} up to {result.cutoff_hz:.3g} Hz ({result.cutoff_basis}), at the "
@@ -178,6 +184,20 @@ def render_check_report(result: Any, figure_png: bytes | None = None) -> str:
             f"<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")
 
 
+def check_files(result: Any, figure: Any = None) -> dict[str, bytes]:
+    """Every file of a check, rendered in memory (nothing is written): ``check.csv`` (the table),
+    ``check.png`` (``figure``, a matplotlib figure, when given) and ``check.html`` (this page, the figure
+    embedded), by name in that order; the command writes them as one (tb_exudyn.files.write_output)."""
+    out = {CHECK_TABLE: result.csv_text().encode("utf-8")}
+    png = None
+    if figure is not None:
+        buf = io.BytesIO()
+        figure.savefig(buf, format="png", dpi=DPI)
+        png = out[CHECK_FIGURE] = buf.getvalue()
+    out[CHECK_REPORT] = render_check_report(result, png).encode("utf-8")
+    return out
+
+
 def write_check_report(result: Any, folder: str | Path, figure_png: bytes | None = None) -> Path:
     """Write :func:`render_check_report` to ``folder/check.html``, atomically."""
     out = Path(folder) / CHECK_REPORT
@@ -185,4 +205,5 @@ def write_check_report(result: Any, folder: str | Path, figure_png: bytes | None
     return out
 
 
-__all__ = ["CHECK_REPORT", "criteria_section", "render_check_report", "write_check_report"]
+__all__ = ["CHECK_FIGURE", "CHECK_REPORT", "CHECK_TABLE", "check_files", "criteria_section", "render_check_report",
+           "write_check_report"]

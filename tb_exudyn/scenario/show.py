@@ -9,6 +9,7 @@ from typing import Any, Sequence
 
 from .model import Scenario
 from .sections import track_lines
+from .track_structure import load_track_structure
 
 
 def _fmt(value: Any) -> str:
@@ -53,6 +54,22 @@ def track_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
              + ("; the train's track (track.on)" if i + 1 == scenario.track.on else ""))
             for i, (e, h) in enumerate(lines)]
     return rows
+
+
+def track_structure_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
+    """The ``show`` rows of a scenario's track structure (none without one): its kind, spacing, depth and
+    the chain under one rail seat (docs/track.md)."""
+    if not scenario.track.structure:
+        return []
+    ts = load_track_structure(scenario.track.structure, scenario.source_file)
+    parts = ("pad", "sleeper", "ballast", "subgrade") if ts.kind == "ballasted" else ("pad", "slab", "mortar", "base")
+    chain = "; ".join(
+        f"{p} {getattr(ts, p).mass:g} kg" if not hasattr(getattr(ts, p), "stiffness") else
+        f"{p} {getattr(ts, p).stiffness:.3g} N/m, {getattr(ts, p).damping:.3g} N s/m"
+        + (f", {getattr(ts, p).mass:g} kg" if getattr(ts, p).mass else "") for p in parts)
+    return [("(derived) track structure", f"{ts.kind}, {ts.spacing:g} m, {ts.depth:.3g} m deep", "",
+             f"'{ts.name}': support spacing, rail head to deck; per rail and support: {chain}. No run "
+             "models it yet (docs/track.md)")]
 
 
 #: the model kinds in a bridge engineer's words (the value shown is what a file's ``kind`` holds)
@@ -147,6 +164,7 @@ def scenario_table(scenario: Scenario, extra_rows: Sequence[tuple[str, str, str,
         ("(derived) axles", str(len(scenario.train.axle_positions)), "", "number of axles"),
         ("(derived) bridge length", _fmt(scenario.bridge.length), "m", "sum of spans"),
         *track_rows(scenario),
+        *track_structure_rows(scenario),
         ("(derived) duration", f"{scenario.duration:.4g}", "s", "first axle at -lead_in until last axle run_out past the bridge"),
         ("(derived) time steps", str(int(round(scenario.duration / scenario.analysis.time_step))), "", "duration / time_step"),
         *extra_rows,
@@ -189,4 +207,4 @@ def run_label(scenario: Scenario) -> str:
             f"{an.freq_min:.3g}-{an.freq_max:.3g} Hz, {an.n_freq} {an.freq_spacing} frequencies")
 
 
-__all__ = ["KIND_WORDS", "LISTING_WIDTH", "model_rows", "run_label", "scenario_table", "table_text", "track_rows"]
+__all__ = ["KIND_WORDS", "LISTING_WIDTH", "model_rows", "run_label", "scenario_table", "table_text", "track_rows", "track_structure_rows"]

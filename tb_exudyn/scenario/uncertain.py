@@ -38,6 +38,7 @@ from statistics import NormalDist
 from typing import Any
 
 from . import model as m
+from ..errors import SettingError
 from .errors import ScenarioError
 from .io import resolve_model_path, scenario_from_dict, with_settings
 from .schema import to_dict
@@ -243,8 +244,12 @@ def load_study(path_or_name: str | Path, uncertain_file: str | Path | None = Non
     data = read_toml(path)
     table = data.pop("uncertain", None)
     scenario = scenario_from_dict(data, str(path))
-    if settings:
-        scenario = with_settings(scenario, list(settings))
+    for key, value in settings or ():
+        try:
+            scenario = with_settings(scenario, [(key, value)])
+        except ScenarioError as exc:
+            raise SettingError("load_study", "settings", f"{key}={value}", f"{exc.key}: {exc.allowed}",
+                               exc.reason) from None
     if uncertain_file is not None:
         return scenario, load_uncertain(uncertain_file, scenario)
     if table is None:

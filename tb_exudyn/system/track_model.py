@@ -62,6 +62,8 @@ class TrackModel:
     M: sp.csr_matrix = field(repr=False)
     K: sp.csr_matrix = field(repr=False)
     C: sp.csr_matrix = field(repr=False)
+    #: the deck's modal coordinates appended after the track's DOFs (:func:`track_on_deck`; empty: rigid ground)
+    deck_dofs: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int), repr=False)
 
     @property
     def n_dof(self) -> int:
@@ -139,6 +141,45 @@ def track_model(structure: TrackStructure, n_supports: int, elements_per_bay: in
                       n_rail=n_rail, support_dofs=support_dofs, chain=chain, M=M, K=K, C=C)
 
 
+def track_on_deck(track: TrackModel, deck: ModalBridge, deck_start: float) -> TrackModel:
+    """The track with its supports on a deck: the lowest spring-damper of every support that stands on the
+    deck (deck_start <= x_s <= deck_start + deck.length) ends on the deck's track line, w_d(x_s) =
+    phi(x_s - deck_start) q_d (the deck's vertical rail-level shapes ``deck.rail_shapes(x).z``, bending and
+    torsion times the track's offset), instead of the ground; the deck's mass-normalised modal coordinates
+    q_d (with their own omega^2 and 2 zeta omega) are appended to the DOFs. Supports off the deck stay on
+    rigid ground (the chain of ``ground="rigid"``; the ballast's mass on the deck is the deck's). The track's masses move with the deck: the deck's own modes must leave them out (a bridge
+    whose added mass holds the rails and sleepers counts them twice)."""
+    if track.deck_dofs.size:
+        raise ValueError("the track already stands on a deck")
+    if len(track.chain) != 2:  # ground="subgrade": its subgrade spring would end on the deck
+        raise ValueError("track_on_deck takes the track built with ground='rigid' (the ballast or the mortar "
+                         "ends on the deck); a subgrade off the deck is not modelled yet")
+    chain = track.chain
+    k, c = chain[-1][0], chain[-1][1]
+    bottom = track.support_dofs[:, -1]  # the lowest mass of each support (a chain has at least one)
+    xs = track.support_x - deck_start
+    on = (xs >= 0.0) & (xs <= deck.length)
+    p = np.zeros((xs.size, deck.n_modes))
+    if np.any(on):
+        p[on] = deck.rail_shapes(xs[on]).z
+    n_t, n_d = track.n_dof, deck.n_modes
+    e = sp.csr_matrix((np.ones(xs.size), (bottom, np.arange(xs.size))), shape=(n_t, xs.size))  # DOF of each support
+    pd = sp.csr_matrix(p)
+
+    def coupled(a: sp.csr_matrix, value: float, own: np.ndarray) -> sp.csr_matrix:
+        """The track's matrix with its lowest springs (or dampers) ``value`` ending on the deck."""
+        off = -value * (e @ pd)  # (n_t, n_d)
+        dd = value * (pd.T @ pd) + sp.diags(own)
+        return sp.bmat([[a, off], [off.T, dd]], format="csr")
+
+    om, zeta = deck.omega, deck.damping_ratios
+    M = sp.bmat([[track.M, None], [None, sp.identity(n_d)]], format="csr")
+    return TrackModel(structure_name=track.structure_name, length=track.length, support_x=track.support_x,
+                      h=track.h, n_rail=track.n_rail, support_dofs=track.support_dofs, chain=chain, M=M,
+                      K=coupled(track.K, k, om**2), C=coupled(track.C, c, 2 * zeta * om),
+                      deck_dofs=n_t + np.arange(n_d))
+
+
 def hermite_slope(xi: np.ndarray, h: float) -> np.ndarray:
     """(n, 4): d/dx of the cubic Hermite shape functions at local coordinates xi of an element of length h."""
     xi = np.asarray(xi, dtype=float)
@@ -207,4 +248,4 @@ def _spring(upper: np.ndarray, lower: np.ndarray | None, value: float) -> tuple[
     return r, c, v
 
 
-__all__ = ["ModalTrack", "TrackModel", "beam_element", "hermite", "hermite_slope", "modal_track", "track_model"]
+__all__ = ["ModalTrack", "TrackModel", "track_on_deck", "beam_element", "hermite", "hermite_slope", "modal_track", "track_model"]

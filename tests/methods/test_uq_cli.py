@@ -152,3 +152,13 @@ def test_saved_result_is_checked_when_loaded(tmp_path):
     r.save(tmp_path / "bad")
     with pytest.raises(ResultsError, match="std_sigma.*negative"):
         load_uq(tmp_path / "bad")
+
+
+def test_bad_set_names_the_option(tmp_path, capsys):
+    f = tmp_path / "u.toml"
+    f.write_text('[uncertain."bridge.damping_ratio"]\ndistribution = "uniform"\nrelative_bounds = [-0.2, 0.2]\n')
+    assert main(["uq", "quick", "--uncertain-file", str(f), "--set", "bridge.damping_ratio=-1",
+                 "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--set" in err and "bridge.damping_ratio" in err and len(err.splitlines()) == 1, err
+    assert not (tmp_path / "o").exists()

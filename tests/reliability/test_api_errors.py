@@ -46,9 +46,10 @@ def _handed_scenario(call) -> object:
 def recorder(monkeypatch):
     import tb_exudyn.methods as methods
     import tb_exudyn.methods.sweep as sweep
+    import tb_exudyn.methods.uq.method as uq
 
-    monkeypatch.setattr(methods, "drive", _record)
-    monkeypatch.setattr(sweep, "drive", _record)
+    for module in (methods, sweep, uq):
+        monkeypatch.setattr(module, "drive", _record)
 
 
 ENTRY_POINTS = {
@@ -56,6 +57,8 @@ ENTRY_POINTS = {
     "run_pem": lambda sc: tb_exudyn.run_pem(sc, progress=False),
     "run_monte_carlo": lambda sc: tb_exudyn.run_monte_carlo(sc, n_samples=2, progress=False),
     "run_sweep": lambda sc: __import__("tb_exudyn.methods.sweep").methods.sweep.run_sweep(sc, [200.0, 250.0]),
+    "run_uq": lambda sc: __import__("tb_exudyn.methods.uq.method").methods.uq.method.run_uq(
+        sc, {"bridge.girder.E": {"distribution": "lognormal", "cov": 0.05}}, order=1),
 }
 
 

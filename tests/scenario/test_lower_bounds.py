@@ -77,6 +77,9 @@ def test_a_vehicle_value_below_its_bound_is_refused_naming_the_key(part, key):
         assert err.value.key == key and f">= {check.low:g}" in err.value.allowed
         assert "slip of units" in str(err.value) and "\n" not in str(err.value)
     table.replace(**{key: check.low})  # the bound itself is allowed
+    with pytest.raises(ScenarioError) as err:  # above the upper bound: the lower bound's reason is not given
+        table.replace(**{key: 1e30})
+    assert "out of range" in str(err.value) and "slip of units" not in str(err.value)
 
 
 @pytest.mark.parametrize("key", ["E", "G", "area", "I_y", "I_z", "J", "mass_per_length", "rot_mass_per_length"])

@@ -98,3 +98,11 @@ def test_a_run_with_a_track_structure_is_refused_until_the_engines_model_it(tmp_
     sc = load_scenario("quick")
     with pytest.raises(ScenarioError, match="track.structure"):
         build_model(sc.replace(track=sc.track.replace(structure="ballasted_uic60")))
+
+
+def test_show_describes_the_track_structure(capsys):
+    assert main(["show", "li_zhu_2011", "--set", "track.structure=slab_track"]) == 0
+    out = capsys.readouterr().out
+    assert "(derived) track structure" in out and "slab, 0.65 m, 0.737 m deep" in out and "mortar 9e+08 N/m" in out
+    assert main(["show", "li_zhu_2011"]) == 0
+    assert "(derived) track structure" not in capsys.readouterr().out

@@ -27,7 +27,7 @@ from ...errors import ScenarioError, SettingError
 from ...execution import Execution, RunFiles, Task
 from ...results.uq import UQ_FOLDER, UqResult
 from ...scenario import Scenario, scenario_to_toml
-from ...scenario.io import with_settings
+from ...scenario.io import as_scenario, with_settings
 from ...scenario.uncertain import UncertainKey, check_uncertain
 from .. import pem
 from ..common import fingerprint_identity
@@ -188,7 +188,7 @@ class UqMethod:
         names, crit = arrays.pop("quantities"), arrays.pop("criteria")
         w = state.weights if state.weights is not None else np.full(state.x.shape[1], np.nan)
         arrays.update(time=first["time"], node_values=state.values.T.copy(), node_weights=np.asarray(w, dtype=float))
-        notes = loo_warnings(names, arrays["loo"], arrays["quantity_mean"])
+        notes = loo_warnings(names, arrays["loo"], arrays["quantity_mean"], arrays["quantity_std"])
         node_notes = list(dict.fromkeys(str(m) for s in state.summaries for m in s["warnings"]))
         result = UqResult(
             scenario=self.scenario, keys=tuple(keys_json(self.keys)), channels=tuple(map(str, first["channels"])),
@@ -204,12 +204,13 @@ class UqMethod:
         result.save(out / UQ_FOLDER)
 
 
-def run_uq(scenario: Scenario, keys: Sequence[UncertainKey] | Mapping[str, Any], *, order: int = 3, design: str = "tensor",
+def run_uq(scenario: Scenario | str | Path, keys: Sequence[UncertainKey] | Mapping[str, Any], *, order: int = 3, design: str = "tensor",
            nodes: int | None = None, engine: str = DEFAULT_ENGINE, options: Any = None,
            channels: Sequence[str] | None = None, window: tuple[float, float] | None = None, workers: int | None = None, executor: Any = None,
            out: str | Path | None = None, resume: bool = False, progress: bool = True, overwrite: bool = False,
            keep_checkpoint: bool = False) -> UqResult:
-    """Polynomial chaos over PEM runs of ``scenario`` under the uncertain ``keys`` (module docstring).
+    """Polynomial chaos over PEM runs of ``scenario`` (a Scenario, or a scenario's name or file) under the
+    uncertain ``keys`` (module docstring).
 
     keys : :class:`~tb_exudyn.scenario.uncertain.UncertainKey` (:func:`~tb_exudyn.scenario.uncertain.load_study`),
         or an ``[uncertain]`` table as a dict (``{"bridge.girder.E": {"distribution": "lognormal", "cov": 0.05}}``)
@@ -220,6 +221,7 @@ def run_uq(scenario: Scenario, keys: Sequence[UncertainKey] | Mapping[str, Any],
     workers, executor, out, resume, progress, overwrite, keep_checkpoint : as :func:`tb_exudyn.run_sweep`;
         the nodes are the tasks; ``out/uq`` the result, ``out/checkpoint-uq`` the nodes' checkpoint
     """
+    scenario = as_scenario(scenario, "run_uq")
     if isinstance(keys, Mapping):  # an [uncertain] table as a dict
         keys = check_uncertain(scenario, dict(keys), "run_uq")
     execution = Execution(workers=workers, executor=executor, out=out, resume=resume, progress=progress,

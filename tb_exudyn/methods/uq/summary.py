@@ -88,12 +88,22 @@ def sigma_band(germs: Sequence[Any], order: int, e: pce.Expansion) -> np.ndarray
 PROBABILITY_FLOOR = 1e-9
 
 
-def loo_warnings(names: Sequence[str], loo: np.ndarray, means: np.ndarray | None = None) -> list[str]:
-    """The warning of quantities whose leave-one-out error is above :data:`LOO_WARNING` (empty: none);
-    probabilities whose mean is below :data:`PROBABILITY_FLOOR` are left out."""
+#: nor is a quantity whose leave-one-out RMS error, sqrt(LOO) x std, is below this share of its |mean|
+#: (a quantity the keys hardly move: its variance is tiny, so the LOO relative to it is noise)
+MEAN_SHARE = 1e-3
+
+
+def loo_warnings(names: Sequence[str], loo: np.ndarray, means: np.ndarray | None = None,
+                 stds: np.ndarray | None = None) -> list[str]:
+    """The warning of quantities whose leave-one-out error (relative to their variance) is above
+    :data:`LOO_WARNING` (empty: none); left out: probabilities whose mean is below
+    :data:`PROBABILITY_FLOOR`, and quantities whose leave-one-out RMS error is below :data:`MEAN_SHARE`
+    of their |mean|."""
     means = np.full(len(names), np.inf) if means is None else means
-    bad = [(n, float(e)) for n, e, m in zip(names, loo, means) if math.isfinite(e) and e > LOO_WARNING
-           and not (n.startswith("probability:") and not m >= PROBABILITY_FLOOR)]
+    stds = np.full(len(names), np.inf) if stds is None else stds
+    bad = [(n, float(e)) for n, e, m, s in zip(names, loo, means, stds) if math.isfinite(e) and e > LOO_WARNING
+           and not (n.startswith("probability:") and not m >= PROBABILITY_FLOOR)
+           and not math.sqrt(e) * s < MEAN_SHARE * abs(m)]
     if not bad:
         return []
     n, e = max(bad, key=lambda b: b[1])
@@ -107,4 +117,4 @@ def keys_json(keys: Sequence[Any]) -> list[dict[str, Any]]:
             for uk in keys]
 
 
-__all__ = ["BAND_SAMPLES", "PROBABILITY_FLOOR", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]
+__all__ = ["BAND_SAMPLES", "MEAN_SHARE", "PROBABILITY_FLOOR", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]

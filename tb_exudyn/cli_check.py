@@ -1,0 +1,156 @@
+"""``tb-exudyn check``: the EN 1991-2 dynamic check on the command line (cli.py adds the command).
+
+What the command does to ``--out`` (a folder that may hold other files, e.g. a run's ``pem/``):
+
+- first, read only, ``--out`` as it is (:func:`tb_exudyn.files.check_writable` with ``create=False``: a
+  file, a FIFO, a path under a file, a folder this user cannot write in, /proc are refused with one line
+  saying what is allowed) and, if it exists, its earlier files (:func:`refuse_earlier_files`: an earlier
+  check's files without ``--overwrite``; an entry of an output's name that is not a file, with or without
+  it; a folder inside a result folder);
+- then the check's other arguments (:func:`tb_exudyn.codes.check` checks them and plans the work: modes,
+  speed series, the integrations' sizes), touching nothing;
+- then, before the first integration (check's ``before_work``), ``--out`` is made, tested by a write,
+  locked (:func:`tb_exudyn.execution.folder_lock`) and its earlier files tested again under the lock. The
+  lock is held until the files are written, so a second check into the same folder is refused at once,
+  naming the first; nothing of the first is replaced;
+- the files (check.csv, check.png, check.html) are rendered in memory after the analysis and written as
+  one group (:func:`tb_exudyn.files.write_output`): all of them or none, also on Ctrl-C (a Ctrl-C during
+  the renames is held until the group is in place). ``--overwrite --no-figures`` removes an earlier
+  check.png with the same renames;
+- a Ctrl-C before the files are written leaves ``--out`` as it was (a folder the command made is removed
+  again), and the message says that the same command can simply be run again.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from contextlib import ExitStack
+from pathlib import Path
+
+from .cli_flags import WHERE, options
+from .cli_results import report_package
+from . import cli_text
+from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
+from .errors import SettingError
+from .execution import folder_lock
+from .execution.output import refuse_earlier_files, removed_if_left_empty
+from .files import check_writable, write_output
+from .scenario.show import LISTING_WIDTH
+
+#: exit status after a Ctrl-C (128 + SIGINT, as a shell reports it)
+EXIT_INTERRUPTED = 130
+#: the files of a check in --out, in the order they are written
+FILES = (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE)
+
+
+def _speeds(text: str | None) -> list[float] | None:
+    if text is None:
+        return None
+    try:
+        return [float(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise SettingError(WHERE, "--stochastic-speeds", text, "speeds [km/h] separated by commas, e.g. 250,280.5",
+                           "not a number") from None
+
+
+def _holds(path: Path, data: bytes) -> bool:
+    """Whether ``path`` is a regular file holding ``data``."""
+    try:
+        return path.is_file() and not path.is_symlink() and path.read_bytes() == data
+    except OSError:
+        return False
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    """EN 1991-2 dynamic check (tb_exudyn.codes): the table, the figure, the page and the verdict (see the
+    module docstring for what it does to --out)."""
+    try:
+        line_speed = float(args.line_speed_kmh)
+    except ValueError:
+        raise SettingError(WHERE, "--line-speed-kmh", args.line_speed_kmh, "a speed in [1, 600] km/h",
+                           "not a number") from None
+    speeds = _speeds(args.stochastic_speeds)
+    # --out as it is, read only: what no later step can change is refused at once
+    check_writable(args.out, create=False)
+    refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)  # (or a result folder's)
+    files: dict[str, bytes] | None = None
+    taken: list[Path] = []
+    try:
+        with ExitStack() as stack:
+            def take_out() -> None:  # every other argument checked: --out made, locked and tested again
+                stack.enter_context(removed_if_left_empty(args.out))  # a check refused or interrupted later
+                out = check_writable(args.out)                        # leaves no new empty --out
+                stack.enter_context(folder_lock(out, WHERE, "wait for it to end, or use another --out"))
+                refuse_earlier_files(out, FILES, "check", overwrite=args.overwrite, where=WHERE)
+                taken.append(out)
+
+            result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
+                           construction=args.construction, additional_damping=args.additional_damping,
+                           where=WHERE, option_names=options("line_speed_kmh", "trains", "track", "construction",
+                                                             "bridge", "stochastic", "stochastic_speeds",
+                                                             "stochastic_scenario"),
+                           stochastic=args.stochastic, stochastic_speeds=speeds,
+                           stochastic_scenario=args.stochastic_scenario, workers=args.workers,
+                           progress=not args.no_progress, before_work=take_out)
+            out = taken[0]
+            files = report_package().check_files(result, None if args.no_figures else result.plot())
+            stale = [out / CHECK_FIGURE] if CHECK_FIGURE not in files else []  # --overwrite --no-figures
+            write_output([(out / name, data) for name, data in files.items()], named=out,
+                         overwrite=args.overwrite, where=WHERE, key="out", remove=stale)
+    except KeyboardInterrupt:  # in the analysis, the drawing or the writing (whose renames finish first)
+        if files is not None and all(_holds(taken[0] / name, data) for name, data in files.items()):
+            print(f"tb-exudyn: interrupted after the check's files were written whole: {', '.join(files)} in "
+                  f"{str(taken[0])!r}", file=sys.stderr)
+        else:
+            print(f"tb-exudyn: interrupted before the check's files were written: --out {args.out!r} is as it was; "
+                  "run the same command again", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    print(cli_text.fitted(result.summary(), LISTING_WIDTH))
+    print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
+          + ("" if CHECK_FIGURE not in files else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
+    return 0
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("check", help="EN 1991-2 dynamic check: HSLM-A and real trains as moving forces over a speed series",
+                       formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
+  tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
+  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
+  tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 250 --trains ice_mttm --stochastic --stochastic-speeds 250,300
+""")
+    p.add_argument("bridge", help="bridge name (see `tb-exudyn list`) or path to a .toml file")
+    p.add_argument("--line-speed-kmh", dest="line_speed_kmh", required=True, metavar="V",
+                   help="maximum line speed at the site, [1, 600] km/h: speeds from 40 m/s to 1.2 V (6.4.6.2)")
+    p.add_argument("--trains", nargs="+", default=["hslm_a"], metavar="NAME",
+                   help="hslm_a (default: HSLM-A1 ... A10), HSLM-A3, a train of models/trains or a train .toml file "
+                        "(each train's name once)")
+    p.add_argument("--track", default="ballasted", metavar="TRACK",
+                   help="ballasted (limit 3.5 m/s^2, default) or direct (direct fastening, 5 m/s^2)")
+    p.add_argument("--construction", default=None, metavar="TYPE",
+                   help="Table 6.6 damping: steel_composite, prestressed_concrete, reinforced_concrete or filler_beam "
+                        "(default: the bridge's own, code.construction of its file)")
+    p.add_argument("--additional-damping", dest="additional_damping", action="store_true",
+                   help="add eq. 6.13's damping for moving-force models (spans below 30 m)")
+    p.add_argument("--out", default="check", help="output folder (default: ./check); one check at a time writes "
+                   "into it, and its files are written all together or not at all")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace an earlier check's check.csv, check.png and check.html in --out (with --no-figures: "
+                        "remove the png)")
+    p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.add_argument("--stochastic", action="store_true",
+                   help="also the PEM of the random track irregularity for the trains given as vehicle models "
+                        "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "
+                        "run per speed, about 12 s each for ice_mttm over li_zhu_2011_bridge)")
+    p.add_argument("--stochastic-speeds", dest="stochastic_speeds", default=None, metavar="V,V,...",
+                   help="only these speeds [km/h] for --stochastic (added to the series if not in it; default: every "
+                        "speed of the series)")
+    p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
+                   help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
+                        "li_zhu_2011, German low interference)")
+    p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
+    p.set_defaults(func=_cmd_check)
+
+
+__all__ = ["EXIT_INTERRUPTED", "FILES", "add_parser"]
