@@ -57,6 +57,7 @@ FLAGS: dict[str, str] = {
     "stochastic_speeds": "--stochastic-speeds",
     "stochastic_scenario": "--stochastic-scenario",
     "interaction": "--interaction",
+    "alpha": "--alpha",
 }
 
 #: how a library message mentions an argument -> what the command line says instead
