@@ -1,5 +1,5 @@
-"""The same result means the same bits (issue 49): one worker, two workers and a run killed part-way
-then resumed give bitwise the same result, for PEM and for Monte Carlo.
+"""The same result means the same bits (issue 49): one worker, two workers, a run killed part-way
+then resumed and a Dask executor give bitwise the same result, for PEM and for Monte Carlo.
 
 Problem: the tiny sprung-mass scenario of execution_helpers (the VBI-2D damped sprung mass over the
 25 m beam at 300 km/h, 6 frequencies, two channels; batched engine: the mean task and the column
@@ -80,3 +80,27 @@ def test_workers_and_resume_give_the_same_bits(scenario, tmp_path, method):
     stats = {k: resumed.provenance[k] for k in ("tasks", "tasks_run", "tasks_from_checkpoint")}
     assert stats["tasks_from_checkpoint"] == 2 and stats["tasks_run"] >= 1, stats
     assert _same(ref, resumed) == []
+
+
+@pytest.mark.parametrize("method", ["pem", "mc"])
+def test_a_dask_executor_gives_the_same_bits(scenario, tmp_path, method):
+    """The same tasks on a local Dask cluster of two worker processes (the executor the README names),
+    against the command's one-worker result read back."""
+    distributed = pytest.importorskip("distributed", reason="the 'dask' extra is not installed")
+    import warnings
+
+    from tb_exudyn import load_scenario
+    from tb_exudyn.methods import run_monte_carlo, run_pem
+
+    _run(scenario, tmp_path / "one", method)
+    ref = load_results(tmp_path / "one" / FOLDER[method])
+    sc = load_scenario(scenario)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client, warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the tiny scenario's own advice (its short approach)
+            if method == "pem":
+                got = run_pem(sc, executor=client.get_executor(), progress=False, engine="batched")
+            else:
+                got = run_monte_carlo(sc, executor=client.get_executor(), progress=False, engine="batched")
+    assert got.provenance["executor"] != "in-process"
+    assert _same(ref, got) == []
