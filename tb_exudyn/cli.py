@@ -45,7 +45,8 @@ def _cmd_show(args: argparse.Namespace) -> int:
         text = scenario_table(model, rows)
     else:
         text = {"bridge": cli_show.bridge_text, "vehicle": cli_show.vehicle_text, "train": cli_show.train_text}[kind](model)
-    print(cli_text.fitted(text, LISTING_WIDTH))
+    note = cli_show.homonym_note(args.scenario, kind)
+    print(cli_text.fitted(text if note is None else f"{note}\n{text}", LISTING_WIDTH))
     return EXIT_OK
 
 

@@ -32,6 +32,7 @@ from .cli_flags import WHERE, options
 from .cli_results import report_package
 from . import cli_text
 from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
+from .codes.a2_verdicts import ALPHA_VALUES
 from .errors import SettingError
 from .execution import folder_lock
 from .execution.output import refuse_earlier_files, removed_if_left_empty
@@ -89,9 +90,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
                            construction=args.construction, additional_damping=args.additional_damping,
                            where=WHERE, option_names=options("line_speed_kmh", "trains", "track", "construction",
                                                              "bridge", "stochastic", "stochastic_speeds",
-                                                             "stochastic_scenario"),
+                                                             "stochastic_scenario", "interaction", "alpha"),
                            stochastic=args.stochastic, stochastic_speeds=speeds,
-                           stochastic_scenario=args.stochastic_scenario, workers=args.workers,
+                           stochastic_scenario=args.stochastic_scenario, interaction=args.interaction,
+                           alpha=args.alpha, workers=args.workers,
                            progress=not args.no_progress, before_work=take_out)
             out = taken[0]
             files = report_package().check_files(result, None if args.no_figures else result.plot())
@@ -113,7 +115,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser("check", help="EN 1991-2 dynamic check: HSLM-A and real trains as moving forces over a speed series",
+    p = sub.add_parser("check", help="EN 1991-2 dynamic check and EN 1990 A2.4.4's criteria: HSLM-A (HSLM-B under 7 m) and real "
+                            "trains as moving forces over a speed series, LM71 and SW/0 for the deformations",
                        formatter_class=argparse.RawDescriptionHelpFormatter, epilog="""examples:
   tb-exudyn check single_span_32m --line-speed-kmh 250            all ten HSLM-A trains, ballasted track
   tb-exudyn check li_zhu_2011_bridge --line-speed-kmh 300 --trains hslm_a ice_mttm --out chk
@@ -148,6 +151,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--stochastic-scenario", dest="stochastic_scenario", default=None, metavar="SCENARIO",
                    help="the scenario whose track irregularities and analysis settings --stochastic takes (default: "
                         "li_zhu_2011, German low interference)")
+    p.add_argument("--interaction", action="store_true",
+                   help="also, per train given as vehicle models, its run with vehicle-bridge interaction (the "
+                        "deterministic run, smooth track) at the speed of its largest mid-span peak, beside the moving "
+                        "forces and eq. 6.13's damping (one Exudyn run per train; terminal and check.html)")
+    p.add_argument("--alpha", type=float, default=None, metavar="ALPHA",
+                   help="EN 1991-2 6.3.2(3)'s classified-load factor on LM71, SW/0 and the nosing force in the static "
+                        "criteria: one of " + ", ".join(f"{a:g}" for a in ALPHA_VALUES) + " (default: 1, said in the verdicts)")
     p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
     p.set_defaults(func=_cmd_check)

@@ -56,6 +56,8 @@ FLAGS: dict[str, str] = {
     "stochastic": "--stochastic",
     "stochastic_speeds": "--stochastic-speeds",
     "stochastic_scenario": "--stochastic-scenario",
+    "interaction": "--interaction",
+    "alpha": "--alpha",
 }
 
 #: how a library message mentions an argument -> what the command line says instead

@@ -60,6 +60,17 @@ def model_kind(text: str) -> str:
                        "or a path to a .toml file", "unknown name")
 
 
+def homonym_note(text: str, kind: str) -> str | None:
+    """A line when the library name ``text`` also names a model of another kind (ave_s103: a vehicle and a
+    train): which one is shown and the file that names the other; None for a file or a unique name."""
+    path = Path(text)
+    if path.suffix == ".toml" or path.exists():
+        return None
+    files = {k: (train_files() if k == "train" else model_files(_CATEGORY[k])).get(text) for k in MODEL_KINDS}
+    others = [f"the {k}: {files[k]}" for k in MODEL_KINDS if k != kind and files[k] is not None]
+    return f"({text} names a {kind}, shown here, and also " + "; ".join(others) + ")" if others else None
+
+
 def load_model(kind: str, text: str) -> Any:
     """The model ``text`` names, of kind ``kind`` (:func:`model_kind`)."""
     path = Path(text)
@@ -322,6 +333,7 @@ def train_text(train: Any) -> str:
     return composition_table(train)
 
 
-__all__ = ["MODEL_KINDS", "bridge_modes_text", "bridge_text", "command_model", "frequency_rows", "hand_f1", "load_model",
+__all__ = ["MODEL_KINDS", "bridge_modes_text", "bridge_text", "command_model", "frequency_rows", "hand_f1",
+           "homonym_note", "load_model",
            "model_kind", "modes_text", "scenario_modes", "train_text", "train_vehicles", "vehicle_modes",
            "vehicle_scenario", "vehicle_text", "why_f1_differs"]

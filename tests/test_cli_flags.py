@@ -176,3 +176,14 @@ def test_run_overrides_go_through_the_scenario():
     assert pem.analysis.linearization == "static"
     with pytest.raises(SettingError, match=r"^command line: key '--samples' = 0\b"):
         cli_scenario.with_options(base, argparse.Namespace(**{**vars(args), "samples": 0}))
+
+
+def test_check_alpha_is_refused_with_its_flag_before_any_work(tmp_path, capsys):
+    """Exact problem: ``tb-exudyn check single_span_32m --alpha 2``: EN 1991-2 6.3.2(3) allows only
+    0.75 ... 1.46 for the classified-load factor. Reference: the code's list (codes.a2_verdicts.ALPHA_VALUES);
+    the refusal is one line naming --alpha and the allowed values, exit 2, and --out is never made."""
+    out = tmp_path / "o"
+    assert main(["check", "single_span_32m", "--line-speed-kmh", "200", "--alpha", "2", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "'--alpha' = 2.0" in err[0] and "1.21" in err[0] and "6.3.2(3)" in err[0], err
+    assert not out.exists()

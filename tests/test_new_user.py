@@ -121,3 +121,11 @@ def test_a_long_sweep_fits_a_screen():
     assert all(len(ln) <= 160 for ln in lines)
     text = " ".join(ln.strip() for ln in lines)
     assert "NOT EVALUATED: b/y, c/z (" in text and text.count("creep-guided") == 4 and "..." not in text
+
+
+def test_a_name_of_two_kinds_says_which_is_shown(capsys):
+    """ave_s103 is a vehicle and a train: show says which it shows and names the other's file."""
+    lines = _printed(capsys, ["show", "ave_s103"])
+    assert lines[0].startswith("(ave_s103 names a vehicle, shown here, and also the train: ")
+    assert lines[0].endswith("models/trains/ave_s103.toml)") and lines[1].startswith("Vehicle ave_s103")
+    assert _printed(capsys, ["show", lines[0].split(": ", 1)[1].rstrip(")")])[0].startswith("train ave_s103")

@@ -12,6 +12,8 @@ Read top-down:
   vehicle model's mean, the level exceeded with the target probability and the probability of exceeding
   the limit in one passage, the deciding channel, the verdict and its caveats; then the PEM runs'
   warnings, each once;
+- with interaction (``check(..., interaction=True)``): per train of vehicle models the largest mid-span peak
+  as moving forces, with vehicle-bridge interaction and at zeta + Delta zeta (eq. 6.13), and the difference;
 - the figure (peak deck acceleration against speed, the limit, the resonant speeds), when drawn;
 - the whole table, folded.
 
@@ -154,6 +156,24 @@ def stochastic_section(result: Any) -> str:
     return "\n".join(out)
 
 
+def interaction_section(result: Any) -> str:
+    """The interaction rows (tb_exudyn.codes.interaction.InteractionComparison), '' where not computed."""
+    rows = getattr(result, "interaction", ())
+    if not rows:
+        return ""
+    body = [[c.train, _num(c.speed_kmh), c.case, f"{100 * c.damping_ratio:.3g}", f"{c.max_moving_force:.3f}",
+             f"{c.max_interaction:.3f}", f"{c.difference:+.3f}", f"{-100 * c.reduction:+.1f}",
+             f"{c.max_moving_force_dz:.3f}", f"{100 * c.additional_damping:.3g}"] for c in rows]
+    return ('<section id="interaction"><h2>Interaction</h2><p class="meta">Per train given as vehicle models, at the '
+            "speed of its largest mid-span peak: that peak as moving forces, with vehicle-bridge interaction (the "
+            "deterministic run of the vehicle models, smooth track: the mean response) and as moving forces at zeta "
+            "+ Delta zeta (EN 1991-2 eq. 6.13), on the same modes. The check's verdict above is the moving forces'."
+            "</p>" + html_table("check-interaction", [
+                "train", "speed [km/h]", "case", "zeta [%]", "moving forces [m/s^2]", "interaction [m/s^2]",
+                "difference [m/s^2]", "difference [%]", "zeta + Delta zeta [m/s^2]", "Delta zeta [%]"], body,
+                ["", "num", "", "num", "num", "num", "num", "num", "num", "num"]) + "</section>")
+
+
 def table_section(result: Any) -> str:
     columns = list(result.columns)
     body = [[_num(r[c]) if isinstance(r[c], float) else ("" if r[c] is None else str(r[c])) for c in columns]
@@ -170,6 +190,8 @@ def render_check_report(result: Any, figure_png: bytes | None = None) -> str:
     now = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     nav = [("criteria", "Criteria"), ("verdict", "Verdict"), ("settings", "What the check did"), ("trains", "Trains"),
            ("stochastic", "Stochastic rows"), ("figure", "Figure"), ("table", "The table")]
+    if getattr(result, "interaction", ()):
+        nav.insert(5, ("interaction", "Interaction"))
     figure = ('<section id="figure"><h2>Figure</h2>'
               + (_img(figure_png, "peak deck acceleration against speed") if figure_png else
                  "<p>Not drawn (--no-figures).</p>") + "</section>")
@@ -178,7 +200,7 @@ def render_check_report(result: Any, figure_png: bytes | None = None) -> str:
             f"tb_exudyn {esc(__version__)}.</p>",
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
             criteria_section(result), verdict_section(result), settings_section(result), trains_section(result), stochastic_section(result),
-            figure, table_section(result)]
+            interaction_section(result), figure, table_section(result)]
     return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<meta name=\"viewport\" content=\"width=device-width\"><title>{esc(title)}</title>"
             f"<style>{STYLE}</style></head><body>\n" + "\n".join(body) + "\n</body></html>\n")

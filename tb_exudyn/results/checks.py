@@ -46,7 +46,6 @@ import fnmatch
 import math
 import os
 import re
-import textwrap
 import weakref
 from dataclasses import dataclass
 from typing import Any
@@ -61,7 +60,7 @@ from ..system import statistics as st
 from ..system.labels import channel_label
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
                       unmet_requirement, window_effect)
-from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value
+from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value, wrapped_line
 from .empirical import binomial_interval
 
 #: the literature's per-passage target (docs/references.md, code limits [abstract]): 100 train pairs a day, 1-year return period
@@ -545,7 +544,7 @@ def cached_checks(result: Any, limits: Any = None, *, probability: float = DEFAU
 
 
 def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
-    """Lines for a terminal summary (the CLI), at most 160 characters: the counts by criterion, then per limit set
+    """Lines for a terminal summary (the CLI), wrapped at 100 characters: the counts by criterion, then per limit set
     (the bridge's first) a line per criterion with its deciding location, estimate, limit and probability (those
     not evaluated on one line), and once per set why its rows are not evaluated or conditional."""
     table = cached_checks(result, limits, **options)
@@ -591,8 +590,8 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
         for text in notes:  # a model's reason and what to run instead on two lines
             first, _, then = text.partition(": ")
             lines.append(f"    note: {first}" + ("" if not then else f"\n          {then}"))
-    return [w for line in lines for ln in line.split("\n") for w in (textwrap.wrap(
-        ln, 160, subsequent_indent=" " * 17, break_on_hyphens=False) if ln.startswith("  NOT EVALUATED  ") else [ln])]
+    return [w for line in lines for ln in line.split("\n") for w in wrapped_line(ln, 100)]
+
 
 
 __all__ = ["Caveat", "CheckRow", "ChecksTable", "DEFAULT_TARGET_PROBABILITY", "GRID_ERROR_TOLERANCE", "MODEL_REQUIREMENTS",

@@ -5,6 +5,7 @@ caveats that apply."""
 from __future__ import annotations
 
 import math
+import textwrap
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -198,4 +199,15 @@ def format_probability(r: CheckRow) -> str:
     return text
 
 
-__all__ = ["SMALLEST_SHOWN", "Caveat", "CheckRow", "ChecksTable", "VERDICTS", "format_probability", "format_value"]
+def wrapped_line(line: str, width: int) -> list[str]:
+    """A terminal line wrapped at ``width``: the criteria not evaluated under their heading, any other line
+    indented two more than it (a long location or note stays readable on an engineer's screen)."""
+    if len(line) <= width:
+        return [line]
+    lead = len(line) - len(line.lstrip(" "))
+    indent = 17 if line.startswith("  NOT EVALUATED  ") else lead + 2
+    return textwrap.wrap(line, width, subsequent_indent=" " * indent, break_on_hyphens=False, break_long_words=False)
+
+
+__all__ = ["SMALLEST_SHOWN", "Caveat", "CheckRow", "ChecksTable", "VERDICTS", "format_probability", "format_value",
+           "wrapped_line"]

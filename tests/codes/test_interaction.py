@@ -141,3 +141,40 @@ def test_the_check_refuses_interaction_without_a_train_of_vehicles(asked, trains
     with pytest.raises(SettingError, match="interaction"):
         check(span_15m(), 250.0, trains=trains, construction="prestressed_concrete", cases=["nominal"],
               interaction=asked)
+
+
+def test_the_command_refuses_interaction_without_a_train_of_vehicles_before_any_work(tmp_path, capsys):
+    """`tb-exudyn check ... --interaction` with HSLM-A only: exit 2, one line naming --interaction, --out untouched."""
+    from tb_exudyn.cli import main
+
+    out = tmp_path / "chk"
+    assert main(["check", "single_span_32m", "--line-speed-kmh", "200", "--trains", "HSLM-A1", "--interaction",
+                 "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--interaction" in err[0] and "vehicle models" in err[0]
+    assert not out.exists()
+
+
+def test_the_command_reports_interaction_on_the_terminal_and_the_page(tmp_path, capsys):
+    """`tb-exudyn check BRIDGE.toml --trains ice_mttm --interaction`: the terminal's interaction line and the
+    page's Interaction section carry the same numbers as CheckResult.interaction of the library call."""
+    from tb_exudyn.cli import main
+    from tb_exudyn.scenario.io import load_bridge
+
+    b, g = span_15m(), span_15m().girder
+    path = tmp_path / "span_15m.toml"
+    path.write_text(f'kind = "simple_beam"\nname = "span_15m"\nspans = [{L!r}]\ndamping_ratio = {ZETA!r}\n'
+                    f'track_offset = 0.0\nelements_per_span = 16\n\n[girder]\n'
+                    + "".join(f"{k} = {getattr(g, k)!r}\n" for k in ("E", "G", "area", "I_y", "I_z", "J",
+                                                                      "mass_per_length", "rot_mass_per_length")),
+                    encoding="utf-8")
+    assert load_bridge(path) == b
+    out = tmp_path / "chk"
+    assert main(["check", str(path), "--line-speed-kmh", "250", "--trains", "ice_mttm", "--construction",
+                 "prestressed_concrete", "--interaction", "--no-figures", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    line = next(x for x in text.splitlines() if x.strip().startswith("ice_mttm") and "%" in x)
+    page = (out / "check.html").read_text(encoding="utf-8")
+    assert 'id="interaction"' in page
+    moving, inter = (float(w) for w in line.split()[3:5])
+    assert inter < moving and f"{inter:.3f}" in page and f"{moving:.3f}" in page
