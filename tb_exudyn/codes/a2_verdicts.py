@@ -92,30 +92,34 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     a_note = f"alpha = {alpha:g}" + ("" if alpha_given else " (not given: the national annex's classified-load factor)")
     load = f"{' and '.join(sd.loads)} x alpha {alpha:g} x {phi_basis.split(' (')[0]}"
     out = [deck_acceleration_verdict(rows, limit, track)]
+
+    def on(t: int) -> str:  # the loaded track, named on a deck of two tracks or more
+        return f" on track {t + 1}" if len(sd.deflection) > 1 else ""
+
     c = crits.criterion("vertical_deflection")
     t, i, v = _largest(sd.deflection, [c.limit_value(span=s) for s in spans])
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(span=spans[i]), f"{load} on track {t + 1}",
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(span=spans[i]), f"{load}{on(t)}",
                         f"span {i + 1} at {sd.deflection_x[t][i]:.3g} m", a_note))
     c = crits.criterion("deck_twist_3m")
     t, _, v = _largest([np.array([x]) for x in sd.twist])
     twist_at = f"from x = {sd.twist_x[t]:.3g} m"
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(speed_kmh=line_speed_kmh), f"{load} on track {t + 1}",
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(speed_kmh=line_speed_kmh), f"{load}{on(t)}",
                         twist_at, f"the limit of line speed {line_speed_kmh:g} km/h; " + a_note))
     out.append(_dynamic_twist_verdict(crits.criterion("deck_twist_3m_dynamic"), responses, cases, train_names,
                                       line_speed_kmh))
     c = crits.criterion("deck_twist_3m_total")
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load} on track {t + 1}", twist_at,
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}", twist_at,
                         "the track's own twist taken as 0 (no cant transition in the bridge data); " + a_note))
     c = crits.criterion("deck_end_rotation")
     t, i, v = _largest(sd.end_rotation)
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load} on track {t + 1}",
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}",
                         f"{'start' if i == 0 else 'end'} of the bridge",
                         "ENV 1991-3 value: EN 1990 A2 leaves the limit to the national annex; " + a_note))
     c = crits.criterion("deck_end_rotation_between_decks")
     if any(j.size for j in sd.joint_rotation):
         t, i, v = _largest(sd.joint_rotation)
-        out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load} on track {t + 1}",
-                            f"joint {i + 1} (after span {i + 1})", "ENV 1991-3 value; " + a_note))
+        out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}",
+                            f"joint after span {i + 1}", "ENV 1991-3 value; " + a_note))
     else:
         out.append(_verdict(c, math.nan, c.limit_value(), "-", "-", "no joint between simply supported spans"))
     lateral_note = ("nosing force only (EN 1991-2 6.5.2, 100 kN x alpha): wind, centrifugal forces (straight track) "
@@ -123,13 +127,13 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     c = crits.criterion("horizontal_rotation")
     t, i, v = _largest(sd.horizontal_rotation)
     out.append(_verdict(c, alpha * v, c.limit_value(speed_kmh=line_speed_kmh),
-                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN on track {t + 1}",
+                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN{on(t)}",
                         f"span {i // 2 + 1} {'start' if i % 2 == 0 else 'end'}", lateral_note))
     c = crits.criterion("horizontal_radius_single_deck" if spans.size == 1 else "horizontal_radius_multi_deck")
     t, i, v = _largest(sd.lateral, list(spans**2))  # the smallest radius: the largest delta / L^2
     radius = spans[i] ** 2 / (8.0 * alpha * v) if v > 0 else math.inf
     out.append(_verdict(c, radius, c.limit_value(speed_kmh=line_speed_kmh),
-                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN on track {t + 1}",
+                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN{on(t)}",
                         f"span {i + 1}", f"r = L^2 / (8 delta_h), delta_h = {format_value(alpha * v, 'm')}; "
                         + lateral_note))
     c = crits.criterion("lateral_frequency")
@@ -143,12 +147,12 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     comfort_load = f"LM71 x {phi_basis.split(' (')[0]} (alpha = 1), one track"
     if all(math.isfinite(x) for x in lims):
         t, i, v = _largest(comfort_sd.deflection, lims)
-        out.append(_verdict(c, phi * v, lims[i], f"{comfort_load.split(' (')[0]} on track {t + 1}", f"span {i + 1}",
+        out.append(_verdict(c, phi * v, lims[i], f"{comfort_load.split(' (')[0]}{on(t)}", f"span {i + 1}",
                             f"{comfort_load}; b_v = 1.0 m/s^2 (very good comfort) at {line_speed_kmh:g} km/h"))
     else:
         out.append(_verdict(c, math.nan, math.nan, comfort_load, "-",
-                            f"Figure A2.3 as digitised covers speeds up to 220 km/h and spans up to 120 m "
-                            f"(line speed {line_speed_kmh:g} km/h)"))
+                            f"line speed {line_speed_kmh:g} km/h: Figure A2.3 as digitised covers up to 220 km/h "
+                            f"and spans up to 120 m"))
     out.append(_envelope_verdict(crits.criterion("dynamic_factor_envelope"), rows, responses, cases, train_names,
                                  alpha * phi * np.max([d.max() for d in sd.deflection[:1]]), load))
     return tuple(out)
