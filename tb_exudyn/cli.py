@@ -143,8 +143,9 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         reporting = _figures()
         folder = {"pem": "pem", "monte_carlo": "mc", "monte_carlo_linear": "mc_linear"}.get(getattr(result, "method", ""), "det")
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
-        figures = reporting.plot_folder(out, found=found, progress=not args.no_progress)
-        report = reporting.write_report(out, found=found)
+        # the page draws its figures (the standard ones, in parallel) and embeds them: one pass, no second read
+        report = reporting.write_report(out, found=found, progress=not args.no_progress)
+        figures = reporting.figure_jobs(out, found)  # the figures the page drew (and embeds)
         print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
     else:
         print(f"results in {out.resolve()}")

@@ -27,7 +27,7 @@ absent says "not computed":
   damped modes of the linearised system.
 
 One page, no external resources: figures are embedded as base64 PNG (re-encoded with a 256-colour
-palette, :func:`~tb_exudyn.report.sections.compact_png`: the reference study's page 6.92 MB before,
+palette, :func:`~tb_exudyn.plotting.files.compact_png`: the reference study's page 6.92 MB before,
 2.83 MB after; the figure files keep their colours), the style and the few lines of script (links
 open folded sections, the channel filter; the page reads the same without it) are inline, and every
 piece of text is escaped. The full channel table, the provenance's per-channel entries (one table
@@ -52,7 +52,7 @@ from typing import Any, Iterable, Sequence
 from .._version import __version__
 from ..files import output_targets, write_output
 from ..plotting import data as pdata
-from ..plotting.files import draw_jobs, figure_jobs, plot_folder, save_figure
+from ..plotting.files import compact_png, draw_jobs_for_page, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
 from ..results.checks import default_limits
@@ -159,23 +159,26 @@ def _fresh(png: Path, newest_input: float) -> bool:
 
 def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels, *, workers: int | None = None,
                     progress: bool = False) -> tuple[dict[tuple[str, str, str], bytes], dict[str, list[str]], list[str]]:
-    """The report's figures as PNG bytes: the files ``plot_folder`` wrote when they are newer than
-    the results, the others drawn now (in parallel, into the same files). Returns (pictures,
+    """The report's figures as PNG bytes, as the page embeds them (:func:`compact_png`): the files
+    ``plot_folder`` wrote when they are newer than the results, the others drawn now (in parallel,
+    into the same files; each worker also re-encodes the figures it draws). Returns (pictures,
     channels with figures per result folder name, channels with a PEM against Monte Carlo figure)."""
     jobs = figure_jobs(folder, found, channels, ("png",))
     newest = max((p / n).stat().st_mtime for p, _ in found for n in ("arrays.npz", "meta.json") if (p / n).exists())
     missing = [j for j in jobs if not _fresh(j.paths[0], newest)]
-    draw_jobs(missing, workers=workers, progress=progress)
+    drawn = dict(zip((j.paths[0] for j in missing), draw_jobs_for_page(missing, workers=workers, progress=progress)))
+    def page_png(path: Path) -> bytes:  # noqa: E306 (drawn now: already compact; else the file, compacted here)
+        return drawn[path] if path in drawn else compact_png(path.read_bytes())
     pictures: dict[tuple[str, str, str], bytes] = {}
     names: dict[str, list[str]] = {p.name: [] for p, _ in found}
     comparison: list[str] = []
     for job in jobs:
         if job.kind == "pem_vs_mc":
-            pictures[("", job.channel, job.kind)] = job.paths[0].read_bytes()
+            pictures[("", job.channel, job.kind)] = page_png(job.paths[0])
             comparison.append(job.channel)
             continue
         result_dir = job.paths[0].parent.parent.name
-        pictures[(result_dir, job.channel, job.kind)] = job.paths[0].read_bytes()
+        pictures[(result_dir, job.channel, job.kind)] = page_png(job.paths[0])
         if job.channel not in names[result_dir]:
             names[result_dir].append(job.channel)
     return pictures, names, comparison
@@ -229,7 +232,7 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
-           "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
+           "figure_jobs", "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
            "SWEEP_REPORT", "render_sweep_report", "write_sweep_report",
            "CHECK_REPORT", "check_files", "render_check_report", "write_check_report"]

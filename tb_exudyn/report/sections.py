@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import html
-import io
 import math
 import re
 from dataclasses import dataclass, fields, is_dataclass
@@ -14,6 +13,7 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 
 from ..plotting import data as pdata
+from ..plotting.files import PALETTE_COLOURS, compact_png  # noqa: F401 (the page's figures)
 from ..plotting.data import channel_group, channel_label, crossing_times, display_unit, format_number
 from ..results import RandomResponse, TimeHistory
 from ..results.checks_table import format_value
@@ -329,33 +329,6 @@ _CAPTIONS = {
     "history": "history of the run",
     "pem_vs_mc": "PEM against Monte Carlo: mean and sigma",
 }
-
-
-#: colours of a figure's palette in the page (a PNG palette holds at most 256)
-PALETTE_COLOURS = 256
-
-
-def compact_png(png: bytes) -> bytes:
-    """A figure's PNG as the page embeds it: re-encoded with a palette of :data:`PALETTE_COLOURS`
-    colours (median cut) when that is smaller. A matplotlib figure has few colours (a colour map
-    holds 256), so the picture barely changes (the reference study's 69 figures: mean difference
-    at most 0.5 of 255 per channel) and takes about a third of the bytes (4.76 MB of PNG files
-    gave 1.81 MB). The bytes as they are when they are not an opaque PNG (a transparent one would
-    lose its alpha), or when Pillow (matplotlib's image library) cannot read them. The figure files
-    on disk are not changed."""
-    try:
-        from PIL import Image
-        with Image.open(io.BytesIO(png)) as im:
-            if im.format != "PNG" or im.mode not in ("RGB", "RGBA"):
-                return png
-            if im.mode == "RGBA" and im.getchannel("A").getextrema()[0] < 255:
-                return png
-            out = io.BytesIO()
-            im.convert("RGB").quantize(PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT).save(out, "PNG")
-    except (ImportError, OSError, ValueError, SyntaxError):  # not an image Pillow reads (SyntaxError: a broken PNG)
-        return png
-    small = out.getvalue()
-    return small if len(small) < len(png) else png
 
 
 def _img(png: bytes, alt: str) -> str:
