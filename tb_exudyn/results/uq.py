@@ -32,6 +32,7 @@ from ..scenario import Scenario, scenario_to_toml
 from ..scenario.io import scenario_from_dict
 from ..storage import Member, NpzFile, check_members, check_values, json_default, load_json, save_result_folder
 from .base import figures
+from .checks import DEFAULT_TARGET_PROBABILITY
 from .schema import Variable, need_xarray
 
 #: the result folder's name in an output folder
@@ -144,6 +145,27 @@ class UqResult:
         return save_result_folder(folder, {v.name: np.asarray(self.data[v.name]) for v in self.schema}, meta)
 
 
+def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str, Any]]:
+    """Per criterion of the limits: P_f = E_theta[P(exceed | theta)] (``result.pf``, the expansion's
+    mean of the quantity ``probability:<criterion>``), the largest P(exceed | theta) at any node, the
+    mean and std over theta of the estimate (the level exceeded with the target probability, SI units)
+    and the verdict against ``target`` (default the checks' target probability per passage):
+    EXCEEDS when P_f > target, OK when P_f <= target, NOT EVALUATED when P_f is not finite (a criterion
+    not evaluated at some node)."""
+    target = DEFAULT_TARGET_PROBABILITY if target is None else float(target)
+    out = []
+    nodes = np.asarray(result.data["node_quantities"], dtype=float)
+    for c, pf in zip(result.criteria, np.asarray(result.data["pf"], dtype=float)):
+        name = f"probability:{c}"
+        at_nodes = nodes[:, result.quantities.index(name)] if name in result.quantities else np.array([np.nan])
+        est = result.quantity(f"estimate:{c}") if f"estimate:{c}" in result.quantities else {"mean": np.nan, "std": np.nan}
+        verdict = "NOT EVALUATED" if not np.isfinite(pf) else ("EXCEEDS" if pf > target else "OK")
+        out.append({"criterion": c, "pf": float(pf), "target": target, "verdict": verdict,
+                    "node_max": float(np.max(at_nodes)) if np.all(np.isfinite(at_nodes)) else float("nan"),
+                    "estimate_mean": est["mean"], "estimate_std": est["std"]})
+    return out
+
+
 def load_uq(folder: str | Path) -> UqResult:
     """A result written by :meth:`UqResult.save` (its arrays checked against :data:`UQ_SCHEMA`)."""
     folder = Path(folder)
@@ -166,4 +188,4 @@ def _member(v: Variable) -> Member:
                   max_abs=v.max_abs)
 
 
-__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq"]
+__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq", "pf_verdicts"]
