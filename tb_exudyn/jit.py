@@ -90,7 +90,7 @@ def _cache_key() -> str:
         numba_version = version("numba")
     except PackageNotFoundError:
         numba_version = "none"
-    parts = [sys.version, numba_version, __version__, platform.machine(), platform.processor()]
+    parts = [sys.version, numba_version, __version__, platform.machine()]
     for name in COMPILED:
         spec = find_spec(name)
         st = os.stat(spec.origin) if spec is not None and spec.origin else None
