@@ -18,7 +18,7 @@ from .cli_results import report_package
 from .errors import SettingError
 from .execution.output import removed_if_left_empty
 from .results.checks_table import SMALLEST_SHOWN
-from .results.uq import pf_verdicts
+from .results.uq import pf_verdicts, warning_groups
 from .scenario.io import parse_setting
 from .scenario.uncertain import load_study
 from .storage import check_writable
@@ -74,8 +74,8 @@ def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
         if exc.where != "run_uq" or exc.key not in UQ_FLAGS:
             raise
         raise exc.restated(WHERE, UQ_FLAGS[exc.key]) from None
-    print(f"scenario {scenario.name}: {len(keys)} uncertain keys ({', '.join(k.key for k in keys)}), "
-          f"order {order}, {design} design")
+    print(_clip(f"scenario {scenario.name}: {len(keys)} uncertain keys ({', '.join(k.key for k in keys)}), "
+                f"order {order}, {design} design"))
     with removed_if_left_empty(args.out):
         out = check_writable(args.out)
         result = methods.uq.run_uq(scenario, keys, workers=workers, out=out, resume=args.resume,
@@ -83,7 +83,7 @@ def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
     for line in summary_lines(result):
         print(line)
     written = save_figures(result, out, figures=not args.no_figures)
-    print(f"written: {', '.join(p.name for p in written)}")
+    print(_clip(f"written: {', '.join(p.name for p in written)}"))
     print(f"({result.provenance['n_nodes']} nodes in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance.get('tasks_from_checkpoint', 0)} from the checkpoint) result in {(out / 'uq').resolve()}")
     return 0
@@ -114,6 +114,10 @@ def save_figures(result: Any, out: Path, figures: bool = True) -> list[Path]:
 
 #: the rows of key quantities (max sigma per channel) the terminal shows; the rest are on the page
 QUANTITY_ROWS = 16
+#: the criteria and the warnings (those alike as one) the terminal shows; all are on the page. With the
+#: command's other lines (8: headers, the "... more" lines, the files, the time), at most 16 + 20 + 6 + 8 = 50
+#: lines, within issue 49's 60
+CRITERION_ROWS, WARNING_ROWS = 20, 6
 #: a terminal line's width (issue 49)
 LINE_MAX = 200
 
@@ -154,13 +158,19 @@ def summary_lines(result: Any) -> list[str]:
     if rows:
         lines.append(f"verdict under uncertainty: P_f = E over the keys of P(exceed in one passage), against the target "
                      f"{rows[0]['target']:.3g} per passage")
-    for r in rows:
+    for r in rows[:CRITERION_ROWS]:
         est = ("" if not math.isfinite(r["estimate_mean"]) else
                f"; estimate {format_number(r['estimate_mean'], 3)} +- {format_number(r['estimate_std'], 2)} (SI)")
         lines.append(_clip(f"  {r['criterion']:<44} {r['verdict']:<13} P_f {_probability(r['pf']):>9}"
                            f" (largest at a node {_probability(r['node_max'])}){est}"))
-    for w in result.provenance.get("warnings", ()):
-        lines.append(_clip(f"warning: {w}"))
+    if len(rows) > CRITERION_ROWS:
+        lines.append(f"... and {len(rows) - CRITERION_ROWS} more criteria (uq.html)")
+    groups = warning_groups(result)
+    for first, texts in groups[:WARNING_ROWS]:
+        more = f" ({len(texts)} messages like it)" if len(texts) > 1 else ""
+        lines.append(_clip(f"warning{more}: {first}"))
+    if len(groups) > WARNING_ROWS:
+        lines.append(f"... and {len(groups) - WARNING_ROWS} more warnings (uq.html)")
     return lines
 
 
@@ -191,4 +201,4 @@ def add_parser(sub: Any, methods: Any) -> Any:
     return p
 
 
-__all__ = ["BAND_FIGURES", "LINE_MAX", "QUANTITY_ROWS", "UQ_FLAGS", "loo_text", "add_parser", "cmd_uq", "save_figures", "summary_lines"]
+__all__ = ["BAND_FIGURES", "CRITERION_ROWS", "LINE_MAX", "QUANTITY_ROWS", "WARNING_ROWS", "UQ_FLAGS", "loo_text", "add_parser", "cmd_uq", "save_figures", "summary_lines"]

@@ -30,7 +30,7 @@ from typing import Any, Sequence
 from .._version import __version__
 from ..atomic import write_text_atomic
 from ..results.checks_table import SMALLEST_SHOWN
-from ..results.uq import LOO_WARNING, pf_verdicts
+from ..results.uq import LOO_WARNING, pf_verdicts, warning_groups
 from ..system.labels import format_number
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
@@ -136,9 +136,18 @@ def bands_section(bands: Sequence[tuple[str, bytes]]) -> str:
 
 
 def warnings_section(result: Any) -> str:
-    found = list(dict.fromkeys(map(str, result.provenance.get("warnings", ()))))
-    return "\n".join(['<section id="warnings"><h2>Warnings</h2>']
-                     + ([f'<p class="warn">{esc(w)}</p>' for w in found] or ["<p>None recorded.</p>"]) + ["</section>"])
+    """Every warning: those that differ only in their numbers (the same mode's growth at another node)
+    once, as first raised, with the others folded below it."""
+    out = ['<section id="warnings"><h2>Warnings</h2>']
+    for first, texts in warning_groups(result):
+        out.append(f'<p class="warn">{esc(first)}</p>')
+        if len(texts) > 1:
+            out.append(f"<details><summary>{len(texts)} messages like it (at other nodes)</summary>"
+                       + "".join(f"<p><small>{esc(t)}</small></p>" for t in texts) + "</details>")
+    if len(out) == 1:
+        out.append("<p>None recorded.</p>")
+    out.append("</section>")
+    return "\n".join(out)
 
 
 def render_uq_report(result: Any, sobol_png: bytes | None = None, bands: Sequence[tuple[str, bytes]] = (),

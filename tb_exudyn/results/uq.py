@@ -20,6 +20,7 @@ from the surrogate):
 from __future__ import annotations
 
 import json
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -166,6 +167,22 @@ def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str,
     return out
 
 
+#: a number in a warning: the same warning at another node differs in them (a mode's growth over the run)
+_NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def warning_groups(result: UqResult) -> list[tuple[str, list[str]]]:
+    """The study's warnings (``provenance["warnings"]``: the surrogate's, then the nodes' runs'), those
+    that differ only in their numbers as one: (the first as raised, every distinct message), in the
+    order first raised."""
+    groups: dict[str, list[str]] = {}
+    for m in map(str, result.provenance.get("warnings", ())):
+        texts = groups.setdefault(_NUMBER.sub("#", m), [])
+        if m not in texts:
+            texts.append(m)
+    return [(texts[0], texts) for texts in groups.values()]
+
+
 def load_uq(folder: str | Path) -> UqResult:
     """A result written by :meth:`UqResult.save` (its arrays checked against :data:`UQ_SCHEMA`)."""
     folder = Path(folder)
@@ -188,4 +205,4 @@ def _member(v: Variable) -> Member:
                   max_abs=v.max_abs)
 
 
-__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq", "pf_verdicts"]
+__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq", "pf_verdicts", "warning_groups"]

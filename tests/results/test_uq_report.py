@@ -76,3 +76,23 @@ def test_page_without_figures_says_so_and_terminal_fits():
     assert all(len(ln) <= 200 for ln in lines)
     assert any(CRITERIA[0] in ln and "EXCEEDS" in ln and "0.001" in ln for ln in lines), lines
     assert any(ln.startswith("car1.body.acc_z [m/s^2]") and "3 %" in ln for ln in lines), lines
+
+
+def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
+    """30 nodes raising the same warning with another percentage are one group (terminal and page);
+    8 other warnings beyond the terminal's 6 rows are counted, not printed; the page holds all."""
+    import dataclasses
+
+    from tb_exudyn.cli_uq import WARNING_ROWS
+
+    alike = [f"2 lightly damped modes at 8.342 Hz: sigma grows about {10 + i} % on the bridge" for i in range(30)]
+    other = [f"warning number {w}" for w in ("one", "two", "three", "four", "five", "six", "seven", "eight")]
+    r = result()
+    r = dataclasses.replace(r, provenance={**r.provenance, "warnings": [WARNING] + alike + other})
+    lines = summary_lines(r)
+    assert len(lines) <= 60 and all(len(ln) <= 200 for ln in lines)
+    assert sum(ln.startswith("warning") for ln in lines) == WARNING_ROWS
+    assert any("(30 messages like it)" in ln and "about 10 %" in ln for ln in lines), lines
+    assert lines[-1] == f"... and {1 + 1 + 8 - WARNING_ROWS} more warnings (uq.html)"
+    text = render_uq_report(r)
+    assert "30 messages like it" in text and all(w in text for w in other) and "about 39 %" in text
