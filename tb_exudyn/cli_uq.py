@@ -103,13 +103,17 @@ def save_figures(result: Any, out: Path, figures: bool = True) -> list[Path]:
     """``out/uq_sobol.png`` (the Sobol bars), ``out/uq_band.<channel>.png`` for the first
     :data:`BAND_FIGURES` channels (unless ``figures`` is False) and the page ``out/uq.html``
     (:func:`tb_exudyn.report.uq.render_uq_report`, the figures embedded), written as one group
-    (:func:`tb_exudyn.atomic.write_atomic_group`; matplotlib loaded now, by the result)."""
+    (:func:`tb_exudyn.atomic.write_atomic_group`, which removes an earlier study's figures that the group
+    has no counterpart for; matplotlib loaded now, by the result)."""
     reporting = report_package()
     sobol = _png(result.plot_sobol()) if figures else None
     bands = [(ch, _png(result.plot_band(ch))) for ch in result.channels[:BAND_FIGURES]] if figures else []
     items = ([("uq_sobol.png", sobol)] if figures else []) + [(f"uq_band.{ch}.png", png) for ch, png in bands]
     items.append((reporting.UQ_REPORT, reporting.render_uq_report(result, sobol, bands).encode("utf-8")))
-    return write_atomic_group([(out / name, lambda path, b=data: Path(path).write_bytes(b)) for name, data in items])
+    stale = [p for pattern in ("uq_sobol.png", "uq_band.*.png") for p in out.glob(pattern)
+             if p.name not in {name for name, _ in items}]  # an earlier study's figures (--overwrite)
+    return write_atomic_group([(out / name, lambda path, b=data: Path(path).write_bytes(b)) for name, data in items],
+                              remove=stale)
 
 
 #: the rows of key quantities (max sigma per channel) the terminal shows; the rest are on the page

@@ -1,6 +1,6 @@
 """A new user's first hour on the command line (issue 49): `show` and `modes` of a bridge file, a shipped
 bridge and a vehicle; every command's lines at most 200 characters; the commands that report a result
-(run, sweep, check, modes) in at most 60 lines; one line per command-line error.
+(run, sweep, check, modes, uq) in at most 60 lines; one line per command-line error.
 
 The bounds are the issue's acceptance numbers (a terminal line, a screen); the f1 check states its reference."""
 

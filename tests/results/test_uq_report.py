@@ -96,3 +96,27 @@ def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
     assert lines[-1] == f"... and {1 + 1 + 8 - WARNING_ROWS} more warnings (uq.html)"
     text = render_uq_report(r)
     assert "30 messages like it" in text and all(w in text for w in other) and "about 39 %" in text
+
+
+def test_page_and_figures_are_one_group_and_a_later_study_removes_the_earlier_figures(tmp_path):
+    """save_figures writes the bars, the band and uq.html; again with --no-figures (a study redone
+    with --overwrite) it leaves the page only, not figures of the earlier study beside it."""
+    from tb_exudyn.cli_uq import save_figures
+
+    names = sorted(p.name for p in save_figures(result(), tmp_path))
+    assert names == ["uq.html", "uq_band.car1.body.acc_z.png", "uq_sobol.png"]
+    assert "data:image/png;base64," in (tmp_path / UQ_REPORT).read_text()
+    assert [p.name for p in save_figures(result(), tmp_path, figures=False)] == [UQ_REPORT]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [UQ_REPORT]
+
+
+def test_verdict_names_what_each_criterion_checks_and_its_limit():
+    """The deck criterion's row: its title and its limit, 3.5 m/s^2 (EN 1990 A2.4.4.2.1, ballasted
+    track, the default limits' value), from the limits the nodes were checked against."""
+    from tb_exudyn.report.uq import criteria_info
+
+    title, unit, limit = criteria_info()[CRITERIA[1]]
+    assert limit == 3.5 and unit == "m/s^2"
+    text = render_uq_report(result())
+    verdict = text[text.index('<section id="verdict">'):text.index("</section>")]
+    assert html.escape(title) in verdict and '<td class="num">3.5</td>' in verdict
