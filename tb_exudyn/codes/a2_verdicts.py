@@ -11,11 +11,13 @@ track and Phi_3 for standard maintenance (the check's ``maintenance``), with L_P
 from __future__ import annotations
 
 import math
+import re
 from typing import Any, Sequence
 
 import numpy as np
 
 from ..errors import SettingError
+from ..results.checks_table import format_value
 from ..scenario.model import Continuous
 from .comfort_deflection import comfort_limit
 from .criteria import CriterionVerdict, DECK_ACCELERATION_CRITERIA, DECK_LIMIT_SET, load_criteria
@@ -24,6 +26,17 @@ from .deformation import LM71, NOSING_FORCE, dynamic_factor, first_lateral_frequ
 
 #: the classified-load factors of EN 1991-2 6.3.2(3) [recalled, check]
 ALPHA_VALUES = (0.75, 0.83, 0.91, 1.00, 1.10, 1.21, 1.33, 1.46)
+
+
+_STATION = re.compile(r"span(\d+)\.x(\d+)/(\d+)")
+
+
+def place_words(station: str) -> str:
+    """A station name in words: 'span1.x4/8 (16 m)' -> 'span 1, mid-span (16 m)', 'span2.x3/8' -> 'span 2 at 3/8'."""
+    def said(m: re.Match) -> str:
+        i, n = int(m.group(2)), int(m.group(3))
+        return f"span {m.group(1)}, mid-span" if 2 * i == n else f"span {m.group(1)} at {i}/{n}"
+    return _STATION.sub(said, station)
 
 
 def check_alpha(alpha, where: str, key: str = "alpha") -> float:  # noqa: ANN001
@@ -52,8 +65,8 @@ def deck_acceleration_verdict(rows: Sequence[dict[str, Any]], limit: float, trac
         criterion=f"deck_acceleration ({DECK_LIMIT_SET}/{DECK_ACCELERATION_CRITERIA[track]})",
         title=f"peak deck vertical acceleration, {track} track", clause="EN 1990 Annex A2, A2.4.4.2.1(4)",
         load_model="HSLM / real trains as moving forces", value=float(r["max_deck_acc_z"]), limit=float(limit),
-        unit="m/s^2", bound="upper", case=f"{r['train']} at {r['speed_kmh']:g} km/h ({r['case']} case)",
-        location=str(r["max_deck_acc_z_location"]), check=True)
+        unit="m/s^2", bound="upper", case=f"{r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case)",
+        location=place_words(str(r["max_deck_acc_z_location"])), check=True)
 
 
 def _largest(per_track: Sequence[np.ndarray], limits: Sequence[float] | None = None) -> tuple[int, int, float]:
@@ -79,30 +92,34 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     a_note = f"alpha = {alpha:g}" + ("" if alpha_given else " (not given: the national annex's classified-load factor)")
     load = f"{' and '.join(sd.loads)} x alpha {alpha:g} x {phi_basis.split(' (')[0]}"
     out = [deck_acceleration_verdict(rows, limit, track)]
+
+    def on(t: int) -> str:  # the loaded track, named on a deck of two tracks or more
+        return f" on track {t + 1}" if len(sd.deflection) > 1 else ""
+
     c = crits.criterion("vertical_deflection")
     t, i, v = _largest(sd.deflection, [c.limit_value(span=s) for s in spans])
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(span=spans[i]), f"{load}, track {t + 1} loaded",
-                        f"track {t + 1}, span {i + 1} at {sd.deflection_x[t][i]:.3g} m", a_note))
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(span=spans[i]), f"{load}{on(t)}",
+                        f"span {i + 1} at {sd.deflection_x[t][i]:.3g} m", a_note))
     c = crits.criterion("deck_twist_3m")
     t, _, v = _largest([np.array([x]) for x in sd.twist])
-    twist_at = f"track {t + 1}, rails from x = {sd.twist_x[t]:.3g} m over 3 m"
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(speed_kmh=line_speed_kmh),
-                        f"{load}, track {t + 1} loaded, line speed {line_speed_kmh:g} km/h", twist_at, a_note))
+    twist_at = f"from x = {sd.twist_x[t]:.3g} m"
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(speed_kmh=line_speed_kmh), f"{load}{on(t)}",
+                        twist_at, f"the limit of line speed {line_speed_kmh:g} km/h; " + a_note))
     out.append(_dynamic_twist_verdict(crits.criterion("deck_twist_3m_dynamic"), responses, cases, train_names,
                                       line_speed_kmh))
     c = crits.criterion("deck_twist_3m_total")
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}, track {t + 1} loaded", twist_at,
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}", twist_at,
                         "the track's own twist taken as 0 (no cant transition in the bridge data); " + a_note))
     c = crits.criterion("deck_end_rotation")
     t, i, v = _largest(sd.end_rotation)
-    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}, track {t + 1} loaded",
-                        f"track {t + 1}, {'start' if i == 0 else 'end'} of the bridge",
+    out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}",
+                        f"{'start' if i == 0 else 'end'} of the bridge",
                         "ENV 1991-3 value: EN 1990 A2 leaves the limit to the national annex; " + a_note))
     c = crits.criterion("deck_end_rotation_between_decks")
     if any(j.size for j in sd.joint_rotation):
         t, i, v = _largest(sd.joint_rotation)
-        out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}, track {t + 1} loaded",
-                            f"track {t + 1}, joint {i + 1} (after span {i + 1})", "ENV 1991-3 value; " + a_note))
+        out.append(_verdict(c, alpha * phi * v, c.limit_value(), f"{load}{on(t)}",
+                            f"joint after span {i + 1}", "ENV 1991-3 value; " + a_note))
     else:
         out.append(_verdict(c, math.nan, c.limit_value(), "-", "-", "no joint between simply supported spans"))
     lateral_note = ("nosing force only (EN 1991-2 6.5.2, 100 kN x alpha): wind, centrifugal forces (straight track) "
@@ -110,14 +127,15 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     c = crits.criterion("horizontal_rotation")
     t, i, v = _largest(sd.horizontal_rotation)
     out.append(_verdict(c, alpha * v, c.limit_value(speed_kmh=line_speed_kmh),
-                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN on track {t + 1}",
-                        f"track {t + 1}, span {i // 2 + 1} {'start' if i % 2 == 0 else 'end'}", lateral_note))
+                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN{on(t)}",
+                        f"span {i // 2 + 1} {'start' if i % 2 == 0 else 'end'}", lateral_note))
     c = crits.criterion("horizontal_radius_single_deck" if spans.size == 1 else "horizontal_radius_multi_deck")
     t, i, v = _largest(sd.lateral, list(spans**2))  # the smallest radius: the largest delta / L^2
     radius = spans[i] ** 2 / (8.0 * alpha * v) if v > 0 else math.inf
     out.append(_verdict(c, radius, c.limit_value(speed_kmh=line_speed_kmh),
-                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN on track {t + 1}",
-                        f"span {i + 1}: r = L^2 / (8 delta_h), delta_h = {alpha * v:.3g} m", lateral_note))
+                        f"nosing force {alpha * NOSING_FORCE / 1e3:g} kN{on(t)}",
+                        f"span {i + 1}", f"r = L^2 / (8 delta_h), delta_h = {format_value(alpha * v, 'm')}; "
+                        + lateral_note))
     c = crits.criterion("lateral_frequency")
     f_lat = first_lateral_frequency(modal.frequencies, modal.mode_types)
     out.append(_verdict(c, f_lat, c.limit_value(), "modes of the nominal mass case", "the bridge's first lateral mode",
@@ -129,12 +147,12 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     comfort_load = f"LM71 x {phi_basis.split(' (')[0]} (alpha = 1), one track"
     if all(math.isfinite(x) for x in lims):
         t, i, v = _largest(comfort_sd.deflection, lims)
-        out.append(_verdict(c, phi * v, lims[i], f"{comfort_load}: track {t + 1}, {line_speed_kmh:g} km/h, "
-                            f"b_v = 1.0 m/s^2 (very good)", f"track {t + 1}, span {i + 1}"))
+        out.append(_verdict(c, phi * v, lims[i], f"{comfort_load.split(' (')[0]}{on(t)}", f"span {i + 1}",
+                            f"{comfort_load}; b_v = 1.0 m/s^2 (very good comfort) at {line_speed_kmh:g} km/h"))
     else:
         out.append(_verdict(c, math.nan, math.nan, comfort_load, "-",
-                            f"Figure A2.3 as digitised covers speeds up to 220 km/h and spans up to 120 m "
-                            f"(line speed {line_speed_kmh:g} km/h)"))
+                            f"line speed {line_speed_kmh:g} km/h: Figure A2.3 as digitised covers up to 220 km/h "
+                            f"and spans up to 120 m"))
     out.append(_envelope_verdict(crits.criterion("dynamic_factor_envelope"), rows, responses, cases, train_names,
                                  alpha * phi * np.max([d.max() for d in sd.deflection[:1]]), load))
     return tuple(out)
@@ -154,8 +172,8 @@ def _dynamic_twist_verdict(c, responses, cases, train_names, line_speed_kmh: flo
     if where is None:
         return _verdict(c, math.nan, math.nan, "-", "-", "no twist station computed")
     name, case, v, x = where
-    return _verdict(c, best, c.limit_value(speed_kmh=line_speed_kmh), f"{name} at {v:g} km/h ({case} case)",
-                    f"track 1, rails from x = {x:.3g} m over 3 m", "moving forces on the modes up to the cut-off")
+    return _verdict(c, best, c.limit_value(speed_kmh=line_speed_kmh), f"{name} at {v:.1f} km/h ({case} case)",
+                    f"from x = {x:.3g} m", "track 1; moving forces on the modes up to the cut-off")
 
 
 def _envelope_verdict(c, rows, responses, cases, train_names, lm71_phi: float, load: str) -> CriterionVerdict:  # noqa: ANN001
@@ -171,9 +189,9 @@ def _envelope_verdict(c, rows, responses, cases, train_names, lm71_phi: float, l
     best = max(rows, key=lambda r: r["enhancement"] * static[(r["case"], r["train"])])
     value = best["enhancement"] * static[(best["case"], best["train"])] / lm71_phi if lm71_phi > 0 else math.nan
     word = "the dynamic analysis governs" if value > 1.0 else "LM71 x Phi governs"
-    return _verdict(c, value, 1.0, f"{best['train']} at {best['speed_kmh']:g} km/h ({best['case']} case), "
-                    f"1 + phi'_dyn + k phi'' = {best['enhancement']:.3f}, against {load}",
-                    "mid-span deflection, track 1", f"{word} (a comparison, not a limit)", bound="compare")
+    return _verdict(c, value, 1.0, f"{best['train']} at {best['speed_kmh']:.1f} km/h ({best['case']} case)",
+                    "mid-span deflection, track 1", f"{word}; a comparison, not a limit; 1 + phi'_dyn + k phi'' = "
+                    f"{best['enhancement']:.3f}, against {load}", bound="compare")
 
 
-__all__ = ["a2_verdicts", "deck_acceleration_verdict"]
+__all__ = ["a2_verdicts", "deck_acceleration_verdict", "place_words"]

@@ -20,7 +20,6 @@ import csv
 import importlib
 import io
 import math
-import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -42,7 +41,7 @@ from .check_modes import modes_for_check as _modes_for_check, vertical as _verti
 from .moving_force import MAX_STEPS, MovingForceResponse, integration_steps, moving_force_response
 from . import stochastic as stoch
 from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
-from .a2_verdicts import a2_verdicts, check_alpha
+from .a2_verdicts import a2_verdicts, check_alpha, place_words
 from .hslm_b import HSLM_B_SPANS, hslm_b
 from . import interaction as vbi
 
@@ -67,17 +66,6 @@ CHECK_ELEMENTS_PER_SPAN = 64
 MIN_LINE_SPEED_KMH = 1.0
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
-
-
-_STATION = re.compile(r"span(\d+)\.x(\d+)/(\d+)")
-
-
-def place_words(station: str) -> str:
-    """A station name in words: 'span1.x4/8 (16 m)' -> 'span 1, mid-span (16 m)', 'span2.x3/8' -> 'span 2 at 3/8'."""
-    def said(m: re.Match) -> str:
-        i, n = int(m.group(2)), int(m.group(3))
-        return f"span {m.group(1)}, mid-span" if 2 * i == n else f"span {m.group(1)} at {i}/{n}"
-    return _STATION.sub(said, station)
 
 
 @dataclass(frozen=True)
@@ -175,9 +163,10 @@ class CheckResult:
         r = self.deciding_row()
         margin = self.limit - r["max_deck_acc_z"]
         state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
-        return (f"deck acceleration limit {self.limit:g} m/s^2 ({self.track} track) {state}: largest "
-                f"{r['max_deck_acc_z']:.3f} m/s^2 under {r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case) at "
-                f"{place_words(r['max_deck_acc_z_location'])}, margin {margin:+.3f} m/s^2 ({100 * margin / self.limit:+.1f} %)")
+        share = f"{abs(margin):.2f} m/s^2 ({abs(100 * margin / self.limit):.0f} %)"
+        return (f"deck acceleration limit {self.limit:g} m/s^2 ({self.track} track) {state}: peak "
+                f"{r['max_deck_acc_z']:.3f} m/s^2, {r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case), "
+                f"{place_words(r['max_deck_acc_z_location'])}; " + (f"margin {share}" if margin >= 0 else f"over by {share}"))
 
     def summary(self) -> str:
         """A one-screen summary: the verdict, the settings, the largest values per train."""

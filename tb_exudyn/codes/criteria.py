@@ -25,6 +25,7 @@ import numpy as np
 
 from ..errors import SettingError
 from ..results.checks import default_limits
+from ..results.checks_table import format_value
 from ..scenario.limits import FixedLimit, SpeedBandLimit
 from ..scenario.registry import models_dir
 from ..scenario.schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param, set_source_file
@@ -246,17 +247,34 @@ class CriterionVerdict:
             return VERDICT_INFO
         return VERDICT_OK if u <= 1.0 else VERDICT_EXCEEDS
 
+    @property
+    def short_clause(self) -> str:
+        """The clause as the terminal names it: 'EN 1990 Annex A2, A2.4.4.2.3(2) (limits left ...)' -> 'A2.4.4.2.3(2)'
+        (the terminal's block is headed EN 1990 A2.4.4; the full clause is in the report)."""
+        text = self.clause.replace("EN 1990 Annex A2, ", "").replace(":2003", "")
+        return text.split(";")[0].split(" (")[0]
+
+    def shown(self, x: float) -> str:
+        """A value or limit in the project's display units (:func:`tb_exudyn.results.checks_table.format_value`:
+        mm for deflections and twists, mrad for rotations); a radius (a lower bound in m) in whole metres."""
+        if self.unit == "m" and self.bound == "lower" and math.isfinite(x):
+            return f"{x:.0f} m"
+        return format_value(x, self.unit)
+
     def line(self) -> str:
-        """One line: criterion, verdict, utilisation, value against limit, deciding case, clause."""
+        """One line: criterion, verdict, utilisation, value against limit, deciding case, clause. The caveats,
+        the full load and the full clause are in the report (tb_exudyn.report.check)."""
+        name = self.criterion.split(" (")[0]
         if self.verdict == VERDICT_NOT_EVALUATED:
-            return f"{self.criterion}: not evaluated ({self.caveats}) [{self.clause}]"
+            return f"{name}: not evaluated ({self.caveats.split('; ')[0]}) [{self.short_clause}]"
         if self.verdict == VERDICT_INFO:
-            return (f"{self.criterion}: ratio {self.value:.3g}, {self.caveats}; {self.case} [{self.clause}]"
+            return (f"{name}: ratio {self.value:.2f}, a comparison: {self.caveats.split('; ')[0]}; {self.case} "
+                    f"[{self.short_clause}]"
                     + (" [check]" if self.check else ""))
         sign = ">=" if self.bound == "lower" else "<="
         state = "EXCEEDED" if self.verdict == VERDICT_EXCEEDS else "met"
-        return (f"{self.criterion}: {state}, utilisation {self.utilisation:.2f} ({self.value:.4g} {self.unit}, "
-                f"limit {sign} {self.limit:.4g} {self.unit}) {self.case} at {self.location} [{self.clause}]"
+        return (f"{name}: {state}, utilisation {self.utilisation:.2f} ({self.shown(self.value)} {sign} "
+                f"{self.shown(self.limit)}), {self.case}, {self.location} [{self.short_clause}]"
                 + (" [check]" if self.check else ""))
 
 

@@ -8,6 +8,7 @@ largest value; the comfort criterion is evaluated at 200 km/h (within the digiti
 figure's limit for one span.
 """
 
+import html
 import math
 
 import pytest
@@ -33,9 +34,29 @@ def test_one_verdict_per_criterion(result):
     assert result.criteria[0].value == max(result.column("max_deck_acc_z"))
     text = result.summary()
     page = render_check_report(result)
-    for c in result.criteria:
-        assert c.criterion in text and c.clause in text
-        assert c.criterion in page
+    for c in result.criteria:  # the terminal: the short name and clause; the report: all of it
+        assert f"  {c.criterion.split(' (')[0]}: " in text and f"[{c.short_clause}]" in text
+        assert all(html.escape(x) in page for x in (c.criterion, c.clause, c.case, c.location, c.caveats or "-"))
+
+
+def test_criteria_lines_are_an_engineers(result):
+    """The terminal's criteria block (issue 49, every command's terminal): speeds to 0.1 km/h, deflections and
+    twists in mm and rotations in mrad (tb_exudyn.system.labels.display_unit, the project's one convention),
+    stations in words ('span 1 at 5/8', not 'span1.x5/8'), one line of at most 160 characters per criterion."""
+    import re
+    text = result.summary()
+    block = text.split("\n")[1:1 + len(result.criteria)]
+    assert len(block) == len(result.criteria) and all(len(ln) <= 160 for ln in block)
+    speeds = re.findall(r"(\d+(?:\.\d+)?) km/h", "\n".join(block))
+    assert speeds and all(re.fullmatch(r"\d+\.\d", s) for s in speeds), speeds
+    assert "span1.x" not in text and "e-0" not in "\n".join(block) and "e+0" not in "\n".join(block)
+    v = {c.criterion: c for c in result.criteria}
+    line = {c.criterion: ln for c, ln in zip(result.criteria, block)}
+    deflection = v["vertical_deflection"]
+    assert f"({1e3 * deflection.value:.4g} mm <= {1e3 * deflection.limit:.4g} mm)" in line["vertical_deflection"]
+    assert " mm <= 3 mm)" in line["deck_twist_3m"] and " mrad <= " in line["deck_end_rotation"]
+    assert re.search(r"\(\d+ m >= 6000 m\)", line["horizontal_radius_single_deck"])  # whole metres
+    assert re.search(r"span 1 at \d/8 \(\d+ m\)|span 1, mid-span", v[result.criteria[0].criterion].location)
 
 
 def test_static_values_are_lm71_times_phi(result):
