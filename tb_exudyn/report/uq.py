@@ -29,12 +29,18 @@ from typing import Any, Sequence
 
 from .._version import __version__
 from ..atomic import write_text_atomic
-from ..results.checks import default_limits
 from ..results.checks_table import SMALLEST_SHOWN
 from ..results.uq import LOO_WARNING, pf_verdicts, warning_groups
-from ..scenario.limits import FixedLimit, GradedLimit, quantity
 from ..system.labels import format_number
-from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
+from .sections import (
+    STYLE,
+    Raw,
+    _img,
+    html_table,
+    link,
+    scenario_section,
+    verdict_class,
+)
 
 esc = html.escape
 
@@ -50,21 +56,6 @@ def _probability(p: float) -> str:
 
 def _loo(e: float) -> str:
     return "not estimated" if not math.isfinite(e) else f"{100.0 * e:.2g} %"
-
-
-def criteria_info() -> dict[str, tuple[str, str, float]]:
-    """Per criterion of the default limits (those the study's nodes were checked against, as a sweep's
-    speeds are): what it checks, its quantity's unit and its pass/fail limit (a fixed limit's value, a
-    graded one's last; NaN for a limit that depends on the run, e.g. on the axle load)."""
-    out = {}
-    for limit_set in default_limits():
-        for c in limit_set.criteria:
-            lim = c.limit
-            value = getattr(lim, "value", None) if isinstance(lim, FixedLimit) else (
-                lim.values[-1] if isinstance(lim, GradedLimit) else None)
-            out[f"{limit_set.name}/{c.id}"] = (c.title, quantity(c.quantity).unit,
-                                               math.nan if value is None else float(value))
-    return out
 
 
 def verdict_section(result: Any, target: float | None = None) -> str:
@@ -85,10 +76,9 @@ def verdict_section(result: Any, target: float | None = None) -> str:
                "that. The estimate is the level exceeded with the target probability in one passage (SI units), its "
                "mean and standard deviation over the keys; the limit is the criterion's pass/fail value in the default "
                "limits, which the nodes were checked against ('-' where it depends on the run).</p>")
-    info = criteria_info()
     body = []
     for r in rows:
-        title, unit, limit = info.get(r["criterion"], ("", "", math.nan))
+        title, unit, limit = r["title"], r["unit"], r["limit"]
         body.append([r["criterion"], title, Raw(f'<span class="{verdict_class(r["verdict"])}">'
                                                 f'{esc(r["verdict"].lower())}</span>'),
                      _probability(r["pf"]), f"{r['target']:.3g}", _probability(r["node_max"]),

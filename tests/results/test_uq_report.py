@@ -113,7 +113,7 @@ def test_page_and_figures_are_one_group_and_a_later_study_removes_the_earlier_fi
 def test_verdict_names_what_each_criterion_checks_and_its_limit():
     """The deck criterion's row: its title and its limit, 3.5 m/s^2 (EN 1990 A2.4.4.2.1, ballasted
     track, the default limits' value), from the limits the nodes were checked against."""
-    from tb_exudyn.report.uq import criteria_info
+    from tb_exudyn.results.uq import criteria_info
 
     title, unit, limit = criteria_info()[CRITERIA[1]]
     assert limit == 3.5 and unit == "m/s^2"
