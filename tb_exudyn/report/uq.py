@@ -54,6 +54,10 @@ def _probability(p: float) -> str:
     return f"< {SMALLEST_SHOWN:.0e}" if p < SMALLEST_SHOWN else f"{p:.3g}"
 
 
+def _value(v: Any) -> float:
+    return math.nan if v is None else float(v)
+
+
 def _loo(e: float) -> str:
     return "not estimated" if not math.isfinite(e) else f"{100.0 * e:.2g} %"
 
@@ -98,9 +102,9 @@ def study_section(result: Any) -> str:
            f"{esc(str(prov.get('n_nodes', '?')))} PEM runs ({esc(str(prov.get('design', '?')))} design), engine "
            f"{esc(str(prov.get('engine', '?')))}, {format_number(float(prov.get('seconds', math.nan)), 3)} s "
            f"({esc(str(prov.get('tasks_from_checkpoint', 0)))} nodes from the checkpoint).</p>"]
-    body = [[k.get("key", ""), k.get("distribution", ""), format_number(k.get("mean") or math.nan, 4),
-             format_number(k.get("std") or math.nan, 3), format_number(k.get("low") or math.nan, 4),
-             format_number(k.get("high") or math.nan, 4)] for k in result.keys]
+    body = [[k.get("key", ""), k.get("distribution", ""), format_number(_value(k.get("mean")), 4),
+             format_number(_value(k.get("std")), 3), format_number(_value(k.get("low")), 4),
+             format_number(_value(k.get("high")), 4)] for k in result.keys]
     out.append(html_table("uq-keys", ["key", "distribution", "mean", "std", "low", "high"], body,
                           ["", "", "num", "num", "num", "num"]))
     out.append("</section>")
@@ -111,7 +115,8 @@ def loo_section(result: Any) -> str:
     out = ['<section id="loo"><h2>Surrogate error (leave-one-out)</h2>',
            "<p>Per quantity, the expansion's leave-one-out error relative to the quantity's variance over the keys: "
            f"above {100 * LOO_WARNING:g} % the surrogate's moments, Sobol indices and P_f are not accurate (raise "
-           "--order or use more nodes). Not estimated when the design has no more nodes than the basis terms.</p>"]
+           "--order or use more nodes). Not estimated when the design has no more nodes than basis terms (a quadrature "
+           "of one key: order + 1 of each), when a node has leverage 1, or for a quantity that does not vary.</p>"]
     body = [[q, format_number(float(m), 3), format_number(float(s), 2),
              Raw(f'<span class="exceeds">{esc(_loo(float(e)))}</span>') if math.isfinite(e) and e > LOO_WARNING
              else _loo(float(e))] for q, m, s, e in zip(result.quantities, result.quantity_mean, result.quantity_std,

@@ -198,12 +198,25 @@ def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str,
 _NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
 
 
+def loo_notes(result: UqResult) -> list[str]:
+    """The note (empty: none) when no quantity that varies over the keys has a leave-one-out error: the
+    surrogate's accuracy is then unknown. A quadrature design of one key has as many nodes as basis
+    terms (order + 1), which leaves no residual to estimate it from."""
+    std, loo = np.asarray(result.data["quantity_std"], float), np.asarray(result.data["loo"], float)
+    varies = np.isfinite(std) & (std > 0)
+    if not varies.any() or np.isfinite(loo[varies]).any():
+        return []
+    return [f"the surrogate's error is unknown: no leave-one-out error could be estimated ({result.provenance.get('n_nodes', '?')} "
+            f"nodes, {result.provenance.get('design', '?')} design; no more nodes than basis terms?): use --design sobol "
+            "--nodes above the basis size"]
+
+
 def warning_groups(result: UqResult) -> list[tuple[str, list[str]]]:
-    """The study's warnings (``provenance["warnings"]``: the surrogate's, then the nodes' runs'), those
-    that differ only in their numbers as one: (the first as raised, every distinct message), in the
-    order first raised."""
+    """The study's warnings (:func:`loo_notes`, then ``provenance["warnings"]``: the surrogate's, then the
+    nodes' runs'), those that differ only in their numbers as one: (the first as raised, every distinct
+    message), in the order first raised."""
     groups: dict[str, list[str]] = {}
-    for m in map(str, result.provenance.get("warnings", ())):
+    for m in [*loo_notes(result), *map(str, result.provenance.get("warnings", ()))]:
         texts = groups.setdefault(_NUMBER.sub("#", m), [])
         if m not in texts:
             texts.append(m)
@@ -232,4 +245,4 @@ def _member(v: Variable) -> Member:
                   max_abs=v.max_abs)
 
 
-__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "criteria_info", "load_uq", "pf_verdicts", "warning_groups"]
+__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "criteria_info", "load_uq", "loo_notes", "pf_verdicts", "warning_groups"]

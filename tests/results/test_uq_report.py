@@ -120,3 +120,19 @@ def test_verdict_names_what_each_criterion_checks_and_its_limit():
     text = render_uq_report(result())
     verdict = text[text.index('<section id="verdict">'):text.index("</section>")]
     assert html.escape(title) in verdict and '<td class="num">3.5</td>' in verdict
+
+
+def test_a_surrogate_without_any_leave_one_out_error_is_warned_about():
+    """One key on a 3-point Gauss quadrature at order 2: as many nodes as basis terms, no residual, so
+    every LOO is NaN (tb_exudyn.methods.uq.pce.loo_error); the terminal and the page must say that the
+    surrogate's accuracy is unknown instead of showing nothing."""
+    import dataclasses
+
+    r = result()
+    r = dataclasses.replace(r, data={**r.data, "loo": np.full(len(r.quantities), np.nan)},
+                            provenance={**r.provenance, "warnings": []})
+    lines = summary_lines(r)
+    note = [ln for ln in lines if "surrogate's error is unknown" in ln]
+    assert len(note) == 1 and len(note[0]) <= 200 and "3 nodes, tensor design" in note[0], lines
+    assert "surrogate&#x27;s error is unknown" in render_uq_report(r)
+    assert not any("unknown" in ln for ln in summary_lines(result()))
