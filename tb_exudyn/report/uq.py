@@ -77,7 +77,7 @@ def verdict_section(result: Any, target: float | None = None) -> str:
                "its deciding location, averaged over the uncertain keys theta (the expansion's mean of that probability "
                "over the nodes; with a quadrature design the quadrature's weighted mean of the nodes' probabilities). "
                f"The criterion EXCEEDS when P_f is above the target {t:.3g}. Shown as &lt; {SMALLEST_SHOWN:.0e} below "
-               "that. The estimate is the level exceeded with the target probability in one passage (SI units), its "
+               "that. The estimate is the level exceeded with the target probability in one passage (in the unit shown), its "
                "mean and standard deviation over the keys; the limit is the criterion's pass/fail value in the default "
                "limits, which the nodes were checked against ('-' where it depends on the run).</p>")
     body = []
@@ -117,7 +117,11 @@ def loo_section(result: Any) -> str:
            f"above {100 * LOO_WARNING:g} % the surrogate's moments, Sobol indices and P_f are not accurate (raise "
            "--order or use more nodes). Not estimated when the design has no more nodes than basis terms (a quadrature "
            "of one key: order + 1 of each), when a node has leverage 1, or for a quantity that does not vary.</p>"]
-    body = [[q, format_number(float(m), 3), format_number(float(s), 2),
+
+    def shown(q: str, v: float, digits: int) -> str:  # a probability as the verdict shows it
+        return _probability(float(v)) if q.startswith("probability:") else format_number(float(v), digits)
+
+    body = [[q, shown(q, m, 3), shown(q, s, 2),
              Raw(f'<span class="exceeds">{esc(_loo(float(e)))}</span>') if math.isfinite(e) and e > LOO_WARNING
              else _loo(float(e))] for q, m, s, e in zip(result.quantities, result.quantity_mean, result.quantity_std,
                                                           result.loo)]
