@@ -45,7 +45,7 @@ def _shown_speeds(result: Any, rows: list) -> list[int]:
     return sorted(keep)
 
 
-def quantity_table(result: Any, width: int = 160) -> list[str]:
+def quantity_table(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
     """Per speed the largest max |mean| + 3 sigma of each key quantity in its display unit, the unit
     in the header's second line; split into blocks of columns that fit ``width``; at most about
     :data:`TABLE_SPEEDS` speeds (:func:`_shown_speeds`)."""
@@ -81,7 +81,7 @@ def quantity_table(result: Any, width: int = 160) -> list[str]:
     return out
 
 
-def verdict_lines(result: Any, width: int = 160) -> list[str]:
+def verdict_lines(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
     """Per code criterion checked at the sweep's speeds (those whose channels the sweep computes):
     at how many speeds it EXCEEDS and its largest utilisation with the speed; those not evaluated
     after them, one line per reason naming the criteria, wrapped (never cut) within ``width``."""

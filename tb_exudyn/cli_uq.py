@@ -7,16 +7,22 @@ node's scenario) is checked before ``--out`` is created or written: one line, ex
 from __future__ import annotations
 
 import argparse
+import io
+import math
 from pathlib import Path
 from typing import Any
 
-from .atomic import write_atomic
+from .atomic import write_atomic_group
 from .cli_flags import WHERE
+from .cli_results import report_package
 from .errors import SettingError
 from .execution.output import removed_if_left_empty
+from .results.checks_table import SMALLEST_SHOWN
+from .results.uq import pf_verdicts, warning_groups
 from .scenario.io import parse_setting
 from .scenario.uncertain import load_study
 from .storage import check_writable
+from .system.labels import format_number
 
 #: run_uq's arguments and the options that give them
 UQ_FLAGS = {"order": "--order", "nodes": "--nodes", "design": "--design", "channels": "--channels",
@@ -68,16 +74,16 @@ def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
         if exc.where != "run_uq" or exc.key not in UQ_FLAGS:
             raise
         raise exc.restated(WHERE, UQ_FLAGS[exc.key]) from None
-    print(f"scenario {scenario.name}: {len(keys)} uncertain keys ({', '.join(k.key for k in keys)}), "
-          f"order {order}, {design} design")
+    print(_clip(f"scenario {scenario.name}: {len(keys)} uncertain keys ({', '.join(k.key for k in keys)}), "
+                f"order {order}, {design} design"))
     with removed_if_left_empty(args.out):
         out = check_writable(args.out)
         result = methods.uq.run_uq(scenario, keys, workers=workers, out=out, resume=args.resume,
                                    progress=not args.no_progress, overwrite=args.overwrite, **common)
     for line in summary_lines(result):
         print(line)
-    if not args.no_figures:
-        print(f"figures: {', '.join(p.name for p in save_figures(result, out))}")
+    written = save_figures(result, out, figures=not args.no_figures)
+    print(_clip(f"written: {', '.join(p.name for p in written)}"))
     print(f"({result.provenance['n_nodes']} nodes in {result.provenance['seconds']:.1f} s, "
           f"{result.provenance.get('tasks_from_checkpoint', 0)} from the checkpoint) result in {(out / 'uq').resolve()}")
     return 0
@@ -87,24 +93,89 @@ def cmd_uq(args: argparse.Namespace, methods: Any) -> int:
 BAND_FIGURES = 4
 
 
-def save_figures(result: Any, out: Path) -> list[Path]:
-    """``out/uq_sobol.png`` (the Sobol bars) and ``out/uq_band.<channel>.png`` for the first
-    :data:`BAND_FIGURES` channels, each written atomically (matplotlib loaded now, by the result)."""
-    items = [("uq_sobol.png", result.plot_sobol())]
-    items += [(f"uq_band.{ch}.png", result.plot_band(ch)) for ch in result.channels[:BAND_FIGURES]]
-    return [write_atomic(out / name, lambda fh, f=fig: f.savefig(fh, format="png", dpi=100)) for name, fig in items]
+def _png(fig: Any) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100)
+    return buf.getvalue()
+
+
+def save_figures(result: Any, out: Path, figures: bool = True) -> list[Path]:
+    """``out/uq_sobol.png`` (the Sobol bars), ``out/uq_band.<channel>.png`` for the first
+    :data:`BAND_FIGURES` channels (unless ``figures`` is False) and the page ``out/uq.html``
+    (:func:`tb_exudyn.report.uq.render_uq_report`, the figures embedded), written as one group
+    (:func:`tb_exudyn.atomic.write_atomic_group`, which removes an earlier study's figures that the group
+    has no counterpart for; matplotlib loaded now, by the result)."""
+    reporting = report_package()
+    sobol = _png(result.plot_sobol()) if figures else None
+    bands = [(ch, _png(result.plot_band(ch))) for ch in result.channels[:BAND_FIGURES]] if figures else []
+    items = ([("uq_sobol.png", sobol)] if figures else []) + [(f"uq_band.{ch}.png", png) for ch, png in bands]
+    items.append((reporting.UQ_REPORT, reporting.render_uq_report(result, sobol, bands).encode("utf-8")))
+    stale = [p for pattern in ("uq_sobol.png", "uq_band.*.png") for p in out.glob(pattern)
+             if p.name not in {name for name, _ in items}]  # an earlier study's figures (--overwrite)
+    return write_atomic_group([(out / name, lambda path, b=data: Path(path).write_bytes(b)) for name, data in items],
+                              remove=stale)
+
+
+#: the rows of key quantities (max sigma per channel) the terminal shows; the rest are on the page
+QUANTITY_ROWS = 16
+#: the criteria and the warnings (those alike as one) the terminal shows; all are on the page. With the
+#: command's other lines (8: headers, the "... more" lines, the files, the time), at most 16 + 20 + 6 + 8 = 50
+#: lines, within issue 49's 60
+CRITERION_ROWS, WARNING_ROWS = 20, 6
+#: a terminal line's width (issue 49)
+LINE_MAX = 200
+
+
+def _probability(p: float) -> str:
+    """As the run's report shows a probability: 3 digits, "< 1e-09" below SMALLEST_SHOWN, "-" if none."""
+    if not math.isfinite(p):
+        return "-"
+    return f"< {SMALLEST_SHOWN:.0e}" if p < SMALLEST_SHOWN else f"{p:.3g}"
+
+
+def loo_text(loo: float) -> str:
+    """The leave-one-out error as a percentage (2 digits), "-" when not estimated."""
+    return "-" if not math.isfinite(loo) else f"{100.0 * loo:.2g} %"
+
+
+def _clip(line: str) -> str:
+    return line if len(line) <= LINE_MAX else line[: LINE_MAX - 3] + "..."
 
 
 def summary_lines(result: Any) -> list[str]:
-    """The study's table: per quantity its mean, std, leave-one-out error and the key of the largest
-    total Sobol index; then P_f per criterion."""
-    lines = [f"{'quantity':<52} {'mean':>11} {'std':>11} {'LOO':>8}  most influential key (total Sobol)"]
-    for name in result.quantities:
+    """The study on a screen: per key quantity (max sigma of each channel, the first
+    :data:`QUANTITY_ROWS`) its mean, std, leave-one-out error and the key of the largest total Sobol
+    index; then per criterion P_f against the target probability and its verdict; then each warning
+    once. Every line at most :data:`LINE_MAX` characters."""
+    shown = [q for q in result.quantities if q.startswith("max_sigma:")]
+    lines = [f"{'max sigma over the run':<46} {'mean':>10} {'std':>9} {'LOO':>8}  most influential key (total Sobol)"]
+    for name in shown[:QUANTITY_ROWS]:
         q = result.quantity(name)
         key, s = max(q["sobol_total"].items(), key=lambda kv: -1.0 if kv[1] != kv[1] else kv[1])
-        lines.append(f"{name:<52} {q['mean']:>11.4g} {q['std']:>11.4g} {q['loo']:>8.2g}  {key} ({s:.2f})")
-    for c, p in zip(result.criteria, result.pf):
-        lines.append(f"P_f {c}: {p:.3g} (E over the keys of the probability of exceeding in one passage)")
+        unit = result.units[result.index(name.split(":", 1)[1])]
+        why = f"{key} ({s:.2f})" if math.isfinite(s) and q["std"] > 0 else "- (no variance over the keys)"
+        lines.append(f"{name.split(':', 1)[1] + ' [' + unit + ']':<46} {format_number(q['mean'], 3):>10} "
+                     f"{format_number(q['std'], 2):>9} {loo_text(q['loo']):>8}  {why}")
+    if len(shown) > QUANTITY_ROWS:
+        lines.append(f"... and {len(shown) - QUANTITY_ROWS} more channels (uq.html)")
+    rows = pf_verdicts(result)
+    if rows:
+        lines.append(f"verdict under uncertainty: P_f = E over the keys of P(exceed in one passage), against the target "
+                     f"{rows[0]['target']:.3g} per passage")
+    for r in rows[:CRITERION_ROWS]:
+        est = ("" if not math.isfinite(r["estimate_mean"]) else
+               f"; estimate {format_number(r['estimate_mean'], 3)} +- {format_number(r['estimate_std'], 2)} {r['unit']}"
+               + (f" (limit {format_number(r['limit'], 3)})" if math.isfinite(r["limit"]) else ""))
+        lines.append(_clip(f"  {r['criterion']:<44} {r['verdict']:<13} P_f {_probability(r['pf']):>9}"
+                           f" (largest at a node {_probability(r['node_max'])}){est}"))
+    if len(rows) > CRITERION_ROWS:
+        lines.append(f"... and {len(rows) - CRITERION_ROWS} more criteria (uq.html)")
+    groups = warning_groups(result)
+    for first, texts in groups[:WARNING_ROWS]:
+        more = f" ({len(texts)} messages like it)" if len(texts) > 1 else ""
+        lines.append(_clip(f"warning{more}: {first}"))
+    if len(groups) > WARNING_ROWS:
+        lines.append(f"... and {len(groups) - WARNING_ROWS} more warnings (uq.html)")
     return lines
 
 
@@ -130,9 +201,9 @@ def add_parser(sub: Any, methods: Any) -> Any:
     p.add_argument("--resume", action="store_true", help="reuse the nodes finished in --out")
     p.add_argument("--overwrite", action="store_true", help="replace an earlier study's result and checkpoint in --out")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--no-figures", action="store_true", help="no figures (uq_sobol.png, uq_band.<channel>.png)")
+    p.add_argument("--no-figures", action="store_true", help="no figures (uq_sobol.png, uq_band.<channel>.png); uq.html is written without them")
     p.set_defaults(func=lambda a: cmd_uq(a, methods()))
     return p
 
 
-__all__ = ["BAND_FIGURES", "UQ_FLAGS", "add_parser", "cmd_uq", "save_figures", "summary_lines"]
+__all__ = ["BAND_FIGURES", "CRITERION_ROWS", "LINE_MAX", "QUANTITY_ROWS", "UQ_FLAGS", "WARNING_ROWS", "add_parser", "cmd_uq", "loo_text", "save_figures", "summary_lines"]

@@ -1,6 +1,6 @@
 """A new user's first hour on the command line (issue 49): `show` and `modes` of a bridge file, a shipped
 bridge and a vehicle; every command's lines at most 200 characters; the commands that report a result
-(run, sweep, check, modes) in at most 60 lines; one line per command-line error.
+(run, sweep, check, modes, uq) in at most 60 lines; one line per command-line error.
 
 The bounds are the issue's acceptance numbers (a terminal line, a screen); the f1 check states its reference."""
 
@@ -129,3 +129,25 @@ def test_a_name_of_two_kinds_says_which_is_shown(capsys):
     assert lines[0].startswith("(ave_s103 names a vehicle, shown here, and also the train: ")
     assert lines[0].endswith("models/trains/ave_s103.toml)") and lines[1].startswith("Vehicle ave_s103")
     assert _printed(capsys, ["show", lines[0].split(": ", 1)[1].rstrip(")")])[0].startswith("train ave_s103")
+
+
+def test_uq_fits_a_screen(tmp_path, capsys):
+    """`uq` reports a result: the sprung mass of tests/methods/test_uq_sprung_mass.py (one car, one
+    channel, rigid track), its damping uniform +-20 %, order 2 (3 PEM runs): the cheapest study the UQ
+    tests use. Its lines fit the width and a screen, and it writes its page uq.html."""
+    import sys
+    from pathlib import Path
+
+    from tb_exudyn.scenario import save_scenario
+
+    sys.path.insert(0, str(Path(__file__).parent / "methods"))
+    from test_uq_sprung_mass import scenario
+
+    path = save_scenario(scenario(), tmp_path / "s.toml")
+    path.write_text(path.read_text() + '\n[uncertain."train.vehicles.0.damping"]\ndistribution = "uniform"\n'
+                    'relative_bounds = [-0.2, 0.2]\n')
+    lines = _printed(capsys, ["uq", str(path), "--order", "2", "--workers", "1", "--out", str(tmp_path / "u"),
+                              "--no-progress", "--no-figures"])
+    assert len(lines) <= RESULT_LINES, len(lines)
+    assert any(ln.startswith("car1.body.acc_z [m/s^2]") for ln in lines), lines
+    assert (tmp_path / "u" / "uq.html").is_file()

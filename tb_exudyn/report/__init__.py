@@ -65,6 +65,7 @@ from .sections import (FILTER_SCRIPT, STYLE, anchor, channels_section, figures_s
                    provenance_section, result_name, scenario_section, warnings_section)
 from .check import CHECK_REPORT, check_files, render_check_report, write_check_report
 from .sweep import SWEEP_REPORT, render_sweep_report, write_sweep_report
+from .uq import UQ_REPORT, render_uq_report, write_uq_report
 from .verdicts import verdicts_section
 
 esc = html.escape
@@ -234,5 +235,5 @@ __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "Study
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
            "figure_jobs", "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
-           "SWEEP_REPORT", "render_sweep_report", "write_sweep_report",
+           "SWEEP_REPORT", "render_sweep_report", "write_sweep_report", "UQ_REPORT", "render_uq_report", "write_uq_report",
            "CHECK_REPORT", "check_files", "render_check_report", "write_check_report"]

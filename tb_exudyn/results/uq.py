@@ -20,6 +20,8 @@ from the surrogate):
 from __future__ import annotations
 
 import json
+import math
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -30,8 +32,18 @@ import numpy as np
 from .._version import __version__
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.io import scenario_from_dict
-from ..storage import Member, NpzFile, check_members, check_values, json_default, load_json, save_result_folder
+from ..scenario.limits import FixedLimit, GradedLimit, quantity
+from ..storage import (
+    Member,
+    NpzFile,
+    check_members,
+    check_values,
+    json_default,
+    load_json,
+    save_result_folder,
+)
 from .base import figures
+from .checks import DEFAULT_TARGET_PROBABILITY, default_limits
 from .schema import Variable, need_xarray
 
 #: the result folder's name in an output folder
@@ -144,6 +156,73 @@ class UqResult:
         return save_result_folder(folder, {v.name: np.asarray(self.data[v.name]) for v in self.schema}, meta)
 
 
+def criteria_info() -> dict[str, tuple[str, str, float]]:
+    """Per criterion of the default limits (those the study's nodes were checked against, as a sweep's
+    speeds are): what it checks, its quantity's unit and its pass/fail limit (a fixed limit's value, a
+    graded one's last; NaN for a limit that depends on the run, e.g. on the axle load)."""
+    out = {}
+    for limit_set in default_limits():
+        for c in limit_set.criteria:
+            lim = c.limit
+            value = getattr(lim, "value", None) if isinstance(lim, FixedLimit) else (
+                lim.values[-1] if isinstance(lim, GradedLimit) else None)
+            out[f"{limit_set.name}/{c.id}"] = (c.title, quantity(c.quantity).unit,
+                                               math.nan if value is None else float(value))
+    return out
+
+
+def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str, Any]]:
+    """Per criterion of the limits: P_f = E_theta[P(exceed | theta)] (``result.pf``, the expansion's
+    mean of the quantity ``probability:<criterion>``), the largest P(exceed | theta) at any node, the
+    mean and std over theta of the estimate (the level exceeded with the target probability, SI units)
+    and the verdict against ``target`` (default the checks' target probability per passage):
+    EXCEEDS when P_f > target, OK when P_f <= target, NOT EVALUATED when P_f is not finite (a criterion
+    not evaluated at some node); with the criterion's title, unit and limit (:func:`criteria_info`)."""
+    target = DEFAULT_TARGET_PROBABILITY if target is None else float(target)
+    out = []
+    info = criteria_info()
+    nodes = np.asarray(result.data["node_quantities"], dtype=float)
+    for c, pf in zip(result.criteria, np.asarray(result.data["pf"], dtype=float)):
+        name = f"probability:{c}"
+        at_nodes = nodes[:, result.quantities.index(name)] if name in result.quantities else np.array([np.nan])
+        est = result.quantity(f"estimate:{c}") if f"estimate:{c}" in result.quantities else {"mean": np.nan, "std": np.nan}
+        verdict = "NOT EVALUATED" if not np.isfinite(pf) else ("EXCEEDS" if pf > target else "OK")
+        out.append({"criterion": c, "pf": float(pf), "target": target, "verdict": verdict,
+                    "node_max": float(np.max(at_nodes)) if np.all(np.isfinite(at_nodes)) else float("nan"),
+                    "estimate_mean": est["mean"], "estimate_std": est["std"],
+                    **dict(zip(("title", "unit", "limit"), info.get(c, ("", "", math.nan))))})
+    return out
+
+
+#: a number in a warning: the same warning at another node differs in them (a mode's growth over the run)
+_NUMBER = re.compile(r"[-+]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def loo_notes(result: UqResult) -> list[str]:
+    """The note (empty: none) when no quantity that varies over the keys has a leave-one-out error: the
+    surrogate's accuracy is then unknown. A quadrature design of one key has as many nodes as basis
+    terms (order + 1), which leaves no residual to estimate it from."""
+    std, loo = np.asarray(result.data["quantity_std"], float), np.asarray(result.data["loo"], float)
+    varies = np.isfinite(std) & (std > 0)
+    if not varies.any() or np.isfinite(loo[varies]).any():
+        return []
+    return [f"the surrogate's error is unknown: no leave-one-out error could be estimated ({result.provenance.get('n_nodes', '?')} "
+            f"nodes, {result.provenance.get('design', '?')} design; no more nodes than basis terms?): use --design sobol "
+            "--nodes above the basis size"]
+
+
+def warning_groups(result: UqResult) -> list[tuple[str, list[str]]]:
+    """The study's warnings (:func:`loo_notes`, then ``provenance["warnings"]``: the surrogate's, then the
+    nodes' runs'), those that differ only in their numbers as one: (the first as raised, every distinct
+    message), in the order first raised."""
+    groups: dict[str, list[str]] = {}
+    for m in [*loo_notes(result), *map(str, result.provenance.get("warnings", ()))]:
+        texts = groups.setdefault(_NUMBER.sub("#", m), [])
+        if m not in texts:
+            texts.append(m)
+    return [(texts[0], texts) for texts in groups.values()]
+
+
 def load_uq(folder: str | Path) -> UqResult:
     """A result written by :meth:`UqResult.save` (its arrays checked against :data:`UQ_SCHEMA`)."""
     folder = Path(folder)
@@ -166,4 +245,4 @@ def _member(v: Variable) -> Member:
                   max_abs=v.max_abs)
 
 
-__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "load_uq"]
+__all__ = ["LOO_WARNING", "PERCENTILES", "UQ_FOLDER", "UQ_SCHEMA", "UqResult", "criteria_info", "load_uq", "loo_notes", "pf_verdicts", "warning_groups"]

@@ -114,9 +114,10 @@ def test_cli_study_writes_result_and_figures(tmp_path, capsys):
     assert main(["uq", str(path), "--order", "2", "--workers", "1", "--out", str(out), "--no-progress",
                  "--channels", "car1.body.acc_z"]) == 0
     text = capsys.readouterr().out
-    assert "max_sigma:car1.body.acc_z" in text and "3 nodes" in text
+    assert "car1.body.acc_z [m/s^2]" in text and "3 nodes" in text and "uq.html" in text
     assert (out / "uq" / "meta.json").is_file() and (out / "uq_sobol.png").stat().st_size > 0
     assert (out / "uq_band.car1.body.acc_z.png").stat().st_size > 0
+    assert (out / "uq.html").read_text().index("<section id=\"verdict\">") < (out / "uq.html").read_text().index("<section id=\"loo\">")
     r = load_uq(out / "uq")
     assert r.quantity("max_sigma:car1.body.acc_z")["sobol_first"]["train.vehicles.0.damping"] > 0.999
 

@@ -75,7 +75,9 @@ class UqWorker:
             warnings.simplefilter("always")
             result = pem.run(nt.scenario, nt.engine, execution, options=nt.options, keep_psd=False)
         summary = node_summary(result, check_columns)
-        summary["warnings"] = np.array(list(dict.fromkeys(str(w.message) for w in caught)), dtype=str).reshape(-1)
+        summary["warnings"] = np.array(list(dict.fromkeys(str(w.message) for w in caught  # not the pool's ResourceWarnings
+                                                          if not issubclass(w.category, ResourceWarning))),
+                                        dtype=str).reshape(-1)
         return summary
 
 
