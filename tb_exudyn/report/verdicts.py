@@ -222,6 +222,10 @@ def _top_table(groups: list[tuple[str, str, list[CheckEntry]]], notes: _Notes, f
     a NOT EVALUATED row shows its reason in one line in place of location, estimate, limit and
     probability (one cell for the neighbouring rows with the same reason)."""
     head = ["criterion", "worst location" if folded else "location"] + _HEAD[1:]
+    # the location rule, once in the header: with probabilities, a row's location is the criterion's most
+    # probable exceedance (not always its largest estimate)
+    if any(c.probability is not None for _, _, rows in groups for c in rows):
+        head[1] += " (most likely to exceed)"
     out = ['<table id="verdicts-table"><thead><tr>' + "".join(f"<th>{esc(h)}</th>" for h in head) + "</tr></thead>"]
     for part, set_name, rows in groups:
         words = SET_WORDS.get(set_name, set_name.replace("_", " "))
@@ -236,10 +240,6 @@ def _top_table(groups: list[tuple[str, str, list[CheckEntry]]], notes: _Notes, f
             reason = reason_of(c) if c.verdict == "NOT EVALUATED" else None
             if reason is None:
                 cells = _cells(c, notes, figure_ids)
-                if c.probability is not None:  # the row's location: the criterion's most probable exceedance
-                    cells = (Raw(cells[0].html + ' <small title="of the criterion\'s locations, the one whose '
-                                 'probability of exceeding the limit is largest">(most likely to exceed)</small>'),
-                             *cells[1:])
                 out.append(f"<tr><td>{criterion}</td>" + "".join(_td(cell, cls) for cell, cls in zip(cells, _CLASSES)) + "</tr>")
                 i += 1
                 continue
