@@ -206,9 +206,11 @@ def loo_notes(result: UqResult) -> list[str]:
     varies = np.isfinite(std) & (std > 0)
     if not varies.any() or np.isfinite(loo[varies]).any():
         return []
-    return [f"the surrogate's error is unknown: no leave-one-out error could be estimated ({result.provenance.get('n_nodes', '?')} "
+    n = result.provenance.get("n_nodes")
+    more = 2 * int(n) if isinstance(n, int) and n > 0 else 16  # twice the nodes: above the basis size here
+    return [f"the surrogate's error is unknown: no leave-one-out error could be estimated ({n if n else '?'} "
             f"nodes, {result.provenance.get('design', '?')} design; no more nodes than basis terms?): use --design sobol "
-            "--nodes above the basis size"]
+            f"--nodes {more}"]
 
 
 def warning_groups(result: UqResult) -> list[tuple[str, list[str]]]:

@@ -195,6 +195,25 @@ def case_sweep_freq_spacing(d: Path) -> None:
     assert more.returncode == 0, more.stderr
 
 
+def case_uq_design(d: Path) -> None:
+    """A study of one key on the default tensor design has as many nodes as basis terms, so no
+    leave-one-out error: 'use --design sobol --nodes N' (the sprung mass of
+    tests/methods/test_uq_sprung_mass.py, damping uniform +-20 %, order 2): run as given, the note is gone."""
+    sys.path.insert(0, str(ROOT / "tests" / "methods"))
+    from test_uq_sprung_mass import scenario
+
+    path = save_scenario(scenario(), d / "s.toml")
+    path.write_text(path.read_text() + '\n[uncertain."train.vehicles.0.damping"]\ndistribution = "uniform"\n'
+                    'relative_bounds = [-0.2, 0.2]\n')
+    argv = ["uq", str(path), "--order", "2", "--workers", "1", "--no-progress", "--no-figures",
+            "--channels", "car1.body.acc_z"]
+    first = tb(*argv, "--out", str(d / "u1"), cwd=d)
+    assert first.returncode == 0 and "error is unknown" in first.stdout + first.stderr, first.stdout + first.stderr
+    hint = given(first.stdout + first.stderr, r"--design sobol --nodes [0-9]+")
+    again = tb(*argv, *hint, "--out", str(d / "u2"), cwd=d)
+    assert again.returncode == 0 and "error is unknown" not in again.stdout + again.stderr, again.stdout + again.stderr
+
+
 #: hint -> the cases that run it as given
 CASES: dict[str, tuple[Callable[[Path], None], ...]] = {
     "--set track.lead_in": (case_set_track_lead_in,),
@@ -211,6 +230,7 @@ CASES: dict[str, tuple[Callable[[Path], None], ...]] = {
     "--workers": (case_memory_flags,),
     "--psd-channels": (case_memory_flags,),
     "--freq-spacing": (case_sweep_freq_spacing,),
+    "--design": (case_uq_design,),
 }
 
 
