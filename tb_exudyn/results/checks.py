@@ -551,10 +551,11 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     n_cond = sum(r.conditional for r in table.rows)
     worst = table.worst()  # one row per criterion: the location that decides it; counted by criterion first
     said = lambda rows: ", ".join(f"{n} {v}" for v in VERDICTS if (n := sum(r.verdict == v for r in rows)))  # noqa: E731
-    lines = [f"code checks ({table.method}, target P <= {table.target:.3g} per passage): {len(worst)} criteria: "
-             f"{said(worst)} (at {len(table.rows)} locations: {said(table.rows)}{f'; {n_cond} conditional' if n_cond else ''})"]
+    lines = [f"code checks ({table.method}, target P <= {table.target:.3g}): {len(worst)} criteria: "
+             f"{said(worst)} (at {len(table.rows)} locations{f'; {n_cond} conditional' if n_cond else ''})"]
     if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
-        lines.append(f" value vs limit: the level exceeded with P {table.target:.3g} in one passage, at the location most likely to exceed")
+        lines.append(f" values: the level exceeded with P {table.target:.3g} per passage, where most likely to exceed")
+    pad = max((len(r.verdict_text) for r in worst if r.verdict != "NOT EVALUATED"), default=2)  # the verdicts' column
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),
                   key=lambda n: (SET_ORDER.index(n) if n in SET_ORDER else len(SET_ORDER), n))
     for name in sets:
@@ -572,7 +573,7 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
             elif r.verdict == "NOT EVALUATED":
                 lines.append(f"  NOT EVALUATED  {short}")
             else:
-                lines.append(f"  {r.verdict_text:<21} {short} at {where}{value}")
+                lines.append(f"  {r.verdict_text:<{pad}} {short} at {where}{value}")
             for c in r.caveats:
                 if c.kind == "model":
                     text = c.text
