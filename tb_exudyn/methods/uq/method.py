@@ -28,8 +28,8 @@ from ...errors import ScenarioError, SettingError
 from ...execution import Execution, RunFiles, Task
 from ...results.uq import UQ_FOLDER, UqResult
 from ...scenario import Scenario, scenario_to_toml
-from ...scenario.io import as_scenario, with_settings
-from ...scenario.uncertain import UncertainKey, check_uncertain
+from ...scenario.io import as_scenario
+from ...scenario.uncertain import UncertainKey, apply_values, check_uncertain
 from .. import pem, warm_up
 from ..common import fingerprint_identity
 from ..sweep import check_columns, key_patterns
@@ -100,13 +100,14 @@ def check_keys(keys: Sequence[UncertainKey], where: str) -> None:
 
 
 def node_scenarios(scenario: Scenario, keys: Sequence[UncertainKey], values: np.ndarray) -> list[Scenario]:
-    """Each node's scenario: the keys' values (key x node) set through the --set mechanism, checked by
-    the schema (a value it refuses: ScenarioError naming ``uncertain.<key>`` and the node)."""
+    """Each node's scenario: the keys' values (key x node) set through the --set mechanism (the ballast's
+    density with the bridge's mass following it: :func:`~tb_exudyn.scenario.uncertain.apply_values`),
+    checked by the schema (a value it refuses: ScenarioError naming ``uncertain.<key>`` and the node)."""
     out = []
     for n in range(values.shape[1]):
         settings = [(uk.key, float(values[j, n])) for j, uk in enumerate(keys)]
         try:
-            out.append(with_settings(scenario, settings))
+            out.append(apply_values(scenario, settings))
         except ScenarioError as exc:
             raise ScenarioError(scenario.where, f"uncertain.{exc.key}", exc.value, exc.allowed,
                                 f"node {n} of the design reaches a value the key does not allow ({exc.reason})") from None
