@@ -11,7 +11,7 @@ import re
 
 import numpy as np
 
-from tb_exudyn.cli_uq import summary_lines
+from tb_exudyn.cli.uq import summary_lines
 from tb_exudyn.report.uq import UQ_REPORT, render_uq_report, write_uq_report
 from tb_exudyn.results.checks import DEFAULT_TARGET_PROBABILITY
 from tb_exudyn.results.uq import UqResult, pf_verdicts
@@ -83,7 +83,7 @@ def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
     8 other warnings beyond the terminal's 6 rows are counted, not printed; the page holds all."""
     import dataclasses
 
-    from tb_exudyn.cli_uq import WARNING_ROWS
+    from tb_exudyn.cli.uq import WARNING_ROWS
 
     alike = [f"2 lightly damped modes at 8.342 Hz: sigma grows about {10 + i} % on the bridge" for i in range(30)]
     other = [f"warning number {w}" for w in ("one", "two", "three", "four", "five", "six", "seven", "eight")]
@@ -101,7 +101,7 @@ def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
 def test_page_and_figures_are_one_group_and_a_later_study_removes_the_earlier_figures(tmp_path):
     """save_figures writes the bars, the band and uq.html; again with --no-figures (a study redone
     with --overwrite) it leaves the page only, not figures of the earlier study beside it."""
-    from tb_exudyn.cli_uq import save_figures
+    from tb_exudyn.cli.uq import save_figures
 
     names = sorted(p.name for p in save_figures(result(), tmp_path))
     assert names == ["uq.html", "uq_band.car1.body.acc_z.png", "uq_sobol.png"]

@@ -1,5 +1,5 @@
 """``tb-exudyn uq``: polynomial chaos over PEM runs under uncertain scenario keys (issue 46), for the
-command line (cli.py adds the command and hands it the methods package, loaded when it runs).
+command line (cli/__init__.py adds the command and hands it the methods package, loaded when it runs).
 
 Everything a user can get wrong (the scenario, the ``[uncertain]`` table or file, the options, every
 node's scenario) is checked before ``--out`` is created or written: one line, exit 2."""
@@ -12,17 +12,17 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .atomic import write_atomic_group
-from .cli_flags import WHERE
-from .cli_results import report_package
-from .errors import SettingError
-from .execution.output import removed_if_left_empty
-from .results.checks_table import SMALLEST_SHOWN
-from .results.uq import pf_verdicts, warning_groups
-from .scenario.io import parse_setting
-from .scenario.uncertain import load_study
-from .storage import check_writable
-from .system.labels import format_number
+from ..atomic import write_atomic_group
+from .flags import WHERE
+from .results import report_package
+from ..errors import SettingError
+from ..execution.output import removed_if_left_empty
+from ..results.checks_table import SMALLEST_SHOWN
+from ..results.uq import pf_verdicts, warning_groups
+from ..scenario.io import parse_setting
+from ..scenario.uncertain import load_study
+from ..storage import check_writable
+from ..system.labels import format_number
 
 #: run_uq's arguments and the options that give them
 UQ_FLAGS = {"order": "--order", "nodes": "--nodes", "design": "--design", "channels": "--channels",
