@@ -111,7 +111,7 @@ def test_a_long_sweep_fits_a_screen():
     """100 speeds: at most TABLE_SPEEDS rows, with each quantity's largest (deck_acc_z peaks at i = 50,
     125 km/h + 100 = 225 km/h; wheel_force_y at i = 37, 192.5 km/h); the two criteria not evaluated for one
     reason on one wrapped line, the reason whole."""
-    from tb_exudyn.cli_sweep import TABLE_SPEEDS, quantity_table, verdict_lines
+    from tb_exudyn.cli.sweep import TABLE_SPEEDS, quantity_table, verdict_lines
 
     table = quantity_table(_Sweep())
     speeds = [ln.split()[0] for ln in table[3:-1]]

@@ -1,6 +1,6 @@
 """Errors the library raises with its own keys for arguments the user gave as command-line flags
 (issue 30, item 2), as data in the form of cases.py: the command prints each as one line with
-``command line`` and the FLAG as the key (tb_exudyn/cli_flags.py: FLAGS), and the library's
+``command line`` and the FLAG as the key (tb_exudyn/cli/flags.py: FLAGS), and the library's
 mentions of other arguments (``overwrite=True``, ``another out folder``, ``the max_memory of``) as
 the flags a user can type.
 

@@ -124,8 +124,8 @@ def test_workers_beyond_the_cores_are_capped_with_a_notice():
     notices = [str(w.message) for w in caught if issubclass(w.category, RunNotice)]
     assert ex.pool_workers == ex.cores
     assert len(notices) == 1 and "run_pem: workers = 1000" in notices[0] and f"{ex.cores} cores" in notices[0]
-    # the command line names the library's key as its flag when it prints the notice (tb_exudyn.cli_flags)
-    from tb_exudyn.cli_flags import notice_as_flags
+    # the command line names the library's key as its flag when it prints the notice (tb_exudyn.cli.flags)
+    from tb_exudyn.cli.flags import notice_as_flags
 
     assert notice_as_flags(notices[0].replace("run_pem", "command line")).startswith("command line: --workers = 1000 ")
 

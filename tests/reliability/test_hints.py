@@ -3,9 +3,9 @@
 The hints are collected from the package's own source: every string a message is built from (string
 constants and f-strings, without docstrings and argparse help), searched for hint-like text: a
 ``--set KEY=`` example, ``use KEY >= VALUE`` (the command line turns it into ``--set KEY=VALUE``:
-cli_text.with_set_hint), ``run again with --FLAG``, ``use|fewer|or|with --FLAG``, the library's
+cli.text.with_set_hint), ``run again with --FLAG``, ``use|fewer|or|with --FLAG``, the library's
 ``overwrite=True`` / ``resume=True`` / ``keep_checkpoint=True`` and ``another out folder`` (the command
-line respells them as flags: cli_flags.MENTIONS). Each hint found must have a case here (a new hint
+line respells them as flags: cli.flags.MENTIONS). Each hint found must have a case here (a new hint
 without one fails :func:`test_every_hint_in_the_package_has_a_case`), and each case provokes its message
 on a small scenario (quick, one car over one 32 m span), takes the hint from the printed text where
 it can, and runs the command again with it, as given: it must succeed (exit 0) and, for a warning,

@@ -11,7 +11,7 @@ import re
 
 import numpy as np
 
-from tb_exudyn.cli_uq import summary_lines
+from tb_exudyn.cli.uq import summary_lines
 from tb_exudyn.report.uq import UQ_REPORT, render_uq_report, write_uq_report
 from tb_exudyn.results.checks import DEFAULT_TARGET_PROBABILITY
 from tb_exudyn.results.uq import UqResult, pf_verdicts
@@ -33,6 +33,8 @@ def result() -> UqResult:
     data = {"time": np.linspace(0.0, 3.0, nt), "mean_sigma": np.ones((1, nt)), "std_sigma": np.full((1, nt), 0.1),
             "mean_response": np.zeros((1, nt)), "sigma_band": band,
             "quantity_mean": np.array([1.1, PF[0], PF[1], 1.1, 0.6]), "quantity_std": np.full(nq, 0.08),
+            "quantity_band": np.array([[1.0, 0.5e-3, 0.5e-7, 1.0, 0.5], [1.1, 1e-3, 1e-7, 1.1, 0.6],
+                                       [1.2, 1.5e-3, 1.5e-7, 1.2, 0.7]]),
             "sobol_first": np.full((1, nq), 0.97), "sobol_total": np.ones((1, nq)),
             "loo": np.array([0.03, 0.002, 0.004, 0.005, np.nan]), "pf": np.array(PF),
             "node_values": np.array([[3.2e5], [4.0e5], [4.8e5]]), "node_weights": np.array([1 / 6, 2 / 3, 1 / 6]),
@@ -51,6 +53,7 @@ def test_verdict_is_p_f_against_the_target():
     assert rows[CRITERIA[0]]["verdict"] == "EXCEEDS" and rows[CRITERIA[1]]["verdict"] == "OK"
     assert rows[CRITERIA[0]]["target"] == DEFAULT_TARGET_PROBABILITY
     assert rows[CRITERIA[0]]["node_max"] == 1.5e-3 and rows[CRITERIA[1]]["estimate_mean"] == 0.6
+    assert rows[CRITERIA[1]]["estimate_band"] == (0.5, 0.6, 0.7)
     assert {r["verdict"] for r in pf_verdicts(result(), target=1e-2)} == {"OK"}
 
 
@@ -83,7 +86,7 @@ def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
     8 other warnings beyond the terminal's 6 rows are counted, not printed; the page holds all."""
     import dataclasses
 
-    from tb_exudyn.cli_uq import WARNING_ROWS
+    from tb_exudyn.cli.uq import WARNING_ROWS
 
     alike = [f"2 lightly damped modes at 8.342 Hz: sigma grows about {10 + i} % on the bridge" for i in range(30)]
     other = [f"warning number {w}" for w in ("one", "two", "three", "four", "five", "six", "seven", "eight")]
@@ -101,7 +104,7 @@ def test_warnings_alike_are_one_and_the_terminal_stays_on_a_screen():
 def test_page_and_figures_are_one_group_and_a_later_study_removes_the_earlier_figures(tmp_path):
     """save_figures writes the bars, the band and uq.html; again with --no-figures (a study redone
     with --overwrite) it leaves the page only, not figures of the earlier study beside it."""
-    from tb_exudyn.cli_uq import save_figures
+    from tb_exudyn.cli.uq import save_figures
 
     names = sorted(p.name for p in save_figures(result(), tmp_path))
     assert names == ["uq.html", "uq_band.car1.body.acc_z.png", "uq_sobol.png"]

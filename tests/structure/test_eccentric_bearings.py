@@ -18,7 +18,7 @@ import math
 
 import pytest
 
-from tb_exudyn.cli_show import frequency_rows, hand_f1
+from tb_exudyn.cli.show import frequency_rows, hand_f1
 from tb_exudyn.scenario.io import load_bridge
 from tb_exudyn.structure import modal_bridge
 from tb_exudyn.system.modes import nth_frequency

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from .errors import UserError
+from ..errors import SettingError, UserError
 
 #: the caller's name the command passes to the library (``where``)
 WHERE = "command line"
@@ -106,4 +106,18 @@ def notice_as_flags(text: str) -> str:
     return respelled(text)
 
 
-__all__ = ["FLAGS", "MENTIONS", "WHERE", "as_flags", "flag", "notice_as_flags", "options", "respelled"]
+
+def int_option(text: str | None, option: str, low: int, high: int | None = None, why: str = "") -> int | None:
+    """The whole number given to ``option`` (None if not given); SettingError naming the option."""
+    if text is None:
+        return None
+    allowed = f"a whole number >= {low}" + (f" and <= {high}" if high is not None else "") + (f" ({why})" if why else "")
+    try:
+        value = int(text)
+    except ValueError:
+        raise SettingError("command line", option, text, allowed, "not a whole number") from None
+    if value < low or (high is not None and value > high):
+        raise SettingError("command line", option, value, allowed, "out of range")
+    return value
+
+__all__ = ["FLAGS", "MENTIONS", "WHERE", "as_flags", "flag", "int_option", "notice_as_flags", "options", "respelled"]

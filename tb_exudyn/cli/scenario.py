@@ -1,17 +1,17 @@
 """The scenario a command line asks for: the named scenario, its ``--set KEY=VALUE`` settings and
 the run's overrides (--speed-kmh, --n-freq, --freq-spacing, --channels, --linearization, --samples,
 --seed), each set through ``Scenario.replace`` and checked by the schema; a bad one names the option
-(used by cli.py)."""
+(used by the commands)."""
 
 from __future__ import annotations
 
 import argparse
 
-from .cli_flags import flag
-from .errors import FILE_KEY, SettingError
-from .scenario import Scenario, ScenarioError, load_scenario
-from .scenario.io import parse_setting, with_settings
-from .scenario.speed_rule import at_speed, statement
+from .flags import flag
+from ..errors import FILE_KEY, SettingError
+from ..scenario import Scenario, ScenarioError, load_scenario
+from ..scenario.io import parse_setting, with_settings
+from ..scenario.speed_rule import at_speed, statement
 
 
 #: the help of ``--set`` on every command that takes it

@@ -1,5 +1,5 @@
 """``tb-exudyn show`` and ``modes`` of any model: a scenario, a bridge, a vehicle or a train, named from the
-model library or given as a TOML file (cli.py parses and prints; this module finds what the name is and
+model library or given as a TOML file (the command parses and prints; this module finds what the name is and
 writes the bridge's frequency rows: f1 and f3 by direction, the closed-form f1 of its girder beside the FE
 one and why they differ)."""
 
@@ -12,18 +12,19 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from . import cli_scenario
-from .codes.trains import composition_table, load_train, train_files
-from .errors import ScenarioError, SettingError
-from .scenario import load_scenario
-from .scenario.io import load_bridge, load_vehicle
-from .scenario.model import BRIDGE_KINDS, VEHICLE_KINDS
-from .scenario.registry import model_files
-from .scenario.show import model_rows, table_text
-from .scenario.toml_io import read_toml
-from .structure import StructureError, modal_bridge
-from .system.damping_guard import merged_messages
-from .system.modes import DIRECTIONS, nth_frequency
+from ..scenario.show import LISTING_WIDTH, scenario_table
+from . import scenario as cli_scenario, text as cli_text
+from ..codes.trains import composition_table, load_train, train_files
+from ..errors import ScenarioError, SettingError
+from ..scenario import load_scenario
+from ..scenario.io import load_bridge, load_vehicle
+from ..scenario.model import BRIDGE_KINDS, VEHICLE_KINDS
+from ..scenario.registry import model_files
+from ..scenario.show import model_rows, table_text
+from ..scenario.toml_io import read_toml
+from ..structure import StructureError, modal_bridge
+from ..system.damping_guard import merged_messages
+from ..system.modes import DIRECTIONS, nth_frequency
 
 #: what `show` and `modes` take, in the order a library name is looked up
 MODEL_KINDS = ("scenario", "bridge", "vehicle", "train")
@@ -332,8 +333,41 @@ def train_text(train: Any) -> str:
     """``show`` of a train of models/trains or a train file: its composition."""
     return composition_table(train)
 
+EXIT_OK = 0
 
-__all__ = ["MODEL_KINDS", "bridge_modes_text", "bridge_text", "command_model", "frequency_rows", "hand_f1",
+#: what show and modes take
+MODEL_HELP = "a scenario, bridge, vehicle or train: a name (see `tb-exudyn list`) or a .toml file"
+
+
+def _cmd_list(args: argparse.Namespace) -> int:
+    print(cli_text.library_listing())
+    return EXIT_OK
+
+
+def _cmd_show(args: argparse.Namespace) -> int:
+    kind, model = command_model(args)
+    if kind == "scenario":
+        an = model.analysis
+        rows = frequency_rows(model.bridge, an.mode_max_frequency, an.max_modes, key="(derived) bridge ")
+        text = scenario_table(model, rows)
+    else:
+        text = {"bridge": bridge_text, "vehicle": vehicle_text, "train": train_text}[kind](model)
+    note = homonym_note(args.scenario, kind)
+    print(cli_text.fitted(text if note is None else f"{note}\n{text}", LISTING_WIDTH))
+    return EXIT_OK
+
+
+def add_parsers(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("list", help="named vehicles, bridges, scenarios and track spectra")
+    p.set_defaults(func=_cmd_list)
+    p = sub.add_parser("show", help="a scenario, bridge, vehicle or train as a table (a bridge: with f1 and f3)")
+    p.add_argument("scenario", metavar="MODEL", help=MODEL_HELP)
+    p.add_argument("--set", dest="settings", action="append", metavar="KEY=VALUE",
+                   help=cli_scenario.SET_HELP)
+    p.set_defaults(func=_cmd_show)
+
+
+__all__ = ["MODEL_HELP", "MODEL_KINDS", "add_parsers", "bridge_modes_text", "bridge_text", "command_model", "frequency_rows", "hand_f1",
            "homonym_note", "load_model",
            "model_kind", "modes_text", "scenario_modes", "train_text", "train_vehicles", "vehicle_modes",
            "vehicle_scenario", "vehicle_text", "why_f1_differs"]

@@ -1,5 +1,5 @@
 """``tb-exudyn uq``: polynomial chaos over PEM runs under uncertain scenario keys (issue 46), for the
-command line (cli.py adds the command and hands it the methods package, loaded when it runs).
+command line (cli/__init__.py adds the command and hands it the methods package, loaded when it runs).
 
 Everything a user can get wrong (the scenario, the ``[uncertain]`` table or file, the options, every
 node's scenario) is checked before ``--out`` is created or written: one line, exit 2."""
@@ -12,17 +12,17 @@ import math
 from pathlib import Path
 from typing import Any
 
-from .atomic import write_atomic_group
-from .cli_flags import WHERE
-from .cli_results import report_package
-from .errors import SettingError
-from .execution.output import removed_if_left_empty
-from .results.checks_table import SMALLEST_SHOWN
-from .results.uq import pf_verdicts, warning_groups
-from .scenario.io import parse_setting
-from .scenario.uncertain import load_study
-from .storage import check_writable
-from .system.labels import format_number
+from ..atomic import write_atomic_group
+from .flags import WHERE
+from .results import report_package
+from ..errors import SettingError
+from ..execution.output import removed_if_left_empty
+from ..results.checks_table import SMALLEST_SHOWN
+from ..results.uq import pf_verdicts, warning_groups
+from ..scenario.io import parse_setting
+from ..scenario.uncertain import load_study
+from ..storage import check_writable
+from ..system.labels import format_number
 
 #: run_uq's arguments and the options that give them
 UQ_FLAGS = {"order": "--order", "nodes": "--nodes", "design": "--design", "channels": "--channels",
@@ -164,7 +164,8 @@ def summary_lines(result: Any) -> list[str]:
                      f"{rows[0]['target']:.3g} per passage")
     for r in rows[:CRITERION_ROWS]:
         est = ("" if not math.isfinite(r["estimate_mean"]) else
-               f"; estimate {format_number(r['estimate_mean'], 3)} +- {format_number(r['estimate_std'], 2)} {r['unit']}"
+               f"; estimate {format_number(r['estimate_mean'], 3)} +- {format_number(r['estimate_std'], 2)}"
+               f" (95 % {format_number(r['estimate_band'][-1], 3)}) {r['unit']}"
                + (f" (limit {format_number(r['limit'], 3)})" if math.isfinite(r["limit"]) else ""))
         lines.append(_clip(f"  {r['criterion']:<44} {r['verdict']:<13} P_f {_probability(r['pf']):>9}"
                            f" (largest at a node {_probability(r['node_max'])}){est}"))

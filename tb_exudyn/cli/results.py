@@ -1,4 +1,4 @@
-"""The commands on saved results: ``compare``, ``plot``, ``export`` and ``report`` (cli.py adds them)."""
+"""The commands on saved results: ``compare``, ``plot``, ``export`` and ``report`` (cli/__init__.py adds them)."""
 
 from __future__ import annotations
 
@@ -6,20 +6,20 @@ import argparse
 from contextlib import nullcontext
 from pathlib import Path
 
-from .errors import SettingError
-from .execution import folder_lock
-from .results import find_results
-from .results.checks import default_limits
-from .results.compare import compare_folders
-from .results.export import FORMATS as EXPORT_FORMATS
-from .results.export import export
+from ..errors import SettingError
+from ..execution import folder_lock
+from ..results import find_results
+from ..results.checks import default_limits
+from ..results.compare import compare_folders
+from ..results.export import FORMATS as EXPORT_FORMATS
+from ..results.export import export
 
 EXIT_OK = 0
 
 
 def report_package():  # noqa: ANN202
     """The report package (plot_folder, write_report; matplotlib): imported when a command draws or reports."""
-    from . import report
+    from .. import report
 
     return report
 

@@ -1,4 +1,4 @@
-"""``tb-exudyn check``: the EN 1991-2 dynamic check on the command line (cli.py adds the command).
+"""``tb-exudyn check``: the EN 1991-2 dynamic check on the command line (cli/__init__.py adds the command).
 
 What the command does to ``--out`` (a folder that may hold other files, e.g. a run's ``pem/``):
 
@@ -28,16 +28,16 @@ import sys
 from contextlib import ExitStack
 from pathlib import Path
 
-from .cli_flags import WHERE, options
-from .cli_results import report_package
-from . import cli_text
-from .codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
-from .codes.a2_verdicts import ALPHA_VALUES
-from .errors import SettingError
-from .execution import folder_lock
-from .execution.output import refuse_earlier_files, removed_if_left_empty
-from .files import check_writable, write_output
-from .scenario.show import LISTING_WIDTH
+from .flags import WHERE, options
+from .results import report_package
+from . import text as cli_text
+from ..codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
+from ..codes.a2_verdicts import ALPHA_VALUES
+from ..errors import SettingError
+from ..execution import folder_lock
+from ..execution.output import refuse_earlier_files, removed_if_left_empty
+from ..files import check_writable, write_output
+from ..scenario.show import LISTING_WIDTH
 
 #: exit status after a Ctrl-C (128 + SIGINT, as a shell reports it)
 EXIT_INTERRUPTED = 130

@@ -1,17 +1,17 @@
 """``tb-exudyn export-modes``: a bridge's finite-element modes written as a ``modal_table`` bridge (the CSV
-tables of docs/modal_bridge.md and its bridge.toml), for the command line (cli.py adds the command)."""
+tables of docs/modal_bridge.md and its bridge.toml), for the command line (cli/__init__.py adds the command)."""
 
 from __future__ import annotations
 
 import argparse
 
-from .cli_flags import flag
-from .errors import SettingError
-from .scenario.io import load_bridge
-from .scenario.model import ModalTable
-from .scenario.schema import source_file
-from .structure import StructureError
-from .structure.imported import export_modes
+from .flags import flag
+from ..errors import SettingError
+from ..scenario.io import load_bridge
+from ..scenario.model import ModalTable
+from ..scenario.schema import source_file
+from ..structure import StructureError
+from ..structure.imported import export_modes
 
 #: the modes exported by default: those a run keeps (analysis.mode_max_frequency's default)
 DEFAULT_MAX_FREQUENCY = 100.0

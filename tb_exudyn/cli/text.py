@@ -1,5 +1,5 @@
 """The command line's texts on the terminal: the run's channel table and short summary, the bridge's
-frequencies for ``show`` (what cli.py prints; cli.py parses, loads, runs and prints)."""
+frequencies for ``show`` (what the commands print)."""
 
 from __future__ import annotations
 
@@ -8,15 +8,15 @@ import math
 import re
 import textwrap
 
-from .codes.trains import list_trains
-from .results.caveats import unmet_requirement
-from .results.checks import default_limits, verdict_lines
-from .scenario import list_models
-from .track import get_spectrum, spectrum_names
-from .scenario import Scenario
-from .structure import StructureError, modal_bridge
-from .system.labels import default_patterns, display_unit, format_number
-from .system.modes import DIRECTIONS, nth_frequency
+from ..codes.trains import list_trains
+from ..results.caveats import unmet_requirement
+from ..results.checks import default_limits, verdict_lines
+from ..scenario import list_models
+from ..track import get_spectrum, spectrum_names
+from ..scenario import Scenario
+from ..structure import StructureError, modal_bridge
+from ..system.labels import default_patterns, display_unit, format_number
+from ..system.modes import DIRECTIONS, nth_frequency
 
 
 def bridge_frequency_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
