@@ -13,10 +13,11 @@ spread over 2-100 Hz, the outputs of the test (three contact forces, a wheel, th
 
 Usage::
 
-    python benchmarks/bench_track_engine.py [--repeat 3] [--columns 8 64]
+    python benchmarks/bench_track_engine.py [--repeat 3] [--columns 8 64] [--supports 40 80 160]
 
-Prints, per case and number of columns, the median wall and CPU time over ``repeat`` runs, the time per
-column and the ratio to the deck's in the same run.
+Prints, per number of supports (a longer track: more modes, the deck and the wheels as before), number
+of columns and case, the median wall and CPU time over ``repeat`` runs, the CPU time per column and the
+ratio to the deck's in the same run.
 """
 
 from __future__ import annotations
@@ -63,13 +64,13 @@ class _Sum:
         return {"var": self.var}
 
 
-def systems() -> dict[str, tuple]:
-    """Each case's (engine class, linear system, output map)."""
+def systems(n_supports: int = 40) -> dict[str, tuple]:
+    """Each case's (engine class, linear system, output map) with a track of ``n_supports`` supports."""
     structure = load_track_structure("ballasted_uic60")
     span, mass = 12.0, 1.0e4
     ei = (2 * np.pi * 8.0 / (np.pi / span) ** 2) ** 2 * mass
     deck = simply_supported_modes([span], ei, 1e3 * ei, 1e3 * ei, mass, mass, 0.02, 130.0)
-    fe = track_on_deck(track_model(structure, 40, elements_per_bay=4), deck, DECK_START)
+    fe = track_on_deck(track_model(structure, n_supports, elements_per_bay=4), deck, DECK_START)
     track = modal_track(fe, max_frequency=3000.0)
     alone = ModalTrack(bridge=deck, damping=np.diag(2 * deck.damping_ratios * deck.omega), modes=np.eye(deck.n_modes))
 
@@ -101,31 +102,39 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--columns", type=int, nargs="+", default=[8, 64])
+    parser.add_argument("--supports", type=int, nargs="+", default=[40])
     parser.add_argument("--dense-columns", type=int, default=8, help="run the dense engine up to this many columns")
     args = parser.parse_args(argv)
     steps = run_steps(0.5, 0.6 / V / 96, 2 * 0.6 / V / 96)
-    cases = systems()
-    print(f"{steps.n_steps} steps; coordinates: " + ", ".join(f"{k} {v[1].n}" for k, v in cases.items()))
     with single_threaded_blas():
-        for m in args.columns:
-            source = columns(m)
-            base = None
-            for name, (cls, lin, om) in cases.items():
-                if cls is DenseEngine and m > args.dense_columns:
-                    continue
-                engine = cls.on_system(lin, steps, 0.9, om)
-                engine.integrate(columns(2), _Sum(steps.n_outputs))  # warm: the compiled step loaded
-                wall, cpu = [], []
-                for _ in range(args.repeat):
-                    t0, c0 = time.perf_counter(), time.process_time()
-                    engine.integrate(source, _Sum(steps.n_outputs))
-                    wall.append(time.perf_counter() - t0)
-                    cpu.append(time.process_time() - c0)
-                w, c = statistics.median(wall), statistics.median(cpu)
-                base = base or c
-                print(f"{m:4d} columns  {name:28s} wall {w:7.3f} s  cpu {c:7.3f} s  "
-                      f"per column {1e3 * c / m:8.2f} ms cpu  x{c / base:6.2f} of the deck's")
+        for n_supports in args.supports:
+            cases = systems(n_supports)
+            print(f"{n_supports} supports, {steps.n_steps} steps; coordinates: "
+                  + ", ".join(f"{k} {v[1].n}" for k, v in cases.items()))
+            run_cases(cases, steps, args)
     return 0
+
+
+def run_cases(cases: dict[str, tuple], steps, args) -> None:  # noqa: ANN001
+    """Every case at every number of columns."""
+    for m in args.columns:
+        source = columns(m)
+        base = None
+        for name, (cls, lin, om) in cases.items():
+            if cls is DenseEngine and m > args.dense_columns:
+                continue
+            engine = cls.on_system(lin, steps, 0.9, om)
+            engine.integrate(columns(2), _Sum(steps.n_outputs))  # warm: the compiled step loaded
+            wall, cpu = [], []
+            for _ in range(args.repeat):
+                t0, c0 = time.perf_counter(), time.process_time()
+                engine.integrate(source, _Sum(steps.n_outputs))
+                wall.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+            w, c = statistics.median(wall), statistics.median(cpu)
+            base = base or c
+            print(f"{m:4d} columns  {name:28s} wall {w:7.3f} s  cpu {c:7.3f} s  "
+                  f"per column {1e3 * c / m:8.2f} ms cpu  x{c / base:6.2f} of the deck's")
 
 
 if __name__ == "__main__":

@@ -91,6 +91,8 @@ def test_batched_against_dense_on_the_track_on_a_deck(case):
     assert track.bridge.n_modes == 103 and not np.allclose(track.damping, np.diag(np.diag(track.damping)))
     (comp,) = [c for c in find_components(lin, steps.output_times) if c.n_bridge]
     assert comp.coupled and comp.n_bridge == 103
+    described = BatchedEngine.on_system(lin, steps, 0.9, case[2]).describe()["components"]
+    assert [c.get("coupled_bridge", False) for c in described] == [True]
     got, ref = _run(BatchedEngine, case), _run(DenseEngine, case)
     sigma_ref = np.sqrt(np.sum(np.abs(ref) ** 2, axis=1))  # (n_channels, n_t)
     sigma_got = np.sqrt(np.sum(np.abs(got) ** 2, axis=1))
