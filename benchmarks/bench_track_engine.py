@@ -14,6 +14,11 @@ spread over 2-100 Hz, the outputs of the test (three contact forces, a wheel, th
 Usage::
 
     python benchmarks/bench_track_engine.py [--repeat 3] [--columns 8 64] [--supports 40 80 160]
+    python benchmarks/bench_track_engine.py --fe-supports 160 640
+
+The second form compares, per step, the coupled block's two dense products over the track's modes with the
+track in its finite-element coordinates (K q~ + C v~ and the solve by A0's sparse LU, factorised once), 128
+real columns, median of 5 (docs/track.md, section 3d).
 
 Prints, per number of supports (a longer track: more modes, the deck and the wheels as before), number
 of columns and case, the median wall and CPU time over ``repeat`` runs, the CPU time per column and the
@@ -91,6 +96,41 @@ def systems(n_supports: int = 40) -> dict[str, tuple]:
             "dense (track, full damping)": (DenseEngine, *case(track, STARTS, "full", mid_track))}
 
 
+def _median_cpu(fn, repeat: int = 5) -> float:  # noqa: ANN001
+    times = []
+    for _ in range(repeat):
+        c0 = time.process_time()
+        fn()
+        times.append(time.process_time() - c0)
+    return statistics.median(times)
+
+
+def fe_step(n_supports: int, width: int = 128) -> None:
+    """One step's bridge part for ``width`` real columns: the modal form's two dense products (up to 200
+    supports: its eigen-solution is dense) against the finite-element form's sparse products and solve."""
+    from scipy.sparse.linalg import splu
+
+    structure = load_track_structure("ballasted_uic60")
+    span, mass = 12.0, 1.0e4
+    ei = (2 * np.pi * 8.0 / (np.pi / span) ** 2) ** 2 * mass
+    deck = simply_supported_modes([span], ei, 1e3 * ei, 1e3 * ei, mass, mass, 0.02, 130.0)
+    fe = track_on_deck(track_model(structure, n_supports, elements_per_bay=4), deck, DECK_START)
+    h = 0.6 / V / 96
+    bp, gp = 1.0 / (0.25 * h * h), 0.5 / (0.25 * h)  # Newmark's average acceleration: the same sparsity
+    lu = splu((bp * fe.M + gp * fe.C + fe.K).tocsc())
+    rng = np.random.default_rng(0)
+    X = rng.standard_normal((fe.n_dof, width))
+    K, C = fe.K.tocsr(), fe.C.tocsr()
+    t_fe = _median_cpu(lambda: lu.solve(-(K @ X) - (C @ X)))
+    line = f"{n_supports} supports: finite elements {fe.n_dof} DOFs, {1e3 * t_fe:.2f} ms"
+    if n_supports <= 200:
+        nb = modal_track(fe, max_frequency=3000.0).bridge.n_modes
+        P, Q = rng.standard_normal((nb, nb)), rng.standard_normal((nb, width))
+        t_modal = _median_cpu(lambda: P @ Q + P @ Q)
+        line += f"; modal {nb} modes, two dense products {1e3 * t_modal:.2f} ms"
+    print(line + f" (per step, {width} real columns, CPU)")
+
+
 def columns(m: int) -> HarmonicColumns:
     freqs = np.linspace(2.0, 100.0, m)
     return HarmonicColumns(kinds=np.zeros(m, int), omega=2 * np.pi * freqs / V, amplitude=np.ones(m),
@@ -104,7 +144,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--columns", type=int, nargs="+", default=[8, 64])
     parser.add_argument("--supports", type=int, nargs="+", default=[40])
     parser.add_argument("--dense-columns", type=int, default=8, help="run the dense engine up to this many columns")
+    parser.add_argument("--fe-supports", type=int, nargs="*", default=[], help="only the per-step comparison")
     args = parser.parse_args(argv)
+    if args.fe_supports:
+        with single_threaded_blas():
+            for n_supports in args.fe_supports:
+                fe_step(n_supports)
+        return 0
     steps = run_steps(0.5, 0.6 / V / 96, 2 * 0.6 / V / 96)
     with single_threaded_blas():
         for n_supports in args.supports:
