@@ -125,3 +125,42 @@ def test_a_coupled_track_block_takes_the_numpy_step_without_loading_numba(case, 
     monkeypatch.setattr(jit, "load", refuse)
     got = _run(BatchedEngine, case, BatchedOptions(step="compiled"))
     assert np.array_equal(got, ref)
+
+
+def test_the_gravity_column_on_a_coupled_block(case):
+    """The linear mean's gravity column (tb_exudyn.system.columns.StaticLoadColumns: rows' input f_s, a
+    constant generalised force F_c) on the coupled block, the numpy step: the three wheels standing on the
+    rigid ground before the rail at t = 0 (statically compressed by their weight, the track unloaded), then
+    rolling onto it. Reference: the same deviation equation M d'' + D(t) d' + K(t) d = F_c - P(t)^T f_s
+    from rest, integrated by the dense engine's step on full matrices (DenseEngine._run, as its own linear
+    mean does), written out here. Tolerance 1e-9 of each channel's largest value, as above (measured
+    8e-13 on the deck's acceleration, 3e-14 elsewhere)."""
+    from tb_exudyn.system.columns import static_load_columns
+
+    track, _, om, _, steps = case
+    lin = wheel_on_modal_track(track, M_W, K_H, V, (-0.5, -3.0, -5.5))
+    static = np.zeros(lin.n)
+    static[lin.wheel[2::6]] = -M_W * 9.81 / K_H  # each wheel's z on its Hertz spring
+    assert np.array_equal(lin.wheel, case[1].wheel)  # the case's output map holds (the same coordinates)
+    source = static_load_columns(lin, static)
+    got = BatchedEngine.on_system(lin, steps, 0.9, om).integrate(source, _Keep(steps.n_outputs))["Y"][:, 0]
+    dense = DenseEngine.on_system(lin, steps, 0.9, om)
+    cp, ci = lin.coupling, np.concatenate((lin.bridge, lin.wheel))
+    r = (source.row_force / lin.k)[:, None].astype(complex)  # k r = f_s: the rows' force at rest
+
+    def forcing(t):  # noqa: ANN001, ANN202
+        st, K, D = dense._matrices(lin, t)
+        F = source.force.astype(complex)[:, None].copy()
+        F[ci] -= st.B.T @ source.row_force[:, None]
+        return st, K, D, None, F
+
+    def forces(st, q, v, inputs):  # noqa: ANN001, ANN202
+        return cp.contact_law(st, q[ci], v[ci], r, np.zeros_like(r))
+
+    keep = _Keep(steps.n_outputs)
+    dense._run(forcing, forces, np.zeros((lin.n, 1), dtype=complex), keep, np.arange(len(om.names)), lin)
+    ref = keep.Y[:, 0]
+    scale = np.abs(ref).max(axis=1)
+    assert np.all(scale > 0)
+    err = np.abs(got - ref).max(axis=1) / scale
+    assert np.all(err < 1e-9), err
