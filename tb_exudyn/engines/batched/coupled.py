@@ -33,6 +33,12 @@ def _symmetric(X: FloatArray) -> bool:
     return bool(np.all(np.abs(X - X.T) <= 1e-13 * max(float(np.abs(X).max(initial=0.0)), 1e-300)))
 
 
+def _rows_times(S: FloatArray, X: FloatArray) -> FloatArray:
+    """S @ X for a stack of rows S (..., n) as one matrix product (numpy's matmul takes a stack matrix by
+    matrix)."""
+    return (np.ascontiguousarray(S).reshape(-1, S.shape[-1]) @ X).reshape(*S.shape[:-1], X.shape[1])
+
+
 class CoupledBridge:
     """The constant operators of a coupled bridge block of ``nb`` coordinates (local rows 0 .. nb - 1 of
     M, K0, D0), in the precision ``dtype`` (module docstring)."""
@@ -59,7 +65,7 @@ class CoupledBridge:
 
     def to_basis(self, S: FloatArray) -> FloatArray:
         """Rows over the bridge's coordinates (rail shapes, station shapes: (..., nb)) in the block's basis."""
-        return S if self.T is None else S @ self.T
+        return S if self.T is None else _rows_times(S, self.T)
 
     def force(self, F: FloatArray) -> FloatArray:
         """A generalised force on the bridge (nb, ...) in the block's basis: T^T F."""
@@ -73,10 +79,10 @@ class CoupledBridge:
                       ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(L_q, L_v, S^a A0_b^-T) of the contact rows (..., rows, nb), the shapes in the block's basis:
         L_q = S^k - C_b P_k, L_v = S^d - C_b P_d (C_b = S^k + gamma' S^d)."""
-        Lv = Sd - Cb @ self.Pd
+        Lv = Sd - _rows_times(Cb, self.Pd)
         if self.T is not None:
             return Sk - Cb * self.pk, Lv, Sa
-        return Sk - Cb @ self.Pk, Lv, Sa @ self.A0b_inv.T
+        return Sk - _rows_times(Cb, self.Pk), Lv, _rows_times(Sa, self.A0b_inv.T)
 
     def step_calls(self, QP: FloatArray, VP: FloatArray, DL: FloatArray) -> list[tuple[Any, tuple]]:
         """The bridge's Delta_b = -P_k q~_b - P_d v~_b on the run's bridge rows, prepared
