@@ -19,7 +19,7 @@ and runs it at the chosen speeds with :func:`tb_exudyn.methods.sweep.run_sweep` 
 speed: :func:`scenario_at` is ``sweep_scenario``, i.e. :func:`tb_exudyn.scenario.speed_rule.at_speed`: the
 scenario's band and approach scaled by v / v0, its grid kept), on the channels :data:`CHANNELS`. Each
 speed's row takes from the verdicts' exceedance machinery (``RandomResponse.checks()``, the default limits
-and target probability: :func:`tb_exudyn.methods.sweep.check_columns`) the deck acceleration criterion of
+and target probability: :func:`tb_exudyn.methods.sweep.check_values`) the deck acceleration criterion of
 the check's track (:data:`CRITERIA`) at its deciding location: ``p_exceed``, the probability of exceeding
 the limit at least once in one passage (Rice's rate, Poisson's first passage), and ``level_at_target``,
 the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem``
@@ -29,7 +29,6 @@ the level exceeded with the target probability per passage. The row at a speed i
 from __future__ import annotations
 
 import importlib
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -39,6 +38,7 @@ from typing import Any, Sequence
 from ..errors import ScenarioError, SettingError
 from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
+from ..results.sweep import read_checks
 from ..results.checks import default_limits
 from ..scenario import Scenario, load_scenario
 from ..scenario.model import Train
@@ -193,18 +193,16 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     values: dict[float, StochasticValues] = {}
     messages: list[str] = []
     for v, s in done:
-        cols = json.loads(str(s["checks"]))
-        if f"{crit}_probability" not in cols:  # check_limits ran first: the channels are the model's
+        found = read_checks(s).get(crit)
+        if found is None:  # check_limits ran first: the channels are the model's
             raise SettingError("check", "stochastic", name or base.name, f"a model with the channels {CHANNELS[0]}",
                                f"no {crit} row at {v:g} km/h")
-        channel = str(cols[f"{crit}_channel"])
         names = [str(c) for c in s["channels"]]
-        mean = float(s["max_abs_mean"][names.index(channel)]) if channel in names else math.nan
-        reason = str(cols.get(f"{crit}_reason", ""))
+        mean = float(s["max_abs_mean"][names.index(found.channel)]) if found.channel in names else math.nan
         values[speed_key(v)] = StochasticValues(
-            p_exceed=float(cols[f"{crit}_probability"]), level_at_target=float(cols[f"{crit}_estimate"]),
-            location=channel, mean_acc=mean, verdict=str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
-            caveats=str(cols.get(f"{crit}_caveats", "")), n_freq=int(s["n_freq"]))
+            p_exceed=found.probability, level_at_target=found.estimate, location=found.channel, mean_acc=mean,
+            verdict=found.verdict + (f" ({found.reason})" if found.reason else ""), caveats=found.caveats,
+            n_freq=int(s["n_freq"]))
         messages += [str(m) for m in s.get("warnings", ())]
     return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
                          seconds=time.perf_counter() - t0)

@@ -31,7 +31,7 @@ from ...scenario.io import as_scenario, with_settings
 from ...scenario.uncertain import UncertainKey, check_uncertain
 from .. import pem
 from ..common import fingerprint_identity
-from ..sweep import check_columns, key_patterns
+from ..sweep import check_values, key_patterns
 from ..driver import RunPlan, drive
 from . import pce
 from .summary import expand, keys_json, loo_warnings, node_summary
@@ -74,7 +74,7 @@ class UqWorker:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             result = pem.run(nt.scenario, nt.engine, execution, options=nt.options, keep_psd=False)
-        summary = node_summary(result, check_columns)
+        summary = node_summary(result, check_values)
         summary["warnings"] = np.array(list(dict.fromkeys(str(w.message) for w in caught  # not the pool's ResourceWarnings
                                                           if not issubclass(w.category, ResourceWarning))),
                                         dtype=str).reshape(-1)
