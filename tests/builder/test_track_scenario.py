@@ -156,3 +156,17 @@ def test_the_deterministic_run_and_monte_carlo_run_with_the_track():
     assert float(np.max(mc["track.span1.mid.left.pad.force_z"].mean)) == pytest.approx(float(np.max(pad)), rel=0.05)
     s = {part: float(np.max(mc[f"track.span1.mid.left.{part}.acc_z"].std)) for part in ("rail", "sleeper", "deck")}
     assert s["rail"] > s["sleeper"] > s["deck"] > 0.0, s
+
+
+def test_modes_describes_the_track(capsys):
+    """``modes`` of a scenario with a track: the vehicle stands on the track, whose modes (with the deck's) are
+    summarised in one line: their count and range, from the deck's lowest coupled mode to below the 2 kHz cut."""
+    argv = ["modes", "yang_yau_sprung_mass", "--set", "bridge.track_height=1.0", "--set", "track.structure=ballasted_uic60",
+            "--set", "track.lead_in=6", "--set", "bridge.spans=[10.0]"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "vehicles on the track ballasted_uic60" in out, out
+    line = next(x for x in out.splitlines() if x.startswith("track (rails, pads, sleepers, ballast"))
+    low, high = (float(v) for v in line.rsplit(": ", 1)[1].split(" modes, ")[1].removesuffix(" Hz").split("-"))
+    assert 20.0 < low < 100.0 and 1000.0 < high <= 2000.0, line
+    assert "bridge track" not in out
