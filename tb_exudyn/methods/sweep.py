@@ -319,6 +319,10 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
     left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
+    if scenario.track.structure:  # before any run
+        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a speed sweep "
+                            "(a run at one speed models the track: run --speed-kmh)", "the sweep with the track "
+                            "layer is not built yet")
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
     scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
