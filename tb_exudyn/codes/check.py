@@ -16,12 +16,10 @@ value x (1 + k phi'') of every row.
 
 from __future__ import annotations
 
-import csv
 import importlib
-import io
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -29,6 +27,7 @@ import numpy as np
 
 from ..atomic import write_text_atomic
 from ..errors import ResourceError, ScenarioError, SettingError, UserError
+from ..results.check_records import CheckRecord, check_dataset, record_columns, records_csv
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge
 from ..scenario.code_data import MASS_CASES, with_mass_case
@@ -42,6 +41,7 @@ from .moving_force import MAX_STEPS, MovingForceResponse, integration_steps, mov
 from . import stochastic as stoch
 from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
 from .a2_verdicts import a2_verdicts, check_alpha, place_words
+from .criteria import deck_criterion, moving_force_load_model
 from .hslm_b import HSLM_B_SPANS, hslm_b
 from . import interaction as vbi
 
@@ -72,7 +72,8 @@ VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 class CheckResult:
     """The table of a check and what it was computed with.
 
-    ``columns`` the table's column names; ``rows`` one dict per (train, speed, case). Columns: train,
+    ``columns`` the table's column names; ``rows`` one :class:`~tb_exudyn.results.check_records.CheckRecord`
+    per (train, speed, case), read by attribute or by column (``row["max_deck_acc_z"]``). Columns: train,
     speed_kmh, case, damping_ratio (fraction), cutoff_hz, acc_z_mid_span<i> (peak |vertical acceleration|
     at mid-span of span i along the track [m/s^2], one per span), max_deck_acc_z (largest over the deck
     stations), max_deck_acc_z_location (its station, e.g. 'span1.x4/8 (16 m)'), disp_z_mid (largest peak
@@ -105,7 +106,7 @@ class CheckResult:
     dynamic_analysis: tuple[bool, str]
     resonant_speeds_kmh: dict[str, tuple[float, ...]]
     columns: tuple[str, ...]
-    rows: tuple[dict[str, Any], ...] = field(repr=False)
+    rows: tuple[CheckRecord, ...] = field(repr=False)
     responses: tuple[MovingForceResponse, ...] = field(default=(), repr=False)
     seconds: float = 0.0
     vertical_frequencies: tuple[float, ...] = ()
@@ -203,12 +204,13 @@ class CheckResult:
         return "\n".join(lines + vbi.summary_lines(self.interaction))
 
     def csv_text(self) -> str:
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=list(self.columns), lineterminator="\n")
-        writer.writeheader()
-        for r in self.rows:
-            writer.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in r.items()})
-        return buf.getvalue()
+        """check.csv's text, from the records (:func:`tb_exudyn.results.check_records.records_csv`)."""
+        return records_csv(self.rows)
+
+    def to_xarray(self):  # noqa: ANN201
+        """The check as an :class:`xarray.Dataset` (:func:`tb_exudyn.results.check_records.check_dataset`;
+        NetCDF: :func:`tb_exudyn.results.export.export_netcdf`)."""
+        return check_dataset(self)
 
     def to_csv(self, path: str | Path) -> Path:
         """Write the table as CSV (atomically: the file is the old one or the whole new one)."""
@@ -431,10 +433,7 @@ def check(
     mb, used, f1, _f3, cutoff, cutoff_basis = modes_of[ref_case]
     dyn_required = code.dynamic_analysis_required(line_speed_kmh, span, f1)
 
-    columns = ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz",
-               *(f"acc_z_mid_span{i + 1}" for i in range(len(spans))),
-               "max_deck_acc_z", "max_deck_acc_z_location", "disp_z_mid", "phi_dyn", "phi_irregularity",
-               "enhancement", "limit", "verdict", "max_deck_acc_z_with_phi2", *stoch.COLUMNS)
+    columns = record_columns(len(spans))
     stochastic_names = {t.name for t in stochastic_trains}
     series: dict[str, np.ndarray] = {}
     for train in train_list:
@@ -495,23 +494,15 @@ def check(
             s = int(where_max[j])
             peak = float(resp.max_acc[s, j])
             phi2 = code.phi_irregularity_annex_c(f1_c, span, v / 3.6)  # L_Phi: the longest span [check]
-            row = {"train": train.name, "speed_kmh": float(v), "case": case, "damping_ratio": zeta,
-                   "cutoff_hz": float(cutoff_c)}
-            for i, m in enumerate(mids):
-                row[f"acc_z_mid_span{i + 1}"] = float(resp.max_acc[m, j])
-            row.update({
-                "max_deck_acc_z": peak,
-                "max_deck_acc_z_location": f"{resp.station_names[s]} ({resp.station_x[s]:g} m)",
-                "disp_z_mid": float(resp.max_disp[mids, j].max()),
-                "phi_dyn": float(phi_dyn[j]),
-                "phi_irregularity": phi2,
-                "enhancement": float(1.0 + phi_dyn[j] + k_irr * phi2),
-                "limit": limit,
-                "verdict": VERDICT_EXCEEDS if peak > limit else VERDICT_OK,
-                "max_deck_acc_z_with_phi2": float(peak * (1.0 + k_irr * phi2)),
-            })
-            row.update(dict.fromkeys(stoch.COLUMNS))
-            rows.append(row)
+            rows.append(CheckRecord(
+                criterion=deck_criterion(track), load_model=moving_force_load_model(train.name), train=train.name,
+                speed_kmh=float(v), case=case, track=track,
+                location=f"{resp.station_names[s]} ({resp.station_x[s]:g} m)", value=peak, limit=limit,
+                damping_ratio=zeta, cutoff_hz=float(cutoff_c),
+                acc_z_mid_span=tuple(float(resp.max_acc[m, j]) for m in mids),
+                disp_z_mid=float(resp.max_disp[mids, j].max()), phi_dyn=float(phi_dyn[j]), phi_irregularity=phi2,
+                enhancement=float(1.0 + phi_dyn[j] + k_irr * phi2),
+                value_with_phi2=float(peak * (1.0 + k_irr * phi2))))
     # the stochastic rows: one PEM sweep per train over its chosen speeds, into the nominal case's rows
     runs, messages = [], []
     for train in stochastic_trains:
@@ -524,9 +515,8 @@ def check(
                                  f"{given!r}, the stochastic rows of {train.name}") from None
         runs.append(run)
         messages += run.warnings
-        for row in rows:
-            if row["train"] == train.name and row["case"] == NOMINAL_CASE:
-                row.update(run.values.get(stoch.speed_key(row["speed_kmh"]), {}))
+        rows = [replace(r, stochastic=run.values.get(stoch.speed_key(r.speed_kmh))) if r.train == train.name and
+                r.case == NOMINAL_CASE else r for r in rows]
     stochastic_basis = ""
     if stochastic_trains:
         n_runs = sum(len(v) for v in run_speeds.values())
