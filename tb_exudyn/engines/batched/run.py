@@ -207,14 +207,15 @@ class _Operators:
             self._kinv = (*blas_scratch(np.dtype(np.float64)), np.ascontiguousarray(self.row_vehicle),
                           np.array([[v.r0, v.r1] for v in self.vehicles], dtype=np.int64).reshape(-1, 2))
         n_r = self.rows.size
-        hbuf = np.empty(steps.size * n_r * n_r, dtype=self.dtype)
-        tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # in_precision's rule
+        hbuf = np.empty(steps.size * n_r * n_r, dtype=np.float64)  # float64 in every precision: one
+        tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # compiled kernel
         try:
             self._kernels.contact_inverses(*self._kinv, steps, np.ascontiguousarray(on), self.H0,
                                            np.ascontiguousarray(Cb), np.ascontiguousarray(SaS), a0,
                                            st, hbuf, hoff, tiny)
         except np.linalg.LinAlgError:
             raise np.linalg.LinAlgError("singular contact matrix in the batched engine") from None
+        hbuf = hbuf.astype(self.dtype, copy=False)  # rounded to nearest as the kernel's store did
         blk = self.block
         self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], hbuf, hoff, a0)
 
@@ -435,7 +436,7 @@ class _Run:
             return False
         dt, cdt = np.dtype(self.dtype), np.dtype(self.cdtype)
         if constant:  # (constant, f_s, the wheels' C y_c, y_c); the harmonic inputs unused
-            self._kconstant = (True, np.ascontiguousarray(np.broadcast_to(self.input.value, self.Gc.shape), dtype=cdt),
+            self._kconstant = (True, np.array(np.broadcast_to(self.input.value, self.Gc.shape), dtype=cdt, order="C"),
                                np.ascontiguousarray(self.force_rows, dtype=cdt),
                                np.ascontiguousarray(self.force_delta, dtype=dt))
             self._kinputs = (np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt))
