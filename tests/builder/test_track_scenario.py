@@ -138,14 +138,13 @@ def test_a_run_of_a_scenario_with_a_track_gives_the_track_channels():
 
 
 @pytest.mark.parametrize("argv, key", [
-    (["run", "yang_yau_sprung_mass", "--engine", "batched"], "'engine'"),
     (["run", "yang_yau_sprung_mass", "--engine", "exudyn"], "'engine'"),
     (["run", "quick"], "train.vehicles"),
     (["sweep", "yang_yau_sprung_mass", "--speeds-kmh", "80:100:10"], "track.structure"),
 ])
 def test_what_the_track_layer_does_not_run_yet_is_refused_in_one_line(tmp_path, capsys, argv, key):
-    """The Exudyn engine's and the batched engine's runs, the cars with lateral contacts and the speed sweep
-    with a track structure: one line naming the key, exit 2, nothing written."""
+    """The Exudyn engine's runs, the cars with lateral contacts and the speed sweep with a track structure:
+    one line naming the key, exit 2, nothing written."""
     out = tmp_path / "out"
     sets = [] if argv[1] == "quick" else ["--set", "bridge.track_height=1.0"]
     sets += ["--set", "track.structure=ballasted_uic60"]
