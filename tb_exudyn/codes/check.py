@@ -405,7 +405,6 @@ def check(
             if len(set(keys)) != len(keys):
                 raise err("stochastic_speeds", list(values), allowed, "a speed given twice")
             extra_speeds = [min(max(k, low_speed), top_speed) for k in keys]
-        stoch.check_limits(track, code.deck_acceleration_limit(track), where)
         source_scenario = stoch.scenario_source(stochastic_scenario, where,
                                                 names.get("stochastic_scenario", "stochastic_scenario"))
 
@@ -524,7 +523,7 @@ def check(
             f"PEM of {', '.join(source_scenario.track.irregularities)} (track and analysis of {source_scenario.name}) "
             f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
             f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
-            f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
+            f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(track)}")
     inter = vbi.check_rows(bridge, interaction_trains, rows, zeta_vehicles, cutoff, ref_case) if interaction_trains else ()
     verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
                            [t.name for t in train_list], limit, alpha_value, alpha is not None)
