@@ -195,3 +195,19 @@ def test_modes_describes_the_track(capsys):
     low, high = (float(v) for v in line.rsplit(": ", 1)[1].split(" modes, ")[1].removesuffix(" Hz").split("-"))
     assert 20.0 < low < 100.0 and 1000.0 < high <= 2000.0, line
     assert "bridge track" not in out
+
+
+def test_every_track_channel_has_a_readable_label(stiff):
+    """The track's channels and its derived forces by the naming rule (system/labels.py): each gets a label,
+    e.g. track.span1.mid.left.pad.force_z -> "track at span 1, mid-span, left rail, pad, vertical force"."""
+    from tb_exudyn.system.labels import channel_label
+
+    _, model = stiff
+    names = [c.name for c in model.channels if c.name.startswith("track.")]
+    names += [d for d in model.derived_catalogue.names() if d.startswith("track.")]
+    assert len(names) == 3 * 3 * 3 + 3 * 2  # 3 stations x (rail, sleeper, deck) x (disp, vel, acc) + pad, ballast
+    labels = {n: channel_label(n) for n in names}
+    assert all(label != n for n, label in labels.items()), [n for n, label in labels.items() if label == n]
+    assert labels["track.span1.mid.left.pad.force_z"] == "track at span 1, mid-span, left rail, pad, vertical force"
+    assert labels["track.span1.q1.left.sleeper.acc_z"] == ("track at span 1, first quarter point, left rail, sleeper, "
+                                                          "vertical acceleration")
