@@ -211,3 +211,20 @@ def test_every_track_channel_has_a_readable_label(stiff):
     assert labels["track.span1.mid.left.pad.force_z"] == "track at span 1, mid-span, left rail, pad, vertical force"
     assert labels["track.span1.q1.left.sleeper.acc_z"] == ("track at span 1, first quarter point, left rail, sleeper, "
                                                           "vertical acceleration")
+
+
+def test_the_checks_stochastic_column_with_a_track_structure_is_refused_in_one_line(tmp_path, capsys):
+    """``check --stochastic --stochastic-scenario`` naming a scenario with a track structure: one line naming the
+    option, exit 2, nothing written (the check's trains are cars on both rails: not on the track layer yet)."""
+    from tb_exudyn.scenario.registry import model_path
+
+    text = model_path("scenarios", "quick", None, "scenario").read_text()
+    scenario = tmp_path / "quick_track.toml"
+    scenario.write_text(text.replace('run_out = 10.0', 'run_out = 10.0\nstructure = "ballasted_uic60"'))
+    out = tmp_path / "out"
+    argv = ["check", "single_span_32m", "--line-speed-kmh", "200", "--trains", "ice_mttm", "--stochastic",
+            "--stochastic-scenario", str(scenario), "--out", str(out), "--no-figures"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--stochastic-scenario" in err and "track.structure" in err, err
+    assert not out.exists()
