@@ -173,7 +173,6 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     track's deck criterion at its deciding location, that location, the largest |mean| there (the
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
     t0 = time.perf_counter()
-    crit = f"{LIMIT_SET}/{CRITERIA[track]}"
     methods = _sweep()
     # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
     # separate sweeps (e.g. 250 and 250.0001 km/h)
@@ -188,6 +187,15 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
         sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
                                   progress=progress)
         done += list(zip(sweep.speeds, sweep.summaries))
+    return stochastic_run(base, done, track, name, time.perf_counter() - t0)
+
+
+def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str, name: str = "",
+                   seconds: float | None = None) -> StochasticRun:
+    """The stochastic rows of one train from its speeds' sweep summaries (``done``: (speed, summary) as
+    :func:`tb_exudyn.methods.sweep.speed_summary` makes them, one per PEM run; the EN 1991-2 check's
+    method runs them as its tasks); ``seconds``: the runs' time (default: the summaries' own)."""
+    crit = f"{LIMIT_SET}/{CRITERIA[track]}"
     values: dict[float, dict[str, Any]] = {}
     messages: list[str] = []
     for v, s in done:
@@ -209,9 +217,12 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
             "stochastic_n_freq": int(s["n_freq"]),
         }
         messages += [str(m) for m in s.get("warnings", ())]
+    if seconds is None:
+        seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))
     return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
-                         seconds=time.perf_counter() - t0)
+                         seconds=seconds)
 
 
 __all__ = ["CHANNELS", "COLUMNS", "CRITERIA", "DEFAULT_SCENARIO", "LIMIT_SET", "MODE_MARGIN", "StochasticRun",
-           "base_scenario", "check_limits", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key"]
+           "base_scenario", "check_limits", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+           "stochastic_run"]

@@ -348,6 +348,14 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     return speeds, quantities, cls, scenarios, left_out
 
 
+def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
+                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
+    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+    return cls, scenarios
+
+
 @dataclass
 class SweepState:
     """What the sweep's plan checked (speeds, quantities, scenarios, left out) and each speed's summary."""
@@ -456,4 +464,4 @@ def run_sweep(scenario: Scenario | str | Path, speeds_kmh: Sequence[float], *, e
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
            "SWEEP_SLICES", "SpeedTask", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
            "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
+           "speed_label", "speed_range", "speed_scenarios", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
