@@ -68,6 +68,10 @@ MENTIONS: dict[str, str] = {
     "another out folder": f"another {FLAGS['out']}",
     "the max_memory of": f"the {FLAGS['max_memory']} of",
     "with stochastic=True only": f"with {FLAGS['stochastic']} only",
+    "fewer samples (n_samples or": f"fewer samples ({FLAGS['n_samples']}, n_samples or",
+    "not keeping them (keep_samples=False)": f"not keeping them (no {FLAGS['keep_samples']})",
+    "fewer PSD maps (psd_channels), or keep_psd=False": f"fewer PSD maps ({FLAGS['psd_channels']} key)",
+    "an uncertain file (uncertain_file)": "an uncertain file (--uncertain-file)",
 }
 _MENTION = re.compile("|".join(re.escape(m) for m in sorted(MENTIONS, key=len, reverse=True)))
 #: the head of a library notice about one of its arguments, ``command line: workers = 8 ...``
