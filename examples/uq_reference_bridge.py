@@ -5,11 +5,12 @@ with three uncertain keys (issue 46), as an ``[uncertain]`` table would give the
 
 - ``bridge.girder.E``: lognormal, the scenario's 34.5 GPa, cov 5 % (concrete's modulus);
 - ``bridge.damping_ratio``: uniform, the scenario's value +-30 %;
-- ``bridge.girder.mass_per_length`` (the deck's density): uniform, the scenario's value +-5 %.
-
-The ballast (``bridge.added_mass.mass_per_length``) is not among them: the scenario's EN 1991-2 data
-hold the ballast's own mass, which the added mass must include (a lower added mass is refused), and
-the two would have to vary together (the keys are independent).
+- ``bridge.code.ballast_density``: uniform over EN 1991-1-1's range for railway ballast, the bridge's
+  code data's 1700-2000 kg/m^3 (the scenario's model is at 1800 kg/m^3). As an uncertain key the
+  ballast's density moves the ballast's mass (the bridge's added mass follows it, as an EN 1991-2
+  mass case's does: :func:`tb_exudyn.scenario.code_data.with_ballast_density`); the bridge's data take
+  the whole added mass, 11677.75 kg/m, as ballast (an upper bound of its share, marked [check] there):
+  -5.6 % ... +11.1 % of it, -1.9 % ... +3.8 % of the vibrating mass.
 
 :func:`tb_exudyn.run_uq` runs one PEM per node of a tensor Gauss grid (order 2: 27 nodes) and expands
 every key quantity; the script prints mean, std, leave-one-out error and Sobol indices of max sigma of
@@ -61,7 +62,7 @@ CHANNELS = ("bridge.span2.mid.acc_z", "car1.body.acc_z")
 UNCERTAIN = {
     "bridge.girder.E": {"distribution": "lognormal", "cov": 0.05},
     "bridge.damping_ratio": {"distribution": "uniform", "relative_bounds": [-0.3, 0.3]},
-    "bridge.girder.mass_per_length": {"distribution": "uniform", "relative_bounds": [-0.05, 0.05]},
+    "bridge.code.ballast_density": {"distribution": "uniform", "bounds": [1700.0, 2000.0]},
 }
 
 

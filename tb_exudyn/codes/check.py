@@ -16,12 +16,11 @@ value x (1 + k phi'') of every row.
 
 from __future__ import annotations
 
-import csv
 import importlib
-import io
+import importlib
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Sequence
 
@@ -30,6 +29,7 @@ import numpy as np
 from ..atomic import write_text_atomic
 from ..errors import SettingError
 from ..execution import Execution
+from ..results.check_records import CheckRecord, check_dataset, record_columns, records_csv
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge  # noqa: F401 - the check's bridges (tests read them here)
 from . import en1991 as code
@@ -41,6 +41,7 @@ from .moving_force import MovingForceResponse, integration_steps
 from . import stochastic as stoch
 from .trains import ForceTrain
 from .a2_verdicts import a2_verdicts, place_words
+from .criteria import deck_criterion, moving_force_load_model
 from . import interaction as vbi
 
 #: the table's file in an output folder
@@ -58,7 +59,8 @@ VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 class CheckResult:
     """The table of a check and what it was computed with.
 
-    ``columns`` the table's column names; ``rows`` one dict per (train, speed, case). Columns: train,
+    ``columns`` the table's column names; ``rows`` one :class:`~tb_exudyn.results.check_records.CheckRecord`
+    per (train, speed, case), read by attribute or by column (``row["max_deck_acc_z"]``). Columns: train,
     speed_kmh, case, damping_ratio (fraction), cutoff_hz, acc_z_mid_span<i> (peak |vertical acceleration|
     at mid-span of span i along the track [m/s^2], one per span), max_deck_acc_z (largest over the deck
     stations), max_deck_acc_z_location (its station, e.g. 'span1.x4/8 (16 m)'), disp_z_mid (largest peak
@@ -91,7 +93,7 @@ class CheckResult:
     dynamic_analysis: tuple[bool, str]
     resonant_speeds_kmh: dict[str, tuple[float, ...]]
     columns: tuple[str, ...]
-    rows: tuple[dict[str, Any], ...] = field(repr=False)
+    rows: tuple[CheckRecord, ...] = field(repr=False)
     responses: tuple[MovingForceResponse, ...] = field(default=(), repr=False)
     seconds: float = 0.0
     vertical_frequencies: tuple[float, ...] = ()
@@ -192,12 +194,13 @@ class CheckResult:
         return "\n".join(lines + vbi.summary_lines(self.interaction))
 
     def csv_text(self) -> str:
-        buf = io.StringIO()
-        writer = csv.DictWriter(buf, fieldnames=list(self.columns), lineterminator="\n")
-        writer.writeheader()
-        for r in self.rows:
-            writer.writerow({k: (repr(float(v)) if isinstance(v, float) else v) for k, v in r.items()})
-        return buf.getvalue()
+        """check.csv's text, from the records (:func:`tb_exudyn.results.check_records.records_csv`)."""
+        return records_csv(self.rows)
+
+    def to_xarray(self):  # noqa: ANN201
+        """The check as an :class:`xarray.Dataset` (:func:`tb_exudyn.results.check_records.check_dataset`;
+        NetCDF: :func:`tb_exudyn.results.export.export_netcdf`)."""
+        return check_dataset(self)
 
     def to_csv(self, path: str | Path) -> Path:
         """Write the table as CSV (atomically: the file is the old one or the whole new one)."""
@@ -208,7 +211,7 @@ class CheckResult:
         return importlib.import_module("tb_exudyn.plotting").plot_check(self)
 
 
-def _case_rows(setup: CheckSetup, case: str, train: str, resp: MovingForceResponse) -> list[dict[str, Any]]:
+def _case_rows(setup: CheckSetup, case: str, train: str, resp: MovingForceResponse) -> list[CheckRecord]:
     """The rows of one mass case and train: one per speed of its response."""
     m = setup.modes[case]
     phi_dyn = resp.phi_dyn.max(axis=0)
@@ -220,31 +223,16 @@ def _case_rows(setup: CheckSetup, case: str, train: str, resp: MovingForceRespon
         s = int(where_max[j])
         peak = float(resp.max_acc[s, j])
         phi2 = code.phi_irregularity_annex_c(m.f1, setup.span, v / 3.6)  # L_Phi: the longest span [check]
-        row = {"train": train, "speed_kmh": float(v), "case": case, "damping_ratio": setup.zeta,
-               "cutoff_hz": float(m.cutoff)}
-        for i, mid in enumerate(mids):
-            row[f"acc_z_mid_span{i + 1}"] = float(resp.max_acc[mid, j])
-        row.update({
-            "max_deck_acc_z": peak,
-            "max_deck_acc_z_location": f"{resp.station_names[s]} ({resp.station_x[s]:g} m)",
-            "disp_z_mid": float(resp.max_disp[mids, j].max()),
-            "phi_dyn": float(phi_dyn[j]),
-            "phi_irregularity": phi2,
-            "enhancement": float(1.0 + phi_dyn[j] + k_irr * phi2),
-            "limit": limit,
-            "verdict": VERDICT_EXCEEDS if peak > limit else VERDICT_OK,
-            "max_deck_acc_z_with_phi2": float(peak * (1.0 + k_irr * phi2)),
-        })
-        row.update(dict.fromkeys(stoch.COLUMNS))
-        rows.append(row)
+        rows.append(CheckRecord(
+            criterion=deck_criterion(setup.track), load_model=moving_force_load_model(train), train=train,
+            speed_kmh=float(v), case=case, track=setup.track,
+            location=f"{resp.station_names[s]} ({resp.station_x[s]:g} m)", value=peak, limit=limit,
+            damping_ratio=setup.zeta, cutoff_hz=float(m.cutoff),
+            acc_z_mid_span=tuple(float(resp.max_acc[mid, j]) for mid in mids),
+            disp_z_mid=float(resp.max_disp[mids, j].max()), phi_dyn=float(phi_dyn[j]), phi_irregularity=phi2,
+            enhancement=float(1.0 + phi_dyn[j] + k_irr * phi2),
+            value_with_phi2=float(peak * (1.0 + k_irr * phi2))))
     return rows
-
-
-def _columns(n_spans: int) -> tuple[str, ...]:
-    return ("train", "speed_kmh", "case", "damping_ratio", "cutoff_hz",
-            *(f"acc_z_mid_span{i + 1}" for i in range(n_spans)),
-            "max_deck_acc_z", "max_deck_acc_z_location", "disp_z_mid", "phi_dyn", "phi_irregularity",
-            "enhancement", "limit", "verdict", "max_deck_acc_z_with_phi2", *stoch.COLUMNS)
 
 
 def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) -> str:
@@ -271,9 +259,8 @@ def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceRes
     runs = [stoch.stochastic_run(setup.bases[t.name], stochastic[t.name], setup.track, t.name)
             for t in setup.stochastic_trains]
     for run in runs:
-        for row in rows:
-            if row["train"] == run.train and row["case"] == NOMINAL_CASE:
-                row.update(run.values.get(stoch.speed_key(row["speed_kmh"]), {}))
+        rows = [replace(r, stochastic=run.values.get(stoch.speed_key(r.speed_kmh))) if r.train == run.train and
+                r.case == NOMINAL_CASE else r for r in rows]
     messages = [m for run in runs for m in run.warnings]
     m = setup.modes[setup.ref_case]
     mb, used, cutoff = m.modal, m.used, m.cutoff
@@ -292,7 +279,7 @@ def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceRes
         dynamic_analysis=code.dynamic_analysis_required(setup.line_speed_kmh, setup.span, m.f1),
         resonant_speeds_kmh={t.name: tuple(float(v) for v in code.resonant_speeds_kmh(m.f1, t.regular_length))
                              for t in setup.trains},
-        columns=_columns(len(setup.spans)), rows=tuple(rows), responses=tuple(ordered),
+        columns=record_columns(len(setup.spans)), rows=tuple(rows), responses=tuple(ordered),
         seconds=time.perf_counter() - t0, stochastic_scenarios=dict(setup.bases),
         stochastic_basis=_stochastic_basis(setup, runs),
         target_probability=float(DEFAULT_TARGET_PROBABILITY) if setup.stochastic_trains else None,

@@ -37,6 +37,22 @@ CRITERIA_FILE = "en1990_a2"
 DECK_LIMIT_SET = "en1990_deck"
 DECK_ACCELERATION_CRITERIA: dict[str, str] = {"ballasted": "deck_acc_ballasted", "direct": "deck_acc_direct_fastened"}
 
+
+
+def deck_criterion(track: str) -> str:
+    """The deck acceleration criterion of a track form as the records name it: 'en1990_deck/deck_acc_ballasted'."""
+    return f"{DECK_LIMIT_SET}/{DECK_ACCELERATION_CRITERIA[track]}"
+
+
+def moving_force_load_model(train: str) -> str:
+    """The load model of a moving-force row of ``train``: HSLM-A or HSLM-B (EN 1991-2 6.4.6.1.1, Annex E), or a
+    real train's axle loads."""
+    for name in ("HSLM-A", "HSLM-B"):
+        if train.startswith(name):
+            return f"{name} as moving forces (EN 1991-2 6.4.6.1.1)"
+    return "real train as moving forces (its axle loads)"
+
+
 VERDICT_OK, VERDICT_EXCEEDS, VERDICT_NOT_EVALUATED, VERDICT_INFO = "ok", "exceeds", "not evaluated", "comparison"
 
 
@@ -278,5 +294,5 @@ class CriterionVerdict:
                 + (" [check]" if self.check else ""))
 
 
-__all__ = ["A2Criterion", "ComfortFigureLimit", "CriteriaSet", "CriterionVerdict", "DECK_ACCELERATION_CRITERIA",
+__all__ = ["deck_criterion", "moving_force_load_model", "A2Criterion", "ComfortFigureLimit", "CriteriaSet", "CriterionVerdict", "DECK_ACCELERATION_CRITERIA",
            "SpanRatioLimit", "criteria_path", "deck_acceleration_limit", "load_criteria"]

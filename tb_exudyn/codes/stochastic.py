@@ -37,6 +37,8 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from ..errors import ScenarioError, SettingError
+from ..results.check_records import StochasticValues
+from ..results.schema import CHECK_RECORD
 from ..results.checks import default_limits
 from ..scenario import Scenario, load_scenario
 from ..scenario.model import Train
@@ -56,9 +58,9 @@ LIMIT_SET = "en1990_deck"
 CRITERIA: dict[str, str] = DECK_ACCELERATION_CRITERIA  # the one source of the deck limits (codes/criteria.py)
 #: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
 MODE_MARGIN = 1.05
-#: the table's stochastic columns (None where not computed)
-COLUMNS: tuple[str, ...] = ("p_exceed", "level_at_target", "stochastic_location", "stochastic_mean_acc",
-                            "stochastic_verdict", "stochastic_caveats", "stochastic_n_freq")
+#: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
+#: StochasticValues
+COLUMNS: tuple[str, ...] = tuple(v.name for v in CHECK_RECORD if v.attribute.startswith("stochastic."))
 
 
 def _sweep() -> Any:
@@ -152,12 +154,12 @@ def check_limits(track: str, limit: float, where: str = "check") -> None:
 
 @dataclass(frozen=True)
 class StochasticRun:
-    """The stochastic rows of one train: per speed (km/h, rounded to 1e-6) the columns of :data:`COLUMNS`,
-    the warnings of the runs and their time."""
+    """The stochastic rows of one train: per speed (km/h, rounded to 1e-6) its values (the columns of
+    :data:`COLUMNS`), the warnings of the runs and their time."""
 
     train: str
     base: Scenario = field(repr=False)
-    values: dict[float, dict[str, Any]] = field(repr=False)
+    values: dict[float, StochasticValues] = field(repr=False)
     warnings: tuple[str, ...] = ()
     seconds: float = 0.0
 
@@ -196,7 +198,7 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
     :func:`tb_exudyn.methods.sweep.speed_summary` makes them, one per PEM run; the EN 1991-2 check's
     method runs them as its tasks); ``seconds``: the runs' time (default: the summaries' own)."""
     crit = f"{LIMIT_SET}/{CRITERIA[track]}"
-    values: dict[float, dict[str, Any]] = {}
+    values: dict[float, StochasticValues] = {}
     messages: list[str] = []
     for v, s in done:
         cols = json.loads(str(s["checks"]))
@@ -207,15 +209,10 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
         names = [str(c) for c in s["channels"]]
         mean = float(s["max_abs_mean"][names.index(channel)]) if channel in names else math.nan
         reason = str(cols.get(f"{crit}_reason", ""))
-        values[speed_key(v)] = {
-            "p_exceed": float(cols[f"{crit}_probability"]),
-            "level_at_target": float(cols[f"{crit}_estimate"]),
-            "stochastic_location": channel,
-            "stochastic_mean_acc": mean,
-            "stochastic_verdict": str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
-            "stochastic_caveats": str(cols.get(f"{crit}_caveats", "")),
-            "stochastic_n_freq": int(s["n_freq"]),
-        }
+        values[speed_key(v)] = StochasticValues(
+            p_exceed=float(cols[f"{crit}_probability"]), level_at_target=float(cols[f"{crit}_estimate"]),
+            location=channel, mean_acc=mean, verdict=str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
+            caveats=str(cols.get(f"{crit}_caveats", "")), n_freq=int(s["n_freq"]))
         messages += [str(m) for m in s.get("warnings", ())]
     if seconds is None:
         seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))

@@ -78,7 +78,8 @@ def verdict_section(result: Any, target: float | None = None) -> str:
                "over the nodes; with a quadrature design the quadrature's weighted mean of the nodes' probabilities). "
                f"The criterion EXCEEDS when P_f is above the target {t:.3g}. Shown as &lt; {SMALLEST_SHOWN:.0e} below "
                "that. The estimate is the level exceeded with the target probability in one passage (in the unit shown), its "
-               "mean and standard deviation over the keys; the limit is the criterion's pass/fail value in the default "
+               "mean and standard deviation over the keys and its 5, 50 and 95 % points over them (the surrogate at "
+               "1024 Sobol points of the keys); the limit is the criterion's pass/fail value in the default "
                "limits, which the nodes were checked against ('-' where it depends on the run).</p>")
     body = []
     for r in rows:
@@ -87,10 +88,12 @@ def verdict_section(result: Any, target: float | None = None) -> str:
                                                 f'{esc(r["verdict"].lower())}</span>'),
                      _probability(r["pf"]), f"{r['target']:.3g}", _probability(r["node_max"]),
                      format_number(r["estimate_mean"], 3), format_number(r["estimate_std"], 2),
+                     " / ".join(format_number(v, 3) or "-" for v in r["estimate_band"]),
                      format_number(limit, 3) or "-", unit])
     out.append(html_table("uq-verdicts", ["criterion", "what it checks", "verdict", "P_f", "target",
-                                          "largest P at a node", "estimate mean", "estimate std", "limit", "unit"],
-                          body, ["", "", "", "num", "num", "num", "num", "num", "num", ""]))
+                                          "largest P at a node", "estimate mean", "estimate std",
+                                          "estimate 5 / 50 / 95 %", "limit", "unit"],
+                          body, ["", "", "", "num", "num", "num", "num", "num", "num", "num", ""]))
     out.append("</section>")
     return "\n".join(out)
 

@@ -12,6 +12,8 @@ from the surrogate):
   ``estimate:<criterion>``: the criterion's estimate): its mean and standard deviation over theta, the
   Sobol first-order and total indices per key, and the surrogate's leave-one-out error (relative to
   the variance);
+- per quantity, its 5, 50 and 95 % points over theta (``quantity_band``; for ``estimate:<criterion>``
+  the distribution over the keys of the level exceeded with the target probability);
 - per criterion: P_f = E_theta[P(exceed | theta)] (``pf``);
 - the nodes: each key's value and the quadrature weight (NaN for a least-squares design) of every node,
   and every quantity at every node.
@@ -67,6 +69,8 @@ UQ_SCHEMA: tuple[Variable, ...] = (
              units_coordinate="unit", required=True),
     Variable("quantity_mean", ("quantity",), "mean over the uncertain keys", required=True, finite=False),
     Variable("quantity_std", ("quantity",), "standard deviation over the uncertain keys", required=True, finite=False),
+    Variable("quantity_band", ("percentile", "quantity"), "5, 50 and 95 % points of each quantity over the keys",
+             required=True, finite=False),
     Variable("sobol_first", ("key", "quantity"), "first-order Sobol index", units="1", required=True, finite=False),
     Variable("sobol_total", ("key", "quantity"), "total Sobol index", units="1", required=True, finite=False),
     Variable("loo", ("quantity",), "leave-one-out error of the surrogate, relative to the variance", units="1",
@@ -111,9 +115,11 @@ class UqResult:
         return self.channels.index(channel)
 
     def quantity(self, name: str) -> dict[str, Any]:
-        """One quantity's mean, std, Sobol indices (per key name) and leave-one-out error."""
+        """One quantity's mean, std, its 5, 50 and 95 % points over the keys (``band``, :data:`PERCENTILES`),
+        Sobol indices (per key name) and leave-one-out error."""
         q = self.quantities.index(name)
         return {"mean": float(self.data["quantity_mean"][q]), "std": float(self.data["quantity_std"][q]),
+                "band": tuple(map(float, self.data["quantity_band"][:, q])),
                 "sobol_first": dict(zip(self.key_names, map(float, self.data["sobol_first"][:, q]))),
                 "sobol_total": dict(zip(self.key_names, map(float, self.data["sobol_total"][:, q]))),
                 "loo": float(self.data["loo"][q])}
@@ -174,7 +180,8 @@ def criteria_info() -> dict[str, tuple[str, str, float]]:
 def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str, Any]]:
     """Per criterion of the limits: P_f = E_theta[P(exceed | theta)] (``result.pf``, the expansion's
     mean of the quantity ``probability:<criterion>``), the largest P(exceed | theta) at any node, the
-    mean and std over theta of the estimate (the level exceeded with the target probability, SI units)
+    mean, std and 5, 50 and 95 % points over theta of the estimate (the level exceeded with the target
+    probability, SI units; ``estimate_band``)
     and the verdict against ``target`` (default the checks' target probability per passage):
     EXCEEDS when P_f > target, OK when P_f <= target, NOT EVALUATED when P_f is not finite (a criterion
     not evaluated at some node); with the criterion's title, unit and limit (:func:`criteria_info`)."""
@@ -185,11 +192,12 @@ def pf_verdicts(result: UqResult, target: float | None = None) -> list[dict[str,
     for c, pf in zip(result.criteria, np.asarray(result.data["pf"], dtype=float)):
         name = f"probability:{c}"
         at_nodes = nodes[:, result.quantities.index(name)] if name in result.quantities else np.array([np.nan])
-        est = result.quantity(f"estimate:{c}") if f"estimate:{c}" in result.quantities else {"mean": np.nan, "std": np.nan}
+        est = (result.quantity(f"estimate:{c}") if f"estimate:{c}" in result.quantities
+               else {"mean": np.nan, "std": np.nan, "band": (np.nan,) * len(PERCENTILES)})
         verdict = "NOT EVALUATED" if not np.isfinite(pf) else ("EXCEEDS" if pf > target else "OK")
         out.append({"criterion": c, "pf": float(pf), "target": target, "verdict": verdict,
                     "node_max": float(np.max(at_nodes)) if np.all(np.isfinite(at_nodes)) else float("nan"),
-                    "estimate_mean": est["mean"], "estimate_std": est["std"],
+                    "estimate_mean": est["mean"], "estimate_std": est["std"], "estimate_band": est["band"],
                     **dict(zip(("title", "unit", "limit"), info.get(c, ("", "", math.nan))))})
     return out
 

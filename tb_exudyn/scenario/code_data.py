@@ -77,9 +77,27 @@ def with_mass_case(bridge: Any, case: str) -> Any:
     dm = code.ballast_change(case)
     if dm == 0.0:
         return bridge
-    # the case's bridge holds its ballast at the case's density (so that it validates as any bridge)
-    code = code.replace(ballast_mass_per_length=code.ballast_mass_per_length + dm,
-                        ballast_density=code.ballast_density * (1.0 + dm / code.ballast_mass_per_length))
+    return _with_ballast_change(bridge, dm, code.ballast_density * (1.0 + dm / code.ballast_mass_per_length))
+
+
+def with_ballast_density(bridge: Any, density: float) -> Any:
+    """The bridge with its ballast at ``density`` [kg/m^3] (an uncertain ballast density: the key
+    ``bridge.code.ballast_density`` of an uncertainty study): the ballast's mass per length
+    ``ballast_mass_per_length x density / ballast_density`` and the mass change added where the model
+    carries it, as a mass case's (:func:`with_mass_case`); the copy's code data hold the ballast at
+    ``density``, which their check keeps within ``ballast_density_min`` ... ``ballast_density_max``.
+    A bridge without ballast, or at its own density, is returned itself."""
+    code = bridge.code
+    if code is None or code.ballast_mass_per_length == 0.0 or density == code.ballast_density:
+        return bridge
+    return _with_ballast_change(bridge, code.ballast_mass_per_length * (density / code.ballast_density - 1.0), density)
+
+
+def _with_ballast_change(bridge: Any, dm: float, density: float) -> Any:
+    """The bridge with ``dm`` [kg/m] more ballast, held at ``density`` in its code data (so that it
+    validates as any bridge), the change where the model carries it (:func:`with_mass_case`)."""
+    code = bridge.code
+    code = code.replace(ballast_mass_per_length=code.ballast_mass_per_length + dm, ballast_density=density)
     if hasattr(bridge, "added_mass"):  # a frame carries its ballast in the added mass
         am = bridge.added_mass
         ratio = (am.mass_per_length + dm) / am.mass_per_length
@@ -94,4 +112,4 @@ def with_mass_case(bridge: Any, case: str) -> Any:
     return bridge.replace(code=code, girder=scaled(bridge.girder))
 
 
-__all__ = ["CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "check_ballast", "with_mass_case"]
+__all__ = ["CONSTRUCTION_TYPES", "MASS_CASES", "CodeData", "check_ballast", "with_ballast_density", "with_mass_case"]

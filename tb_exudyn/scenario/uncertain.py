@@ -2,7 +2,8 @@
 
 Each entry names a scenario key by the same dotted path as ``--set`` (``bridge.girder.E``,
 ``bridge.damping_ratio``, ``train.vehicles.0.secondary.k_z``, ``track.irregularity_level``) and gives
-it a distribution; the keys are independent::
+it a distribution; the keys are independent. ``bridge.code.ballast_density`` is the ballast's density,
+with the bridge's ballast mass following it (:func:`apply_values`)::
 
     [uncertain."bridge.girder.E"]
     distribution = "lognormal"
@@ -39,6 +40,7 @@ from typing import Any
 
 from . import model as m
 from ..errors import SettingError
+from .code_data import with_ballast_density
 from .errors import ScenarioError
 from .io import resolve_model_path, scenario_from_dict, with_settings
 from .schema import to_dict
@@ -50,6 +52,9 @@ DISTRIBUTIONS: tuple[str, ...] = ("normal", "lognormal", "uniform", "truncated_n
 PARAMETERS: tuple[str, ...] = ("distribution", "mean", "cov", "std", "bounds", "relative_bounds")
 #: the tail probability at each end of an unbounded distribution whose quantile must stay in the key's range
 TAIL = 1e-6
+#: the ballast's density as an uncertain key: the bridge's ballast mass follows it
+#: (:func:`~tb_exudyn.scenario.code_data.with_ballast_density`), within the code data's density range
+BALLAST_DENSITY = "bridge.code.ballast_density"
 #: at most this many uncertain keys (a tensor or sparse grid grows fast with the dimension)
 MAX_KEYS = 12
 
@@ -85,8 +90,25 @@ def lognormal_parameters(mean: float, std: float) -> tuple[float, float]:
     return math.log(mean) - s2 / 2, math.sqrt(s2)
 
 
+def apply_values(scenario: m.Scenario, settings: Any) -> m.Scenario:
+    """The scenario with the uncertain keys' values ((dotted key, value), ...) set: through the --set
+    mechanism (:func:`~tb_exudyn.scenario.io.with_settings`, every value checked by the schema), but
+    :data:`BALLAST_DENSITY`, the ballast's density, whose ballast mass the bridge's mass follows
+    (:func:`~tb_exudyn.scenario.code_data.with_ballast_density`; alone, the key would only say at which
+    density the model's mass is). ScenarioError naming the key when the schema refuses a value."""
+    settings = list(settings)
+    for key, value in settings:
+        if key == BALLAST_DENSITY:
+            scenario = scenario.replace(bridge=with_ballast_density(scenario.bridge, float(value)))
+    return with_settings(scenario, [(k, v) for k, v in settings if k != BALLAST_DENSITY])
+
+
 def nominal_value(scenario: m.Scenario, key: str, where: str) -> float:
-    """The scenario's value of the dotted ``key`` (a number); ScenarioError naming ``where`` otherwise."""
+    """The scenario's value of the dotted ``key`` (a number); ScenarioError naming ``where`` otherwise
+    (and for :data:`BALLAST_DENSITY` on a bridge without ballast: the key would change nothing)."""
+    if key == BALLAST_DENSITY and (scenario.bridge.code is None or scenario.bridge.code.ballast_mass_per_length <= 0):
+        raise ScenarioError(where, f"uncertain.{key}", None, "a bridge with ballast (bridge.code.ballast_mass_per_length "
+                            "> 0)", "no ballast on this bridge")
     node: Any = to_dict(scenario)
     try:  # the --set mechanism: an unknown key or index is its error
         with_settings(scenario, [(key, _probe(node, key))])
@@ -205,7 +227,7 @@ def check_value(scenario: m.Scenario, key: str, value: float, where: str, what: 
     """The scenario with ``key`` = ``value`` (the --set mechanism); ScenarioError naming ``where`` and
     ``uncertain.<key>`` when the schema refuses the value. Returns the new scenario."""
     try:
-        return with_settings(scenario, [(key, float(value))])
+        return apply_values(scenario, [(key, float(value))])
     except ScenarioError as exc:
         raise ScenarioError(where, f"uncertain.{key}", value, exc.allowed,
                             f"{what} reaches a value the key does not allow ({exc.reason})") from None
@@ -258,5 +280,5 @@ def load_study(path_or_name: str | Path, uncertain_file: str | Path | None = Non
     return scenario, check_uncertain(scenario, table, str(path))
 
 
-__all__ = ["DISTRIBUTIONS", "MAX_KEYS", "PARAMETERS", "TAIL", "UncertainKey", "check_uncertain", "check_value",
+__all__ = ["BALLAST_DENSITY", "DISTRIBUTIONS", "apply_values", "MAX_KEYS", "PARAMETERS", "TAIL", "UncertainKey", "check_uncertain", "check_value",
            "load_study", "load_uncertain", "lognormal_parameters", "nominal_value", "parse_key"]

@@ -218,4 +218,4 @@ def test_speeds_sharing_a_task_label_run_in_separate_sweeps(monkeypatch):
                                                                       run_sweep=run_sweep))
     run = stoch.run_stochastic(load_scenario("quick"), [250.0, 250.0001, 260.0], "ballasted")
     assert calls == [[250.0, 260.0], [250.0001]]
-    assert {k: v["level_at_target"] for k, v in run.values.items()} == {250.0: 2.5, 250.0001: 2.500001, 260.0: 2.6}
+    assert {k: v.level_at_target for k, v in run.values.items()} == {250.0: 2.5, 250.0001: 2.500001, 260.0: 2.6}

@@ -139,7 +139,7 @@ def test_saved_result_is_checked_when_loaded(tmp_path):
     rng = np.random.default_rng(1)
     nt, nc, nq, nk, nn = 5, 2, 3, 2, 4
     shapes = {"time": (nt,), "mean_sigma": (nc, nt), "std_sigma": (nc, nt), "mean_response": (nc, nt),
-              "sigma_band": (3, nc, nt), "quantity_mean": (nq,), "quantity_std": (nq,), "sobol_first": (nk, nq),
+              "sigma_band": (3, nc, nt), "quantity_mean": (nq,), "quantity_std": (nq,), "quantity_band": (3, nq), "sobol_first": (nk, nq),
               "sobol_total": (nk, nq), "loo": (nq,), "pf": (1,), "node_values": (nn, nk), "node_weights": (nn,),
               "node_quantities": (nn, nq)}
     data = {k: np.abs(rng.standard_normal(v)) for k, v in shapes.items()}

@@ -156,3 +156,68 @@ def test_loo_warning_above_one_per_cent():
     # a quantity the keys hardly move (cov 2e-4, the car body on li_zhu_2011): its LOO of 9 % is noise
     assert loo_warnings(["max_sigma:b"], np.array([0.09]), np.array([0.093]), np.array([1.9e-5])) == []
     assert loo_warnings(["max_sigma:d"], np.array([0.019]), np.array([0.101]), np.array([0.0091]))
+
+
+def test_quantity_band_is_the_keys_quantiles():
+    """The 5, 50 and 95 % points of a quantity over the keys (``quantity_band``: the surrogate at 1024
+    Sobol points). The quantities are the keys themselves, a uniform on [2, 4] and a normal N(10, 1),
+    whose quantiles are known in closed form: 2 + 2 p, and 10 + z_p (z_0.95 = 1.6449). The expansion of
+    a key in its own germ is exact at order 1, so what is left is the Sobol points' quantile error: each
+    key's 1024 points fall about one in each of 1024 equal-probability cells, and the percentile
+    interpolates between neighbours: an error of about one cell, 1/1024 of the probability, that is
+    2.0e-3 in the uniform's value and 9.8e-4 / phi(z_0.95) = 9.5e-3 in the normal's at 5 and 95 %
+    (measured: 1.9e-3 and 8.9e-3); tolerance two cells, 4e-3 and 2e-2. A max sigma is clipped at 0 and a probability to [0, 1] (a polynomial may leave
+    them between the nodes); a least-squares design gives the same points."""
+    from statistics import NormalDist
+
+    from tb_exudyn.methods.uq.summary import quantity_band
+
+    ks = [parse_key("u", {"distribution": "uniform", "bounds": [2.0, 4.0]}, 3.0, "test"),
+          parse_key("n", {"distribution": "normal", "std": 1.0}, 10.0, "test")]
+    germs = [pce.key_germ(k) for k in ks]
+    for design, n in (("tensor", None), ("sobol", 20)):
+        x, w = pce.nodes(germs, 2, design, n)
+        v = np.stack([pce.key_value(k, x[j]) for j, k in enumerate(ks)])
+        values = np.stack([v[0], v[1], v[1] - 10.0, v[1] - 10.0], axis=1)  # node x quantity
+        e = pce.fit(germs, 2, x, w, values)
+        band = quantity_band(germs, 2, e, ["estimate:u", "estimate:n", "max_sigma:c", "probability:c"])
+        z = [NormalDist().inv_cdf(p / 100) for p in (5, 50, 95)]
+        assert np.allclose(band[:, 0], [2.1, 3.0, 3.9], atol=4e-3), band[:, 0]
+        assert np.allclose(band[:, 1], 10.0 + np.array(z), atol=2e-2), band[:, 1]
+        assert band[0, 2] == 0.0 and band[2, 2] == pytest.approx(z[2], abs=2e-2)  # clipped at 0
+        assert band[0, 3] == 0.0 and band[2, 3] == 1.0  # clipped to [0, 1]
+
+
+def test_ballast_density_key_moves_the_ballast_mass():
+    """``bridge.code.ballast_density`` as an uncertain key is the ballast's density, and the model's mass
+    follows it: on the reference study's frame, whose added mass carries 11677.75 kg/m of ballast at
+    1800 kg/m^3, 1900 kg/m^3 adds 11677.75 x (1900 / 1800 - 1) = 648.76 kg/m to the added mass (its
+    polar moment by the same ratio), as EN 1991-2's mass case at that density would; a simple beam's
+    girder carries it likewise. Reach outside the code data's density range (EN 1991-1-1's 1700-2000
+    kg/m^3) and a bridge without ballast are refused naming the key."""
+    import tb_exudyn as tbx
+    from tb_exudyn.scenario.code_data import with_mass_case
+    from tb_exudyn.scenario.uncertain import BALLAST_DENSITY, apply_values, check_uncertain
+
+    sc = tbx.load_scenario("li_zhu_2011")
+    am = sc.bridge.added_mass
+    node = apply_values(sc, [(BALLAST_DENSITY, 1900.0), ("bridge.damping_ratio", 0.04)])
+    dm = 11677.75 * (1900.0 / 1800.0 - 1.0)
+    assert node.bridge.added_mass.mass_per_length == pytest.approx(am.mass_per_length + dm, rel=1e-14)
+    assert node.bridge.added_mass.rot_mass_per_length == pytest.approx(
+        am.rot_mass_per_length * (am.mass_per_length + dm) / am.mass_per_length, rel=1e-14)
+    assert node.bridge.code.ballast_density == 1900.0 and node.bridge.damping_ratio == 0.04
+    assert node.bridge.girder == sc.bridge.girder
+    upper = with_mass_case(sc.bridge, "upper")  # the mass case at 2000 kg/m^3: the same change
+    assert apply_values(sc, [(BALLAST_DENSITY, 2000.0)]).bridge.added_mass.mass_per_length == pytest.approx(
+        upper.added_mass.mass_per_length, rel=1e-14)
+    beam = tbx.load_scenario("quick")  # a simple beam: its girder carries the ballast
+    assert apply_values(beam, [(BALLAST_DENSITY, 1900.0)]).bridge.girder.mass_per_length == pytest.approx(
+        beam.bridge.girder.mass_per_length + beam.bridge.code.ballast_mass_per_length / 18.0, rel=1e-14)
+    keys = check_uncertain(sc, {BALLAST_DENSITY: {"distribution": "uniform", "bounds": [1700.0, 2000.0]}}, "t.toml")
+    assert keys[0].nominal == 1800.0
+    with pytest.raises(ScenarioError, match="uncertain.bridge.code.ballast_density.*density range"):
+        check_uncertain(sc, {BALLAST_DENSITY: {"distribution": "uniform", "bounds": [1600.0, 2000.0]}}, "t.toml")
+    with pytest.raises(ScenarioError, match="uncertain.bridge.code.ballast_density.*no ballast"):
+        check_uncertain(tbx.load_scenario("yang_yau_sprung_mass"),
+                        {BALLAST_DENSITY: {"distribution": "uniform", "bounds": [1700.0, 2000.0]}}, "t.toml")

@@ -33,6 +33,8 @@ def result() -> UqResult:
     data = {"time": np.linspace(0.0, 3.0, nt), "mean_sigma": np.ones((1, nt)), "std_sigma": np.full((1, nt), 0.1),
             "mean_response": np.zeros((1, nt)), "sigma_band": band,
             "quantity_mean": np.array([1.1, PF[0], PF[1], 1.1, 0.6]), "quantity_std": np.full(nq, 0.08),
+            "quantity_band": np.array([[1.0, 0.5e-3, 0.5e-7, 1.0, 0.5], [1.1, 1e-3, 1e-7, 1.1, 0.6],
+                                       [1.2, 1.5e-3, 1.5e-7, 1.2, 0.7]]),
             "sobol_first": np.full((1, nq), 0.97), "sobol_total": np.ones((1, nq)),
             "loo": np.array([0.03, 0.002, 0.004, 0.005, np.nan]), "pf": np.array(PF),
             "node_values": np.array([[3.2e5], [4.0e5], [4.8e5]]), "node_weights": np.array([1 / 6, 2 / 3, 1 / 6]),
@@ -51,6 +53,7 @@ def test_verdict_is_p_f_against_the_target():
     assert rows[CRITERIA[0]]["verdict"] == "EXCEEDS" and rows[CRITERIA[1]]["verdict"] == "OK"
     assert rows[CRITERIA[0]]["target"] == DEFAULT_TARGET_PROBABILITY
     assert rows[CRITERIA[0]]["node_max"] == 1.5e-3 and rows[CRITERIA[1]]["estimate_mean"] == 0.6
+    assert rows[CRITERIA[1]]["estimate_band"] == (0.5, 0.6, 0.7)
     assert {r["verdict"] for r in pf_verdicts(result(), target=1e-2)} == {"OK"}
 
 

@@ -14,6 +14,7 @@ The expansion of every quantity over the nodes (:func:`.summary.expand`) makes t
 
 from __future__ import annotations
 
+import os
 import time as _time
 import warnings
 from dataclasses import dataclass
@@ -27,9 +28,9 @@ from ...errors import ScenarioError, SettingError
 from ...execution import Execution, RunFiles, Task
 from ...results.uq import UQ_FOLDER, UqResult
 from ...scenario import Scenario, scenario_to_toml
-from ...scenario.io import as_scenario, with_settings
-from ...scenario.uncertain import UncertainKey, check_uncertain
-from .. import pem
+from ...scenario.io import as_scenario
+from ...scenario.uncertain import UncertainKey, apply_values, check_uncertain
+from .. import pem, warm_up
 from ..common import fingerprint_identity
 from ..sweep import check_columns, key_patterns
 from ..driver import RunPlan, drive
@@ -70,11 +71,16 @@ class UqWorker:
 
     def work(self, _: Any, task: Task) -> dict[str, np.ndarray]:
         nt: NodeTask = task.data
+        start, clock = _time.time(), _time.perf_counter()
         execution = Execution(workers=1, progress=False, slices=NODE_SLICES, where="run_uq")
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             result = pem.run(nt.scenario, nt.engine, execution, options=nt.options, keep_psd=False)
+        pem_end = _time.perf_counter()
         summary = node_summary(result, check_columns)
+        # when and where the node ran (the timeline; not a number of the result): the wall clock at its
+        # start [s since the epoch], the worker's process id, its PEM and its summary (the checks) [s]
+        summary["timeline"] = np.array([start, os.getpid(), pem_end - clock, _time.perf_counter() - pem_end])
         summary["warnings"] = np.array(list(dict.fromkeys(str(w.message) for w in caught  # not the pool's ResourceWarnings
                                                           if not issubclass(w.category, ResourceWarning))),
                                         dtype=str).reshape(-1)
@@ -94,13 +100,14 @@ def check_keys(keys: Sequence[UncertainKey], where: str) -> None:
 
 
 def node_scenarios(scenario: Scenario, keys: Sequence[UncertainKey], values: np.ndarray) -> list[Scenario]:
-    """Each node's scenario: the keys' values (key x node) set through the --set mechanism, checked by
-    the schema (a value it refuses: ScenarioError naming ``uncertain.<key>`` and the node)."""
+    """Each node's scenario: the keys' values (key x node) set through the --set mechanism (the ballast's
+    density with the bridge's mass following it: :func:`~tb_exudyn.scenario.uncertain.apply_values`),
+    checked by the schema (a value it refuses: ScenarioError naming ``uncertain.<key>`` and the node)."""
     out = []
     for n in range(values.shape[1]):
         settings = [(uk.key, float(values[j, n])) for j, uk in enumerate(keys)]
         try:
-            out.append(with_settings(scenario, settings))
+            out.append(apply_values(scenario, settings))
         except ScenarioError as exc:
             raise ScenarioError(scenario.where, f"uncertain.{exc.key}", exc.value, exc.allowed,
                                 f"node {n} of the design reaches a value the key does not allow ({exc.reason})") from None
@@ -128,6 +135,7 @@ class UqState:
     values: np.ndarray
     summaries: list[dict[str, np.ndarray]]
     t0: float
+    wall0: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -164,15 +172,16 @@ class UqMethod:
         self.design()
 
     def plan(self, execution: Execution) -> RunPlan:
-        t0 = _time.perf_counter()
+        t0, wall0 = _time.perf_counter(), _time.time()
         order, n_nodes, cls, base, germs, x, w, values, scenarios = self.design()
+        warm_up.start(cls, self.options, execution.announce)  # a cold cache compiled once, beside the set-up
         tasks = [Task(f"node-{n:05d}", NodeTask(sc, self.engine, self.options)) for n, sc in enumerate(scenarios)]
         identity = fingerprint_identity(
             scenario_to_toml(base), method="uq", engine=self.engine, engine_options=cls.describe_options(self.options),
             method_options={"keys": keys_json(self.keys), "order": order, "design": self.design_name, "nodes": n_nodes,
                             "window": None if self.window is None else list(self.window)},
             spectra=base.track.irregularities)
-        state = UqState(germs, x, w, values, [{} for _ in tasks], t0)
+        state = UqState(germs, x, w, values, [{} for _ in tasks], t0, wall0)
         return RunPlan(files=RunFiles(UQ_FOLDER, "checkpoint-uq"), tasks=tasks, identity=identity, state=state,
                        worker=UqWorker(), desc=f"uq: {len(tasks)} PEM nodes ({self.engine})")
 
@@ -197,13 +206,27 @@ class UqMethod:
             units=tuple(map(str, first["units"])), quantities=tuple(names), criteria=tuple(crit), data=arrays,
             provenance={"seconds": _time.perf_counter() - state.t0, "engine": self.engine, "order": self.order,
                         "design": self.design_name, "n_nodes": int(state.x.shape[1]), "warnings": notes + node_notes,
-                        "node_seconds": [float(s["seconds"]) for s in state.summaries], **stats})
+                        "node_seconds": [float(s["seconds"]) for s in state.summaries],
+                        "node_timeline": node_timeline(state), **stats})
         for message in notes:
             warnings.warn(message, UserWarning, stacklevel=2)
         return result
 
     def save(self, result: UqResult, out: Path) -> None:
         result.save(out / UQ_FOLDER)
+
+
+def node_timeline(state: UqState) -> dict[str, list[float]]:
+    """Per node: its start after the study's (``start`` [s]; a resumed node's is that of the run that
+    computed it), its worker (``worker``: 0, 1, ... in the order the workers first appear), its PEM
+    (``pem``: set-up, model, mean, columns, the grid error) and its summary (``summary``: the checks) [s].
+    Empty lists for nodes of a checkpoint that predates the timeline."""
+    rows = [s["timeline"] for s in state.summaries if "timeline" in s]
+    if len(rows) != len(state.summaries):
+        return {"start": [], "worker": [], "pem": [], "summary": []}
+    pids = list(dict.fromkeys(int(r[1]) for r in rows))
+    return {"start": [round(float(r[0]) - state.wall0, 3) for r in rows], "worker": [pids.index(int(r[1])) for r in rows],
+            "pem": [round(float(r[2]), 4) for r in rows], "summary": [round(float(r[3]), 4) for r in rows]}
 
 
 def run_uq(scenario: Scenario | str | Path, keys: Sequence[UncertainKey] | Mapping[str, Any], *, order: int = 3, design: str = "tensor",
@@ -231,4 +254,4 @@ def run_uq(scenario: Scenario | str | Path, keys: Sequence[UncertainKey] | Mappi
     return drive(UqMethod(scenario, tuple(keys), order, design, nodes, engine, options, channels, window), execution)
 
 
-__all__ = ["FIXED_KEYS", "FIXED_PREFIXES", "fixed_key", "NODE_SLICES", "NodeTask", "UqMethod", "UqWorker", "check_keys", "node_scenarios", "run_uq"]
+__all__ = ["FIXED_KEYS", "FIXED_PREFIXES", "fixed_key", "NODE_SLICES", "NodeTask", "UqMethod", "node_timeline", "UqWorker", "check_keys", "node_scenarios", "run_uq"]

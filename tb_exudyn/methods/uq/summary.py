@@ -62,19 +62,39 @@ def expand(germs: Sequence[Any], order: int, x: np.ndarray, w: np.ndarray | None
     q_mean, q_std = q.mean.copy(), np.sqrt(q.variance)
     q_mean[nan_cols] = q_std[nan_cols] = np.nan
     pf = q_mean[len(summaries[0]["channels"]):][: len(crit)]
+    band = quantity_band(germs, order, q, names)
+    band[:, nan_cols] = np.nan
     return {"mean_sigma": np.maximum(e_sigma.mean, 0.0), "std_sigma": np.sqrt(e_sigma.variance),
             "mean_response": e_mean.mean, "sigma_band": sigma_band(germs, order, e_sigma),
-            "quantity_mean": q_mean, "quantity_std": q_std, "sobol_first": first, "sobol_total": total,
+            "quantity_mean": q_mean, "quantity_std": q_std, "quantity_band": band, "sobol_first": first, "sobol_total": total,
             "loo": q.loo, "pf": pf, "quantities": names, "criteria": crit, "node_quantities": values}
+
+
+def band_points(germs: Sequence[Any]) -> np.ndarray:
+    """The germ samples the bands are read at (key x :data:`BAND_SAMPLES`): a Sobol design of the germs."""
+    import chaospy
+
+    return np.asarray(chaospy.J(*germs).sample(BAND_SAMPLES, rule="sobol"), dtype=float).reshape(len(germs), -1)
+
+
+def quantity_band(germs: Sequence[Any], order: int, e: pce.Expansion, names: Sequence[str]) -> np.ndarray:
+    """The :data:`PERCENTILES` of every quantity over the keys (percentile x quantity): the surrogate at
+    :func:`band_points`, a max sigma clipped at 0 and a probability to [0, 1] (a polynomial may leave
+    them where the nodes are not)."""
+    _, psi = pce.basis(germs, order, band_points(germs))
+    values = np.asarray(psi @ e.coefficients, dtype=float).reshape(psi.shape[0], len(names))
+    for j, n in enumerate(names):
+        if n.startswith("max_sigma:"):
+            values[:, j] = np.maximum(values[:, j], 0.0)
+        elif n.startswith("probability:"):
+            values[:, j] = np.clip(values[:, j], 0.0, 1.0)
+    return np.percentile(values, PERCENTILES, axis=0)
 
 
 def sigma_band(germs: Sequence[Any], order: int, e: pce.Expansion) -> np.ndarray:
     """The :data:`PERCENTILES` of sigma(t) over the keys (percentile x channel x time): the surrogate at
     :data:`BAND_SAMPLES` Sobol points of the germs, channel by channel (bounded memory), clipped at 0."""
-    import chaospy
-
-    xs = np.asarray(chaospy.J(*germs).sample(BAND_SAMPLES, rule="sobol"), dtype=float).reshape(len(germs), -1)
-    _, psi = pce.basis(germs, order, xs)
+    _, psi = pce.basis(germs, order, band_points(germs))
     coef = e.coefficients  # (basis, channel, time)
     out = np.empty((len(PERCENTILES),) + coef.shape[1:])
     for c in range(coef.shape[1]):
@@ -117,4 +137,4 @@ def keys_json(keys: Sequence[Any]) -> list[dict[str, Any]]:
             for uk in keys]
 
 
-__all__ = ["BAND_SAMPLES", "MEAN_SHARE", "PROBABILITY_FLOOR", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]
+__all__ = ["BAND_SAMPLES", "band_points", "quantity_band", "MEAN_SHARE", "PROBABILITY_FLOOR", "expand", "keys_json", "loo_warnings", "node_quantities", "node_summary", "sigma_band"]
