@@ -17,7 +17,6 @@ value x (1 + k phi'') of every row.
 from __future__ import annotations
 
 import importlib
-import importlib
 import math
 import time
 from dataclasses import dataclass, field, replace
@@ -292,10 +291,10 @@ def table_files(result: CheckResult) -> dict[str, bytes]:
 
 
 #: a check whose moving-force integrations add up to less than this (steps x modes x speeds) runs in this
-#: process when no worker count is given: a worker process's start (importing the methods, 1-2 s) would
-#: cost more than it saves. li_zhu_2011_bridge under HSLM-A at 250 km/h is about 2e9 (33 CPU-s on the
-#: shared machine); single_span_32m under HSLM-A1 at 120 km/h about 1e6
-IN_PROCESS_WORK = 2e8
+#: process when no worker count is given: a worker process's start (importing the methods, 1-2 s each, in
+#: parallel) would cost more than it saves. About 8e-8 CPU-s per unit: li_zhu_2011_bridge under HSLM-A at
+#: 250 km/h is 4.2e8 (33 CPU-s: a pool of 2), single_span_32m under HSLM-A1 at 120 km/h 2.5e5 (in this process)
+IN_PROCESS_WORK = 5e7
 
 
 def _work(setup: CheckSetup) -> float:

@@ -104,3 +104,34 @@ def test_a_kill_half_way_and_resume_give_the_same_table(reference, tmp_path, cap
     assert main(argv(out, "--workers", "1", "--resume")) == 0
     assert f"{TASKS} tasks, 3 from the checkpoint" in capsys.readouterr().out
     assert (out / "check.csv").read_bytes() == reference
+
+
+def test_a_dask_executor_gives_the_same_table(reference, tmp_path):
+    """The same six tasks on a local Dask cluster of two worker processes (``check(executor=...)``, the
+    executor README names), against the command's one-worker check.csv."""
+    distributed = pytest.importorskip("distributed", reason="the 'dask' extra is not installed")
+    import warnings
+
+    from tb_exudyn.codes import check
+
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        with distributed.Client(cluster) as client, warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            result = check("single_span_32m", 200.0, trains=["HSLM-A1", "HSLM-A2"], executor=client.get_executor(),
+                           out=tmp_path / "out")
+    assert result.run["tasks"] == TASKS and result.run["executor"] != "in-process"
+    assert (tmp_path / "out" / "check.csv").read_bytes() == reference
+
+
+def test_without_a_worker_count_a_small_check_runs_here_and_a_large_one_in_a_pool():
+    """A worker's start (1-2 s of imports) outweighs a small check's integrations: without ``workers`` a
+    check below IN_PROCESS_WORK (steps x modes x speeds) runs in this process; li_zhu_2011_bridge under
+    HSLM-A at 250 km/h (33 CPU-s measured) is above it (its plan only: nothing is integrated here)."""
+    from tb_exudyn.codes import check
+
+    chk = importlib.import_module("tb_exudyn.codes.check")
+    from tb_exudyn.codes.check_plan import plan_check
+
+    assert check("single_span_32m", 120.0, trains=["HSLM-A1"]).run["executor"] == "in-process"
+    assert chk._work(plan_check("single_span_32m", 120.0, trains=["HSLM-A1"])) < chk.IN_PROCESS_WORK
+    assert chk._work(plan_check("li_zhu_2011_bridge", 250.0, trains=["hslm_a"])) > 4 * chk.IN_PROCESS_WORK
