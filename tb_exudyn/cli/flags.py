@@ -72,6 +72,7 @@ MENTIONS: dict[str, str] = {
     "not keeping them (keep_samples=False)": f"not keeping them (no {FLAGS['keep_samples']})",
     "fewer PSD maps (psd_channels), or keep_psd=False": f"fewer PSD maps ({FLAGS['psd_channels']} key)",
     "an uncertain file (uncertain_file)": "an uncertain file (--uncertain-file)",
+    "run_pem of the scenario at that speed": "run --speed-kmh",
 }
 _MENTION = re.compile("|".join(re.escape(m) for m in sorted(MENTIONS, key=len, reverse=True)))
 #: the head of a library notice about one of its arguments, ``command line: workers = 8 ...``

@@ -260,7 +260,6 @@ def _stochastic(where: str, train_list: Sequence[ForceTrain], cases: Sequence[st
     if NOMINAL_CASE not in cases:
         raise SettingError(where, "cases", list(cases), f"mass cases including {NOMINAL_CASE!r} (the stochastic rows' case)")
     extra = _stochastic_speeds(where, stochastic_speeds, line_speed_kmh)
-    stoch.check_limits(track, code.deck_acceleration_limit(track), where)
     return chosen, extra, stoch.scenario_source(stochastic_scenario, where, "stochastic_scenario")
 
 

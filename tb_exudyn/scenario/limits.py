@@ -80,7 +80,9 @@ import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar, Literal, Sequence
+from typing import ClassVar, Literal, Sequence, get_args
+
+import numpy as np
 
 from ..errors import SettingError
 from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param, set_source_file
@@ -166,6 +168,7 @@ STATISTICS: dict[str, str] = {
                             "(EN 14363 style post-processing)",
 }
 Statistic = Literal["max_abs", "max", "min", "rms_window", "window_max", "sliding_mean_max_abs"]
+_OptionalStatistic = Literal[("", *get_args(Statistic))]  # '': a structural criterion
 
 #: the quantities that are windowed indices, not Gaussian processes: checked by ``window_max`` only (and
 #: ``window_max`` checks only them: on a random process it would read the mean and drop sigma)
@@ -299,8 +302,91 @@ class StaticLoadLimit(Validated):
                                                  "factor x (constant + coefficient x load) must be > 0)", "the limit is 0")
 
 
-Limit = FixedLimit | SpeedBandLimit | GradedLimit | StaticLoadLimit
-LIMIT_KINDS: dict[str, type] = {c.kind: c for c in (FixedLimit, SpeedBandLimit, GradedLimit, StaticLoadLimit)}
+@dataclass(frozen=True, kw_only=True)
+class SpanRatioLimit(Validated):
+    """A limit of L / ratio [m], L the span (L/600)."""
+
+    kind: ClassVar[str] = "span_ratio"
+    ratio: float = param(doc="n of L/n", check=POSITIVE)
+
+    def value_at(self, *, span: float) -> float:
+        return float(span) / self.ratio
+
+
+@dataclass(frozen=True, kw_only=True)
+class ComfortFigureLimit(Validated):
+    """Figure A2.3: the smallest L/delta by speed and span for b_v = 1 m/s^2 and three or more simply
+    supported spans, as polylines in L per speed (linear in L, then linear in V between the curves; below the
+    first curve its values, above the last: not evaluated); the factor on L/delta for one or two spans and
+    for continuous beams of three or more; the floor of L/delta; the spans covered; the comfort levels b_v."""
+
+    kind: ClassVar[str] = "comfort_figure"
+    speeds_kmh: tuple[float, ...] = param(unit="km/h", doc="the speeds of the curves, increasing", check=POSITIVE)
+    spans_m: tuple[tuple[float, ...], ...] = param(unit="m", doc="per curve its span breakpoints, increasing",
+                                                    check=NONNEGATIVE)
+    ratios: tuple[tuple[float, ...], ...] = param(doc="per curve L/delta at its breakpoints", check=POSITIVE)
+    factor_one_or_two_spans: float = param(doc="factor on L/delta: one span, two simply supported or two continuous",
+                                           check=POSITIVE)
+    factor_continuous_three_or_more: float = param(doc="factor on L/delta: continuous beam of 3 or more spans",
+                                                   check=POSITIVE)
+    minimum_ratio: float = param(doc="L/delta is never below this", check=POSITIVE)
+    max_span_m: float = param(unit="m", doc="the figure holds up to this span", check=POSITIVE)
+    comfort_labels: tuple[str, ...] = param(doc="the comfort levels, best first")
+    comfort_b_v: tuple[float, ...] = param(unit="m/s^2", doc="their car-body acceleration b_v", check=POSITIVE)
+
+    def _validate(self, ctx: Context) -> None:
+        n = len(self.speeds_kmh)
+        if not n or len(self.spans_m) != n or len(self.ratios) != n:
+            raise ctx.child("ratios").error(len(self.ratios), f"one span list and one ratio list per speed ({n})",
+                                            "length mismatch")
+        if any(b <= a for a, b in zip(self.speeds_kmh, self.speeds_kmh[1:])):
+            raise ctx.child("speeds_kmh").error(list(self.speeds_kmh), "strictly increasing speeds", "not increasing")
+        for i, (s, r) in enumerate(zip(self.spans_m, self.ratios)):
+            if len(s) < 2 or len(s) != len(r) or any(b <= a for a, b in zip(s, s[1:])):
+                raise ctx.child("spans_m").child(i).error(list(s), "two or more increasing spans, one ratio each",
+                                                          "bad curve")
+            if s[0] > 0.0 or s[-1] < self.max_span_m:
+                raise ctx.child("spans_m").child(i).error(list(s), f"a curve from 0 to max_span_m ({self.max_span_m:g} m)",
+                                                          "the curve does not cover the figure's spans")
+        if len(self.comfort_labels) != len(self.comfort_b_v) or not self.comfort_b_v:
+            raise ctx.child("comfort_b_v").error(list(self.comfort_b_v), "one b_v per comfort label", "length mismatch")
+
+    def base_ratio(self, span: float, speed_kmh: float) -> float:
+        """L/delta of the figure (b_v = 1, base case) at ``span`` and ``speed_kmh``; NaN beyond the last
+        curve's speed or the figure's spans."""
+        if not (0.0 < span <= self.max_span_m) or speed_kmh > self.speeds_kmh[-1] or not speed_kmh > 0:
+            return math.nan
+        at = [float(np.interp(span, s, r)) for s, r in zip(self.spans_m, self.ratios)]
+        return float(np.interp(speed_kmh, self.speeds_kmh, at))
+
+    def span_factor(self, n_spans: int, continuous: bool) -> float:
+        """The factor on L/delta: continuous beams of 3 or more spans, else (one span, two spans, or a series
+        of simply supported spans counted as the base case when there are 3 or more) 1.0 / 0.7."""
+        if continuous and n_spans >= 3:
+            return self.factor_continuous_three_or_more
+        if n_spans <= 2:
+            return self.factor_one_or_two_spans
+        return 1.0
+
+    def b_v(self, level: str) -> float:
+        if level not in self.comfort_labels:
+            raise SettingError("comfort_deflection", "comfort_level", level, " | ".join(self.comfort_labels))
+        return self.comfort_b_v[self.comfort_labels.index(level)]
+
+    def ratio(self, span: float, speed_kmh: float, n_spans: int, continuous: bool, level: str) -> float:
+        """The limit's L/delta: max(minimum, figure x span factor / b_v) (NaN where the figure has no value)."""
+        base = self.base_ratio(span, speed_kmh)
+        if math.isnan(base):
+            return math.nan
+        return max(self.minimum_ratio, base * self.span_factor(n_spans, continuous) / self.b_v(level))
+
+
+Limit = FixedLimit | SpeedBandLimit | GradedLimit | StaticLoadLimit | SpanRatioLimit | ComfortFigureLimit
+LIMIT_KINDS: dict[str, type] = {c.kind: c for c in (FixedLimit, SpeedBandLimit, GradedLimit, StaticLoadLimit, SpanRatioLimit,
+                                                     ComfortFigureLimit)}
+#: the limit kinds of a criterion on a result's channels (a statistic) and of a structural one (a bound)
+RESPONSE_LIMITS = ("fixed", "speed_bands", "grades", "static_load")
+STRUCTURAL_LIMITS = ("fixed", "speed_bands", "span_ratio", "comfort_figure")
 
 _ID = re.compile(r"[a-z][a-z0-9_]*")
 
@@ -308,15 +394,30 @@ _ID = re.compile(r"[a-z][a-z0-9_]*")
 # ============================================================================================ criteria
 @dataclass(frozen=True, kw_only=True)
 class Criterion(Validated):
-    """One criterion of a code: what is limited, how it is evaluated, the limit and where it comes from."""
+    """One criterion of a code: what is limited, how it is evaluated, the limit and where it comes from.
+
+    Two forms, one type: a criterion on a result's channels (models/limits/: a ``quantity`` of
+    :data:`QUANTITIES` reduced by a ``statistic``, its unit the quantity's) and a structural one that the
+    EN 1991-2 check computes on the bridge (models/criteria/: no statistic; the quantity in words, its
+    ``unit``, its ``bound``, the ``load_model`` and where it is ``read_at``; limits also ``span_ratio``,
+    ``comfort_figure``)."""
 
     id: str = param(doc="identifier, unique in its file (lower case, digits, _)")
     title: str = param(doc="one line: the criterion in words")
     clause: str = param(doc="the code and clause (or why there is none)")
     source: str = param(doc="where the value was read or from what it was recalled")
-    quantity: str = param(doc="the quantity it applies to (a name of tb_exudyn.scenario.limits.QUANTITIES)")
-    statistic: Statistic = param(doc="how the time history is reduced (tb_exudyn.scenario.limits.STATISTICS)")
-    limit: Limit = param(doc="the limit: a table with kind = fixed | speed_bands | grades | static_load")
+    quantity: str = param(doc="the quantity it applies to (a name of tb_exudyn.scenario.limits.QUANTITIES; a "
+                               "structural criterion: the quantity in words)")
+    statistic: _OptionalStatistic = param("", doc="how the time history is reduced (tb_exudyn.scenario.limits.STATISTICS); "
+                                                  "'': a structural criterion")
+    limit: Limit = param(doc="the limit: a table with kind = fixed | speed_bands | grades | static_load (structural: "
+                             "fixed | speed_bands | span_ratio | comfort_figure)")
+    load_model: str = param("", doc="the load model it applies to ('': the result's train)")
+    tracks: str = param("", doc="which tracks carry the load ('': the result's)")
+    read_at: str = param("", doc="where the quantity is read ('': the channels of its quantity)")
+    bound: Literal["", "upper", "lower"] = param("", doc="upper: value <= limit; lower: value >= limit ('': from the "
+                                                         "statistic, lower for 'min')")
+    unit: str = param("", doc="unit of the quantity and the limit ('': the quantity's, QUANTITIES)")
     window: float = param(0.0, unit="s", doc="window length of rms_window and window_max", check=NONNEGATIVE)
     averaging_length: float = param(0.0, unit="m", doc="sliding-mean length of sliding_mean_max_abs", check=NONNEGATIVE)
     band: tuple[float, ...] = param((), unit="Hz", doc="(f_low, f_high) the quantity is band-limited to first; empty: none",
@@ -336,27 +437,55 @@ class Criterion(Validated):
         return "limit_note", f"limit value read; its {self.unverified} not read [check], {verify}: {self.note}"
 
     @property
-    def unit(self) -> str:
-        """The unit of the quantity (and of the limit values)."""
-        return QUANTITIES[self.quantity].unit
+    def structural(self) -> bool:
+        """True for a criterion the check computes on the bridge (no statistic of a result)."""
+        return not self.statistic
 
     @property
     def lower_bound(self) -> bool:
-        """True when the limit is a lower bound (statistic 'min')."""
-        return self.statistic == "min"
+        """True when the limit is a lower bound (statistic 'min', or bound 'lower')."""
+        return self.statistic == "min" or self.bound == "lower"
 
     def limit_value(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                    static_wheel_load: float | None = None) -> float:
-        """The limit for a train speed [km/h] and static loads [N] (those that the limit kind needs)."""
-        return self.limit.value_at(speed_kmh=speed_kmh, static_axle_load=static_axle_load,
-                                   static_wheel_load=static_wheel_load)
+                    static_wheel_load: float | None = None, span: float | None = None) -> float:
+        """The limit for a train speed [km/h], static loads [N] or a span [m] (those that the limit kind needs);
+        the comfort figure's depends on more (tb_exudyn.codes.comfort_deflection.comfort_limit)."""
+        lim = self.limit
+        if isinstance(lim, SpanRatioLimit):
+            return lim.value_at(span=span)
+        if isinstance(lim, ComfortFigureLimit):
+            raise SettingError("Criterion.limit_value", "id", self.id, "a criterion without the comfort figure "
+                               "(comfort_deflection.comfort_limit computes it)")
+        return lim.value_at(speed_kmh=speed_kmh, static_axle_load=static_axle_load, static_wheel_load=static_wheel_load)
 
     def _validate(self, ctx: Context) -> None:
         if not _ID.fullmatch(self.id):
             raise ctx.child("id").error(self.id, "lower-case letters, digits and _, starting with a letter", "bad identifier")
-        for key in ("title", "clause", "source"):
+        for key in ("title", "clause", "source") + (("quantity", "load_model", "read_at", "unit") if self.structural else ()):
             if not getattr(self, key).strip():
-                raise ctx.child(key).error(getattr(self, key), "a non-empty string", "empty")
+                raise ctx.child(key).error(getattr(self, key), "a non-empty string" + (
+                    " (a criterion without a statistic is structural)" if self.structural else ""), "empty")
+        allowed = STRUCTURAL_LIMITS if self.structural else RESPONSE_LIMITS
+        if self.limit.kind not in allowed:
+            raise ctx.child("limit").child("kind").error(self.limit.kind, " | ".join(allowed) + (
+                " (a structural criterion)" if self.structural else " (a criterion with a statistic)"), "wrong limit kind")
+        if self.check and not self.note.strip():
+            raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
+        if self.structural:
+            if not self.bound:
+                raise ctx.child("bound").error(self.bound, "upper | lower (a criterion without a statistic)", "missing")
+            self._validate_limit(ctx.child("limit"))
+            return
+        own = "lower" if self.statistic == "min" else "upper"
+        if self.bound not in ("", own):
+            raise ctx.child("bound").error(self.bound, f"'' or {own!r} (statistic {self.statistic!r})", "contradicts the statistic")
+        if self.quantity in QUANTITIES and self.unit not in ("", QUANTITIES[self.quantity].unit):
+            raise ctx.child("unit").error(self.unit, f"'' or {QUANTITIES[self.quantity].unit!r} (quantity {self.quantity!r})",
+                                          "not the quantity's unit")
+        self._validate_response(ctx)
+        object.__setattr__(self, "unit", QUANTITIES[self.quantity].unit)  # a response criterion's unit: its quantity's
+
+    def _validate_response(self, ctx: Context) -> None:
         if self.quantity not in QUANTITIES:
             raise ctx.child("quantity").error(self.quantity, " | ".join(QUANTITIES), "unknown quantity")
         index = self.quantity in INDEX_QUANTITIES
@@ -379,8 +508,6 @@ class Criterion(Validated):
                                                       "'sliding_mean_max_abs'", "missing averaging length")
         if self.band and (len(self.band) != 2 or not self.band[0] < self.band[1]):
             raise ctx.child("band").error(list(self.band), "[] or [f_low, f_high] in Hz with f_low < f_high", "bad band")
-        if self.check and not self.note.strip():
-            raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
         self._validate_limit(ctx.child("limit"))
 
     def _validate_limit(self, ctx: Context) -> None:
@@ -392,7 +519,7 @@ class Criterion(Validated):
         if self.lower_bound and isinstance(lim, GradedLimit):
             raise ctx.child("kind").error(lim.kind, "fixed | speed_bands | static_load with statistic 'min' (grades "
                                           "are upper ends, best first)", "grades with a lower bound")
-        if self.lower_bound or isinstance(lim, StaticLoadLimit):  # static_load: > 0 by its own checks
+        if self.lower_bound or isinstance(lim, (StaticLoadLimit, SpanRatioLimit, ComfortFigureLimit)):  # > 0 by their checks
             return
         key, values = ("value", (lim.value,)) if isinstance(lim, FixedLimit) else ("values", lim.values)
         for i, v in enumerate(values):
@@ -436,8 +563,17 @@ class LimitSet(Validated):
             seen.add(c.id)
 
 
-def limits_from_dict(data: dict, file: str | None = None) -> LimitSet:
-    """Build and validate a LimitSet from a plain dict (the TOML table); ScenarioError names file and key."""
+def limits_from_dict(data: dict, file: str | None = None, structural: bool = False) -> LimitSet:
+    """Build and validate a LimitSet from a plain dict (the TOML table); ScenarioError names file and key. A
+    limit file (models/limits) holds criteria on a result's channels, each with a statistic; ``structural``:
+    the check's criteria file (models/criteria), none with a statistic."""
+    tables = data.get("criteria") if isinstance(data, dict) else None
+    for i, c in enumerate(tables if isinstance(tables, list) else []):
+        if isinstance(c, dict) and bool(c.get("statistic")) == structural:
+            allowed = ("absent: the criteria of this file are computed on the bridge" if structural else
+                       " | ".join(get_args(Statistic)) + ": the criteria of a limit file are statistics of a result")
+            raise Context(file).child("criteria").child(i).child("statistic").error(
+                c.get("statistic", "(missing)"), allowed, "given" if structural else "missing")
     return convert(LimitSet, data, Context(file))
 
 
@@ -451,6 +587,6 @@ def load_limits(name_or_path: str | Path) -> LimitSet:
 
 
 __all__ = [
-    "Criterion", "FixedLimit", "GradedLimit", "INDEX_QUANTITIES", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
+    "ComfortFigureLimit", "Criterion", "FixedLimit", "RESPONSE_LIMITS", "STRUCTURAL_LIMITS", "SpanRatioLimit", "GradedLimit", "INDEX_QUANTITIES", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
     "SpeedBandLimit", "StaticLoadLimit", "channels_for", "limits_from_dict", "load_limits", "quantity",
 ]

@@ -127,6 +127,9 @@ class _Operators:
         self.pk_c = in_precision(self.pk[:, None], self.dtype)
         self.pd_c = in_precision(self.pd[:, None], self.dtype)
         A0inv = np.zeros_like(A0)
+        self.coupled = comp.coupled  # the bridge block dense (a track's modes): see _coupled_bridge
+        if self.coupled:
+            self._coupled_bridge(A0, K0, D0, A0inv)
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
@@ -158,6 +161,21 @@ class _Operators:
         self._kinv: tuple[Any, ...] | None = None
         self.kblock: tuple[Any, ...] | None = None
         self._ktables: tuple[Any, ...] | None = None
+
+    def _coupled_bridge(self, A0: FloatArray, K0: FloatArray, D0: FloatArray, A0inv: FloatArray) -> None:
+        """The bridge's operators when its block of M, K0, D0 is coupled (:attr:`Component.coupled`):
+        the constant block A0_b is inverted once (into ``A0inv``), P_k = A0_b^-1 K0_b and P_d = A0_b^-1
+        D0_b are dense (the bridge's step Delta_b = -P_k q~_b - P_d v~_b - A0_b^-1 S^a^T f, two
+        products per step), L_q = S^k - C_b P_k, L_v = S^d - C_b P_d and S^a A0_b^-T take the place of
+        the diagonal case's column scalings (:meth:`prepare`); the contacts stay the low-rank part
+        (Woodbury)."""
+        nb = self.nb
+        Ab = np.linalg.inv(A0[:nb, :nb])
+        A0inv[:nb, :nb] = Ab
+        self.A0b_inv = Ab
+        self.Pk, self.Pd = Ab @ K0[:nb, :nb], Ab @ D0[:nb, :nb]
+        self.mPk = in_precision(-self.Pk, self.dtype)
+        self.mPd = in_precision(-self.Pd, self.dtype)
 
     def vehicle_tables(self) -> tuple[Any, ...]:
         """The vehicles' operators for the compiled step (:mod:`.compiled`): (vt, vo, bl, fo, vbuf),
@@ -200,14 +218,15 @@ class _Operators:
             self._kinv = (*blas_scratch(np.dtype(np.float64)), np.ascontiguousarray(self.row_vehicle),
                           np.array([[v.r0, v.r1] for v in self.vehicles], dtype=np.int64).reshape(-1, 2))
         n_r = self.rows.size
-        hbuf = np.empty(steps.size * n_r * n_r, dtype=self.dtype)
-        tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # in_precision's rule
+        hbuf = np.empty(steps.size * n_r * n_r, dtype=np.float64)  # float64 in every precision: one
+        tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # compiled kernel
         try:
             self._kernels.contact_inverses(*self._kinv, steps, np.ascontiguousarray(on), self.H0,
                                            np.ascontiguousarray(Cb), np.ascontiguousarray(SaS), a0,
                                            st, hbuf, hoff, tiny)
         except np.linalg.LinAlgError:
             raise np.linalg.LinAlgError("singular contact matrix in the batched engine") from None
+        hbuf = hbuf.astype(self.dtype, copy=False)  # rounded to nearest as the kernel's store did
         blk = self.block
         self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], hbuf, hoff, a0)
 
@@ -233,9 +252,14 @@ class _Operators:
         S = np.matmul(self.shape_maps[a0:a1], rails[steps][:, self.axle[a0:a1]])  # (k, rows, 3, n_b)
         Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
         Cb = Sk + self.gp * Sd
-        Lq = Sk - Cb * self.pk
-        Lv = Sd - Cb * self.pd
-        SaS = Sa / self.a0b
+        if self.coupled:  # dense P_k, P_d, A0_b^-1 (_coupled_bridge)
+            Lq = Sk - Cb @ self.Pk
+            Lv = Sd - Cb @ self.Pd
+            SaS = Sa @ self.A0b_inv.T
+        else:
+            Lq = Sk - Cb * self.pk
+            Lv = Sd - Cb * self.pd
+            SaS = Sa / self.a0b
         dt = self.dtype
         if self.compiled:  # the per-step contact matrices and their inverses in compiled code
             self.block = {"per_step": None, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
@@ -290,6 +314,9 @@ class _Run:
         self._advance: dict[tuple[int, int], list[Any]] = {}
         self._gemm = gemm_call(self.F, self.F, self.F)[0]  # the gemm of the run's precision
         self._bridge_views = (self.QP[:nb], self.VP[:nb], self.DL[:nb])
+        # a coupled bridge block: Delta_b = -P_k q~_b - P_d v~_b, two products (_Operators._coupled_bridge)
+        self.calls_bridge = [gemm_call(self.DL[:nb], ops.mPk, self.QP[:nb], beta=0.0),
+                             gemm_call(self.DL[:nb], ops.mPd, self.VP[:nb])] if ops.coupled and nb else None
         # vehicles still at rest (no input yet, off the bridge: their state is exactly zero) are not
         # stepped; they are the trailing ones, so the active vehicles are a leading range
         self.n_active = 0
@@ -302,7 +329,7 @@ class _Run:
             Fc = force(g)[:, cols]  # (n, m) complex, local coordinates
             yc = np.zeros_like(Fc)
             yc[nb:] = ops.A0inv[nb:, nb:] @ Fc[nb:]
-            yc[:nb] = Fc[:nb] / ops.a0b[:, None]
+            yc[:nb] = ops.A0b_inv @ Fc[:nb] if ops.coupled else Fc[:nb] / ops.a0b[:, None]
             self.constant_force = Fc
             self.force_delta = np.ascontiguousarray(yc).view(np.float64).astype(dt)  # added to Delta every step
             self.force_rows = (-(ops.Cw[:, nb:] @ yc[nb:])).astype(self.cdtype)  # wheel part of C y_c
@@ -364,7 +391,9 @@ class _Run:
         self._activate(k, block)
         step = None if ops.block is None else ops.block["per_step"][k]
         self.bridge_moving |= step is not None  # until the first axle arrives the bridge stays at rest
-        if nb and self.bridge_moving:
+        if nb and self.bridge_moving and self.calls_bridge is not None:
+            run_calls(self.calls_bridge)
+        elif nb and self.bridge_moving:
             np.multiply(QP[:nb], -ops.pk_c, out=DL[:nb])
             np.multiply(VP[:nb], ops.pd_c, out=self.tmp)
             DL[:nb] -= self.tmp
@@ -403,6 +432,8 @@ class _Run:
         wheels only, as the linear mean's always is: every axle on the approach at t = 0, so the
         bridge rows' C_b y_c of :meth:`solve` is zero; a force with a bridge part keeps the numpy step).
         Returns whether it applies."""
+        if self.ops.coupled:  # the compiled step's bridge is diagonal: a coupled one keeps the numpy step
+            return False
         harmonic = isinstance(self.input, _HarmonicInputs) and self.force_delta is None
         constant = (isinstance(self.input, _StaticInputs) and self.force_delta is not None
                     and not np.any(self.force_bridge))
@@ -410,7 +441,7 @@ class _Run:
             return False
         dt, cdt = np.dtype(self.dtype), np.dtype(self.cdtype)
         if constant:  # (constant, f_s, the wheels' C y_c, y_c); the harmonic inputs unused
-            self._kconstant = (True, np.ascontiguousarray(np.broadcast_to(self.input.value, self.Gc.shape), dtype=cdt),
+            self._kconstant = (True, np.array(np.broadcast_to(self.input.value, self.Gc.shape), dtype=cdt, order="C"),
                                np.ascontiguousarray(self.force_rows, dtype=cdt),
                                np.ascontiguousarray(self.force_delta, dtype=dt))
             self._kinputs = (np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt), np.zeros((1, 1), dtype=cdt))
