@@ -321,7 +321,7 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
     if scenario.track.structure:  # before any run
         raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a speed sweep "
-                            "(a run at one speed models the track: run --speed-kmh)", "the sweep with the track "
+                            "(a run at one speed models the track: run_pem of the scenario at that speed)", "the sweep with the track "
                             "layer is not built yet")
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
@@ -329,6 +329,14 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     for sc in scenarios:  # every speed's grid and spectra checked before any run
         prepare_sweep(sc)
     return speeds, quantities, cls, scenarios, left_out
+
+
+def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
+                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
+    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+    return cls, scenarios
 
 
 @dataclass
@@ -439,4 +447,4 @@ def run_sweep(scenario: Scenario | str | Path, speeds_kmh: Sequence[float], *, e
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
            "SWEEP_SLICES", "SpeedTask", "check_values", "check_speeds", "check_sweep", "en1991_speeds",
            "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
+           "speed_label", "speed_range", "speed_scenarios", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
