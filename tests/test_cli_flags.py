@@ -2,7 +2,7 @@
 
 The library raises with its own keys (``max_memory``, ``workers``, ``channels``) and the caller's name
 as ``where``; ``tb-exudyn`` passes ``where="command line"`` and, when it prints such an error, names the
-key by its flag (tb_exudyn/cli_flags.py: FLAGS) and the library's mentions of other arguments
+key by its flag (tb_exudyn/cli/flags.py: FLAGS) and the library's mentions of other arguments
 (``overwrite=True``, ``another out folder``) as flags. The messages a user of the command sees are
 those of before the change (the reliability cases check them; the texts below are the same lines).
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from tb_exudyn import cli_flags
+from tb_exudyn.cli import flags as cli_flags
 from tb_exudyn.cli import build_parser, main
 from tb_exudyn.errors import (CapabilityError, CheckpointError, OutputFolderError, ResourceError, ResultsError,
                               ScenarioError, SettingError, UserError)
@@ -163,7 +163,7 @@ def test_run_overrides_go_through_the_scenario():
     the flag (the table's)."""
     import argparse
 
-    from tb_exudyn import cli_scenario
+    from tb_exudyn.cli import scenario as cli_scenario
     from tb_exudyn.scenario import load_scenario
 
     base = load_scenario("quick")

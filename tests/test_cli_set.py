@@ -7,7 +7,7 @@ import pytest
 
 import tb_exudyn as tbx
 from tb_exudyn.cli import main
-from tb_exudyn.cli_text import with_set_hint
+from tb_exudyn.cli.text import with_set_hint
 from tb_exudyn.scenario.io import parse_setting, with_settings
 
 
@@ -71,7 +71,7 @@ def test_the_terminal_fits_an_engineers_screen(tmp_path, capsys):
 
 
 def test_a_long_warning_keeps_its_set_hint():
-    from tb_exudyn.cli_text import terminal_warning
+    from tb_exudyn.cli.text import terminal_warning
 
     text = with_set_hint("the frequency grid is too coarse for 242 of 559 channels: their max sigma changes by more "
                          "than 1 % when the grid is refined (largest -17 % on car2.bogie1.acc_rz; e.g. car1.body."

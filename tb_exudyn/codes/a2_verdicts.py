@@ -12,11 +12,12 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any, Sequence
+from typing import Sequence
 
 import numpy as np
 
 from ..errors import SettingError
+from ..results.check_records import CheckRecord
 from ..results.checks_table import format_value
 from ..scenario.model import Continuous
 from .comfort_deflection import comfort_limit
@@ -58,15 +59,15 @@ def _verdict(crit, value: float, limit: float, case: str, location: str, caveats
                             bound=bound or crit.bound, case=case, location=location, caveats=caveats, check=crit.check)
 
 
-def deck_acceleration_verdict(rows: Sequence[dict[str, Any]], limit: float, track: str) -> CriterionVerdict:
+def deck_acceleration_verdict(rows: Sequence[CheckRecord], limit: float, track: str) -> CriterionVerdict:
     """The moving-force rows' largest peak deck acceleration against the limit (EN 1990 A2.4.4.2.1)."""
-    r = max(rows, key=lambda x: x["max_deck_acc_z"])
+    r = max(rows, key=lambda x: x.value)
     return CriterionVerdict(
         criterion=f"deck_acceleration ({DECK_LIMIT_SET}/{DECK_ACCELERATION_CRITERIA[track]})",
         title=f"peak deck vertical acceleration, {track} track", clause="EN 1990 Annex A2, A2.4.4.2.1(4)",
-        load_model="HSLM / real trains as moving forces", value=float(r["max_deck_acc_z"]), limit=float(limit),
-        unit="m/s^2", bound="upper", case=f"{r['train']} at {r['speed_kmh']:.1f} km/h ({r['case']} case)",
-        location=place_words(str(r["max_deck_acc_z_location"])), check=True)
+        load_model="HSLM / real trains as moving forces", value=float(r.value), limit=float(limit),
+        unit="m/s^2", bound="upper", case=f"{r.train} at {r.speed_kmh:.1f} km/h ({r.case} case)",
+        location=place_words(str(r.location)), check=True)
 
 
 def _largest(per_track: Sequence[np.ndarray], limits: Sequence[float] | None = None) -> tuple[int, int, float]:
@@ -80,7 +81,7 @@ def _largest(per_track: Sequence[np.ndarray], limits: Sequence[float] | None = N
     return best[:3]
 
 
-def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, modal, rows: Sequence[dict],  # noqa: ANN001
+def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, modal, rows: Sequence[CheckRecord],  # noqa: ANN001
                 responses: Sequence, cases: Sequence[str], train_names: Sequence[str], limit: float,
                 alpha: float = 1.0, alpha_given: bool = False) -> tuple[CriterionVerdict, ...]:
     """Every criterion's verdict (see the module docstring). ``modal``: the nominal case's ModalBridge;
@@ -150,9 +151,12 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
         out.append(_verdict(c, phi * v, lims[i], f"{comfort_load.split(' (')[0]}{on(t)}", f"span {i + 1}",
                             f"{comfort_load}; b_v = 1.0 m/s^2 (very good comfort) at {line_speed_kmh:g} km/h"))
     else:
+        beyond = [f"line speed {line_speed_kmh:g} km/h: Figure A2.3's curves above 220 km/h are not digitised"
+                  ] if line_speed_kmh > 220.0 else []
+        beyond += [f"span {s:g} m beyond the figure's 120 m" for s in spans if s > 120.0]
         out.append(_verdict(c, math.nan, math.nan, comfort_load, "-",
-                            f"line speed {line_speed_kmh:g} km/h: Figure A2.3 as digitised covers up to 220 km/h "
-                            f"and spans up to 120 m"))
+                            "; ".join(beyond or ["outside Figure A2.3 as digitised"]) + ": A2.4.4.3.3 asks a dynamic "
+                            "vehicle-bridge analysis of the car-body acceleration instead"))
     out.append(_envelope_verdict(crits.criterion("dynamic_factor_envelope"), rows, responses, cases, train_names,
                                  alpha * phi * np.max([d.max() for d in sd.deflection[:1]]), load))
     return tuple(out)
@@ -186,12 +190,12 @@ def _envelope_verdict(c, rows, responses, cases, train_names, lm71_phi: float, l
             resp = responses[k]
             static[(case, name)] = float(resp.static_disp[resp.mid_stations].max())
             k += 1
-    best = max(rows, key=lambda r: r["enhancement"] * static[(r["case"], r["train"])])
-    value = best["enhancement"] * static[(best["case"], best["train"])] / lm71_phi if lm71_phi > 0 else math.nan
+    best = max(rows, key=lambda r: r.enhancement * static[(r.case, r.train)])
+    value = best.enhancement * static[(best.case, best.train)] / lm71_phi if lm71_phi > 0 else math.nan
     word = "the dynamic analysis governs" if value > 1.0 else "LM71 x Phi governs"
-    return _verdict(c, value, 1.0, f"{best['train']} at {best['speed_kmh']:.1f} km/h ({best['case']} case)",
+    return _verdict(c, value, 1.0, f"{best.train} at {best.speed_kmh:.1f} km/h ({best.case} case)",
                     "mid-span deflection, track 1", f"{word}; a comparison, not a limit; 1 + phi'_dyn + k phi'' = "
-                    f"{best['enhancement']:.3f}, against {load}", bound="compare")
+                    f"{best.enhancement:.3f}, against {load}", bound="compare")
 
 
 __all__ = ["a2_verdicts", "deck_acceleration_verdict", "place_words"]

@@ -33,6 +33,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..errors import SettingError
+from ..results.check_records import CheckRecord
 from ..scenario import Scenario
 from ..scenario.code_data import with_mass_case
 from ..scenario.model import Analysis, Track, Train
@@ -199,19 +200,18 @@ def check_trains(trains: Sequence[ForceTrain], asked: Any, err: Callable[..., Ex
     return chosen
 
 
-def check_rows(bridge: Any, trains: Sequence[ForceTrain], rows: Sequence[dict[str, Any]], damping_ratio: float,
+def check_rows(bridge: Any, trains: Sequence[ForceTrain], rows: Sequence[CheckRecord], damping_ratio: float,
                cutoff_hz: float, case: str) -> tuple[InteractionComparison, ...]:
     """One comparison per train of ``trains`` for the check: on ``bridge`` in mass case ``case`` (the check's
     mesh) at ``damping_ratio`` (the check's without eq. 6.13's Delta zeta, which is for moving-force models),
     the modes up to ``cutoff_hz``, at the speed of the train's largest mid-span peak among the check's
-    ``rows`` of that case (its ``acc_z_mid_span<i>`` columns). One interaction run per train."""
+    ``rows`` of that case (their ``acc_z_mid_span``). One interaction run per train."""
     b = (with_mass_case(bridge, case) if bridge.code is not None else bridge).replace(damping_ratio=float(damping_ratio))
-    mids = [f"acc_z_mid_span{i + 1}" for i in range(len(b.spans))]
     out = []
     for train in trains:
-        mine = [r for r in rows if r["train"] == train.name and r["case"] == case]
-        top = max(mine, key=lambda r: max(r[m] for m in mids))
-        out.append(interaction_comparison(b, train, top["speed_kmh"], max_frequency=cutoff_hz * (1.0 + 1e-9),
+        mine = [r for r in rows if r.train == train.name and r.case == case]
+        top = max(mine, key=lambda r: max(r.acc_z_mid_span))
+        out.append(interaction_comparison(b, train, top.speed_kmh, max_frequency=cutoff_hz * (1.0 + 1e-9),
                                           case=case))
     return tuple(out)
 

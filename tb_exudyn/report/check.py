@@ -17,7 +17,8 @@ Read top-down:
 - the figure (peak deck acceleration against speed, the limit, the resonant speeds), when drawn;
 - the whole table, folded.
 
-The check is taken as a :class:`tb_exudyn.codes.check.CheckResult` (its rows, columns and settings); no
+The check is taken as a :class:`tb_exudyn.codes.check.CheckResult` (its records, read by attribute, the
+table from their schema: :mod:`tb_exudyn.results.check_records`; and its settings); no
 module of :mod:`tb_exudyn.methods` is imported. Every piece of text is escaped; the figure is embedded as
 base64 PNG.
 """
@@ -34,6 +35,7 @@ from typing import Any
 from .._version import __version__
 from ..atomic import write_text_atomic
 from ..plotting.files import DPI
+from ..results.check_records import table_cells
 from ..results.checks_table import SMALLEST_SHOWN
 from ..system.labels import format_number
 from .sections import STYLE, _img, html_table, link
@@ -60,15 +62,15 @@ def _probability(p: Any) -> str:
 def verdict_section(result: Any) -> str:
     """The verdict and what decides it (the row with the largest peak deck acceleration)."""
     r = result.deciding_row()
-    margin = result.limit - r["max_deck_acc_z"]
+    margin = result.limit - r.value
     exceeded = result.verdict == "exceeds"
     word = "EXCEEDED" if exceeded else "met"
-    rows = [["deciding train", r["train"]], ["speed", f"{_num(r['speed_kmh'])} km/h"], ["mass case", r["case"]],
-            ["location", r["max_deck_acc_z_location"]],
-            ["peak deck acceleration", f"{r['max_deck_acc_z']:.3f} m/s^2"],
+    rows = [["deciding train", r.train], ["speed", f"{_num(r.speed_kmh)} km/h"], ["mass case", r.case],
+            ["location", r.location],
+            ["peak deck acceleration", f"{r.value:.3f} m/s^2"],
             ["limit", f"{result.limit:g} m/s^2 ({result.track} track, EN 1990 A2.4.4.2.1)"],
             ["margin", f"{margin:+.3f} m/s^2 ({100 * margin / result.limit:+.1f} %)"]]
-    n_exc = sum(x["verdict"] == "exceeds" for x in result.rows)
+    n_exc = sum(x.verdict == "exceeds" for x in result.rows)
     return ('<section id="verdict"><h2>Verdict</h2>'
             f'<p class="{"warn" if exceeded else ""}"><b>Deck acceleration limit {esc(word)}</b>: '
             f"{esc(result.verdict_line())}" + (f" ({n_exc} of {len(result.rows)} rows exceed)" if n_exc else "")
@@ -119,10 +121,10 @@ def settings_section(result: Any) -> str:
 def trains_section(result: Any) -> str:
     body = []
     for name in result.trains():
-        rows = [r for r in result.rows if r["train"] == name]
-        top = max(rows, key=lambda r: r["max_deck_acc_z"])
-        body.append([name, str(len(rows)), f"{top['max_deck_acc_z']:.3f}", _num(top["speed_kmh"]), top["case"],
-                     top["max_deck_acc_z_location"], f"{max(r['phi_dyn'] for r in rows):.3f}",
+        rows = [r for r in result.rows if r.train == name]
+        top = max(rows, key=lambda r: r.value)
+        body.append([name, str(len(rows)), f"{top.value:.3f}", _num(top.speed_kmh), top.case,
+                     top.location, f"{max(r.phi_dyn for r in rows):.3f}",
                      ", ".join(f"{v:.0f}" for v in result.resonant_speeds_kmh.get(name, ()))])
     return ('<section id="trains"><h2>Trains</h2>'
             + html_table("check-trains", ["train", "rows", "max deck acc [m/s^2]", "at [km/h]", "case", "location",
@@ -131,7 +133,7 @@ def trains_section(result: Any) -> str:
 
 
 def stochastic_section(result: Any) -> str:
-    rows = [r for r in result.rows if r.get("p_exceed") is not None]
+    rows = [r for r in result.rows if r.stochastic is not None]
     out = ['<section id="stochastic"><h2>Stochastic rows</h2>']
     if not rows:
         out.append("<p>Not computed (tb-exudyn check --stochastic: the PEM of the track irregularity for the trains "
@@ -140,9 +142,9 @@ def stochastic_section(result: Any) -> str:
     out.append(f'<p class="meta">{esc(result.stochastic_basis)}. The check\'s verdict above is the code\'s '
                "deterministic one; these rows add the probability of exceeding the limit in one passage with the "
                "random track irregularity on top of the vehicle model's mean.</p>")
-    body = [[r["train"], _num(r["speed_kmh"]), f"{r['max_deck_acc_z']:.3f}", f"{r['max_deck_acc_z_with_phi2']:.3f}",
-             f"{r['stochastic_mean_acc']:.3f}", f"{r['level_at_target']:.3f}", _probability(r["p_exceed"]),
-             r["stochastic_location"], r["stochastic_verdict"], r["stochastic_caveats"] or "-"] for r in rows]
+    body = [[r.train, _num(r.speed_kmh), f"{r.value:.3f}", f"{r.value_with_phi2:.3f}",
+             f"{s.mean_acc:.3f}", f"{s.level_at_target:.3f}", _probability(s.p_exceed),
+             s.location, s.verdict, s.caveats or "-"] for r in rows if (s := r.stochastic) is not None]
     target = result.target_probability
     out.append(html_table("check-stochastic", [
         "train", "speed [km/h]", "det. max [m/s^2]", "det. x (1 + k phi'') [m/s^2]", "mean (vehicle model) [m/s^2]",
@@ -175,9 +177,8 @@ def interaction_section(result: Any) -> str:
 
 
 def table_section(result: Any) -> str:
-    columns = list(result.columns)
-    body = [[_num(r[c]) if isinstance(r[c], float) else ("" if r[c] is None else str(r[c])) for c in columns]
-            for r in result.rows]
+    columns, cells = table_cells(result.rows)
+    body = [[_num(x) if isinstance(x, float) else ("" if x is None else str(x)) for x in row] for row in cells]
     return ('<section id="table"><h2>The table</h2>'
             f"<details><summary>All {len(result.rows)} rows ({len(columns)} columns, as check.csv)</summary>"
             + html_table("check-table", columns, body) + "</details></section>")

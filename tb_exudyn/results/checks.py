@@ -38,13 +38,14 @@ contact, or a PEM probability of a wheel load below 0 above the target; a quanti
 cannot represent (Q/P with the whole axle force on one wheel: an upper bound; a ratio to first order
 when its denominator varies by more than 10 %); Poisson and Vanmarcke disagreeing on the verdict;
 a Sperling window shorter than the criterion's; a limit value not read in its code text ([check]).
+
+The limit files in use and a criterion's limit at a channel: :mod:`tb_exudyn.results.limit_values`.
 """
 
 from __future__ import annotations
 
 import fnmatch
 import math
-import os
 import re
 import weakref
 from dataclasses import dataclass
@@ -52,16 +53,16 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ScenarioError, SettingError
-from ..scenario.limits import Criterion, GradedLimit, LimitSet, load_limits, quantity
-from ..scenario.registry import model_files, models_dir
-from ..scenario.schema import source_file
+from ..errors import SettingError
+from ..scenario.limits import Criterion, GradedLimit, quantity
 from ..system import statistics as st
 from ..system.labels import channel_label
 from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, contact_judged, effect_on_estimate, judged,
                       unmet_requirement, window_effect)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value, wrapped_line
 from .empirical import binomial_interval
+from .kinds import DETERMINISTIC, ResultKind
+from .limit_values import default_limits, limit_at, limit_sets, static_axle_load
 
 #: the literature's per-passage target (docs/references.md, code limits [abstract]): 100 train pairs a day, 1-year return period
 DEFAULT_TARGET_PROBABILITY = 2.74e-5
@@ -69,7 +70,6 @@ DEFAULT_TARGET_PROBABILITY = 2.74e-5
 GRID_ERROR_TOLERANCE = 0.01
 #: a ratio's denominator varying by more than this (sigma / mean) makes the first order a caveat
 RATIO_CV_TOLERANCE = 0.1
-_CAR = re.compile(r"car(\d+)\.axle(\d+)\.")
 
 
 # ============================================================================================ hooks
@@ -122,102 +122,7 @@ def _damping_effects(provenance: dict[str, Any], channel: str) -> list[tuple[Cav
     return out
 
 
-# ============================================================================================ loads
-def static_axle_load(result: Any, car: int, axle: int) -> tuple[float | None, str]:
-    """Static load [N] of axle ``axle`` of car ``car`` (1-based) and where it comes from: the mean of the
-    axle's vertical wheel forces at t = 0 (the static equilibrium on the approach) when the result has
-    them, else the vehicle's weight shared by its axles (car15: four; a sprung mass or moving force: one)."""
-    prefix = f"car{car}.axle{axle}"
-    names = [n for n in (f"{prefix}.left.force_z", f"{prefix}.right.force_z", f"{prefix}.force_z")
-             if n in result.channels]
-    if names:
-        value = float(sum(result.mean[result.index(n), 0] for n in names))
-        return value, "the model's static wheel loads (mean at t = 0)"
-    sc = result.scenario
-    if sc is None or car > len(sc.train.vehicles):
-        return None, "no vehicle data"
-    v = sc.train.vehicles[car - 1]
-    g = sc.analysis.gravity
-    if hasattr(v, "force"):
-        return float(v.force), "the moving force"
-    if hasattr(v, "wheel_mass"):
-        return float((v.mass + v.wheel_mass) * g), "the sprung mass's weight"
-    if hasattr(v, "body") and hasattr(v, "bogie") and hasattr(v, "wheelset"):
-        return float((v.body.mass + 2 * v.bogie.mass + 4 * v.wheelset.mass) * g / 4), "the car's weight / 4 axles"
-    return None, f"vehicle kind {getattr(v, 'kind', '?')!r} without a static axle load rule"
-
-
-def _limit(c: Criterion, result: Any, channel: str) -> tuple[float, str]:
-    sc = result.scenario
-    speed = None if sc is None else sc.speed_kmh
-    kind = c.limit.kind
-    if kind == "static_load":
-        m = _CAR.match(channel)
-        if m is None:
-            return math.nan, "no axle in the channel name"
-        axle, source = static_axle_load(result, int(m.group(1)), int(m.group(2)))
-        if axle is None:
-            return math.nan, source
-        value = c.limit_value(static_axle_load=axle, static_wheel_load=axle / 2)
-        return value, f"{c.limit.factor:g} ({c.limit.constant:g} N + {c.limit.coefficient:.4g} x {c.limit.reference} " \
-                      f"{axle if c.limit.reference == 'static_axle_load' else axle / 2:.5g} N, {source})"
-    if kind == "speed_bands":
-        value = c.limit_value(speed_kmh=speed)
-        return value, f"speed band of {speed:g} km/h"
-    if kind == "grades":
-        lim = c.limit
-        assert isinstance(lim, GradedLimit)
-        return c.limit_value(), "grades " + ", ".join(f"{lab} <= {v:g}" for lab, v in zip(lim.labels, lim.values))
-    return c.limit_value(), "fixed"
-
-
 # ============================================================================================ the checks
-def default_limits() -> list[LimitSet]:
-    """Every limit file of the model library (models/limits/, or ``$TB_EXUDYN_MODELS/limits``), read and
-    validated: the first file that is not valid raises its ScenarioError (file, key, what is allowed),
-    and so does a library without any limit file (no verdict could be given). Callers that give verdicts
-    after a run (the command line, :func:`tb_exudyn.methods.sweep.run_sweep`) call it before the run."""
-    files = model_files("limits")
-    if not files:
-        folder = models_dir() / "limits"
-        env = os.environ.get("TB_EXUDYN_MODELS")
-        allowed = "a limits/ folder holding at least one limit file (*.toml, as tb_exudyn's models/limits)"
-        if env:
-            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, "no limit file: no verdict could be given")
-        raise ScenarioError(str(folder), "<file>", str(folder), allowed, "no limit file: no verdict could be given")
-    return _unique_names([load_limits(path) for _, path in sorted(files.items())])
-
-
-def _unique_names(sets: list[LimitSet]) -> list[LimitSet]:
-    """The sets, refused when two share a name (their verdicts, named <name>/<id>, would overwrite each other)."""
-    seen: dict[str, LimitSet] = {}
-    for ls in sets:
-        if ls.name in seen:
-            other = source_file(seen[ls.name]) or "a LimitSet given in Python"
-            allowed = f"a name no other limit file of the checks uses (also in {other})"
-            if source_file(ls) is None:
-                raise SettingError("checks", "limits", ls.name, allowed, "duplicate limits name")
-            raise ScenarioError(source_file(ls), "name", ls.name, allowed, "duplicate limits name")
-        seen[ls.name] = ls
-    return sets
-
-
-def _limit_sets(limits: Any) -> list[LimitSet]:
-    if limits is None:
-        return default_limits()
-    items = limits if isinstance(limits, (list, tuple)) else [limits]
-    out = []
-    for item in items:
-        if isinstance(item, LimitSet):
-            out.append(item)
-        elif isinstance(item, str) or hasattr(item, "__fspath__"):
-            out.append(load_limits(item))
-        else:
-            raise SettingError("checks", "limits", type(item).__name__,
-                               "None (every shipped file), a limit file name or path, a LimitSet, or a list of them")
-    return _unique_names(out)
-
-
 def _bounds(statistic: str, limit: float) -> tuple[float | None, float | None, str]:
     if statistic == "max_abs":
         return -limit, limit, "symmetric"
@@ -235,7 +140,7 @@ def _loss_of_contact(result: Any, target: float, method: str) -> dict[int | None
     answer running safety (:func:`unmet_requirement`) it is a note, not a condition: the loads come
     from the model that cannot answer."""
     prov = result.provenance
-    if result.method != "pem":
+    if not result.kind.gaussian:
         lost = int(prov.get("samples_with_loss_of_contact", 0) or 0)
         if lost:
             return {None: (Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact "
@@ -303,7 +208,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
               confidence: float, contact_caveats: dict[int | None, Caveat]) -> CheckRow:
     i = result.index(channel)
     unit = result.units[i]
-    limit, limit_text = _limit(c, result, channel)
+    limit, limit_text = limit_at(c, result, channel)
     with np.errstate(invalid="ignore"):
         peak3 = float(np.nanmax(np.abs(result.mean[i]) + 3.0 * result.std[i], initial=-np.inf))
     # (caveat, its relative effect on the estimate or None): judged against the margin at the end
@@ -340,10 +245,10 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     if c.statistic == "window_max":
         with np.errstate(invalid="ignore"):
             estimate = float(np.nanmax(result.mean[i], initial=-np.inf))
-        text = ("largest window value of the index of the expected energy" if result.method == "pem"
+        text = ("largest window value of the index of the expected energy" if result.kind.gaussian
                 else "largest window value of the samples' mean index")
         prob = interval = None
-        if result.method != "pem" and result.sample_max is not None:
+        if not result.kind.gaussian and result.sample_max is not None:
             prob, interval = _index_exceedance(result, i, limit, confidence)
         verdict = "OK" if estimate <= limit else "EXCEEDS"
         win = _channel_window(result, channel)
@@ -359,7 +264,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
                         probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(kept))
     lower, upper, kind = _bounds(c.statistic, limit)
     pv = None
-    if result.method == "pem":
+    if result.kind.gaussian:
         ex = result.exceedance_probability(channel, upper=upper, lower=lower, method=method)
         p = ex.probability
         other = "vanmarcke" if method == "poisson" else "poisson"
@@ -428,7 +333,7 @@ class _RunView:
     time: np.ndarray
     scenario: Any
     provenance: dict[str, Any]
-    method: str = "deterministic"
+    kind: ResultKind = DETERMINISTIC
     n_samples: int = 0
     sample_max: Any = None
 
@@ -446,7 +351,7 @@ def _run_view(th: Any) -> _RunView:
 def _run_row(c: Criterion, set_name: str, result: _RunView, channel: str, target: float) -> CheckRow:
     """A criterion on one deterministic run: the statistic of the values against the limit."""
     i = result.index(channel)
-    limit, limit_text = _limit(c, result, channel)
+    limit, limit_text = limit_at(c, result, channel)
     v = result.mean[i]
     with np.errstate(invalid="ignore"):
         stat = {"max_abs": np.nanmax(np.abs(v), initial=-np.inf), "max": np.nanmax(v, initial=-np.inf),
@@ -486,8 +391,8 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
         raise SettingError("checks", "probability", probability, "a target probability per passage in (0, 1)")
     if method not in st.METHODS:
         raise SettingError("checks", "method", method, " | ".join(st.METHODS))
-    sets = _limit_sets(limits)
-    run = None if hasattr(result, "method") else _run_view(result)
+    sets = limit_sets(limits)
+    run = None if result.kind.random else _run_view(result)
     contact_caveats = {} if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
@@ -495,7 +400,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
                 "literature, docs/references.md [abstract]; not a code value: the clauses give no probability)"
                 if probability == DEFAULT_TARGET_PROBABILITY
                 else " (chosen by the caller)")]
-    if getattr(result, "method", "") == "pem":
+    if result.kind.gaussian:
         notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "
                      "displacements, pseudo-derivatives otherwise; provenance['derivatives'])")
     view = run if run is not None else result
@@ -511,7 +416,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
                             _rows_for(c, ls.name, result, name, probability, method, confidence, contact_caveats))
     sc = result.scenario
     return ChecksTable(
-        method=getattr(result, "method", "deterministic"), scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
+        kind=result.kind, scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
         target=float(probability), first_passage=method, window=(float(result.time[0]), float(result.time[-1])),
         rows=tuple(rows), notes=tuple(notes),
     )
@@ -535,7 +440,7 @@ def cached_checks(result: Any, limits: Any = None, *, probability: float = DEFAU
     (a file named twice is read twice, compared by its values), so ``None`` and
     :func:`default_limits` are one key. A result is frozen; its arrays, when changed in place after a
     check, are not seen (change a copy: ``dataclasses.replace``)."""
-    sets = _limit_sets(limits)
+    sets = limit_sets(limits)
     key = (repr(sets), probability, method, confidence)
     tables = _TABLES.setdefault(result, {})
     if key not in tables:
@@ -553,7 +458,7 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     said = lambda rows: ", ".join(f"{n} {v}" for v in VERDICTS if (n := sum(r.verdict == v for r in rows)))  # noqa: E731
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g}): {len(worst)} criteria: "
              f"{said(worst)} (at {len(table.rows)} locations{f'; {n_cond} conditional' if n_cond else ''})"]
-    if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
+    if table.kind.random:  # what the numbers are (the report's "Estimate" sentence)
         lines.append(f" values: the level exceeded with P {table.target:.3g} per passage, where most likely to exceed")
     pad = max((len(r.verdict_text) for r in worst if r.verdict != "NOT EVALUATED"), default=2)  # the verdicts' column
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),

@@ -51,7 +51,8 @@ class Variable:
     coordinate: the array is the coordinate of ``label`` (``time``, ``frequency``);
     label: its name in the labelled dataset (default: ``name``); required, finite, nonnegative,
     max_abs: what a stored array must be (:class:`tb_exudyn.storage.Member`; a sweep's variables, over
-    ``speed``, ``quantity`` and ``criterion``, are CSV columns and have no npz member)."""
+    ``speed``, ``quantity`` and ``criterion``, and a check's, over ``row``, ``span`` and ``criterion``, are
+    CSV columns and have no npz member); attribute, in_table: a table's (:data:`CHECK_RECORD`)."""
 
     name: str
     dims: tuple[str, ...]
@@ -64,6 +65,10 @@ class Variable:
     max_abs: float = MAX_VALUE
     coordinate: bool = False
     label: str = ""
+    #: a table's variable (the check's: :data:`CHECK_RECORD`): the record's attribute it reads (a dotted
+    #: path; default ``name``), and whether it is a column of the table's CSV file or of its labelled form only
+    attribute: str = ""
+    in_table: bool = True
 
     @property
     def labelled_name(self) -> str:
@@ -123,6 +128,62 @@ TIME_HISTORY: tuple[Variable, ...] = (
 )
 
 
+_R = ("row",)
+#: the check's table (:class:`tb_exudyn.results.check_records.CheckRecord`, one per train, speed and mass
+#: case; dims ``row`` and ``span``, the bridge's spans along the track), in check.csv's column order:
+#: ``acc_z_mid_span`` is the columns acc_z_mid_span1 ... n; the stochastic columns read the record's
+#: ``stochastic`` values (empty where not computed); the last ones are the record's as the results schema
+#: names every criterion's (criterion, load model, track, utilisation, caveats): its labelled form only
+CHECK_RECORD: tuple[Variable, ...] = (
+    Variable("train", _R, "train (moving forces: its axle loads)", coordinate=True),
+    Variable("speed_kmh", _R, "train speed", units="km/h", coordinate=True),
+    Variable("case", _R, "mass case of the bridge (EN 1991-2 6.4.6.3.2)", coordinate=True),
+    Variable("damping_ratio", _R, "bridge damping ratio (Table 6.6 or given, eq. 6.13 added where asked)", units="1"),
+    Variable("cutoff_hz", _R, "the modes' cut-off frequency", units="Hz"),
+    Variable("acc_z_mid_span", ("row", "span"), "peak |vertical acceleration| at mid-span along the track",
+             units="m/s^2"),
+    Variable("max_deck_acc_z", _R, "peak |vertical deck acceleration|, largest over the deck stations",
+             units="m/s^2", attribute="value"),
+    Variable("max_deck_acc_z_location", _R, "the deck station of the largest peak", attribute="location"),
+    Variable("disp_z_mid", _R, "largest peak |vertical displacement| at a mid-span", units="m"),
+    Variable("phi_dyn", _R, "phi'_dyn = max |y_dyn / y_stat| - 1, largest over the mid-spans", units="1"),
+    Variable("phi_irregularity", _R, "phi'' of EN 1991-2 Annex C", units="1"),
+    Variable("enhancement", _R, "1 + phi'_dyn + k phi''", units="1"),
+    Variable("limit", _R, "the criterion's limit", units="m/s^2"),
+    Variable("verdict", _R, "ok or exceeds: the peak against the limit"),
+    Variable("max_deck_acc_z_with_phi2", _R, "peak x (1 + k phi''), the code's allowance for the irregularity",
+             units="m/s^2", attribute="value_with_phi2"),
+    Variable("p_exceed", _R, "probability of exceeding the limit in one passage (PEM; NaN: not computed)",
+             units="1", finite=False, attribute="stochastic.p_exceed"),
+    Variable("level_at_target", _R, "level exceeded with the target probability per passage (PEM)", units="m/s^2",
+             finite=False, attribute="stochastic.level_at_target"),
+    Variable("stochastic_location", _R, "the deck channel deciding the stochastic values",
+             attribute="stochastic.location"),
+    Variable("stochastic_mean_acc", _R, "largest |mean| there: the vehicle model's deterministic run", units="m/s^2",
+             finite=False, attribute="stochastic.mean_acc"),
+    Variable("stochastic_verdict", _R, "the stochastic values' verdict", attribute="stochastic.verdict"),
+    Variable("stochastic_caveats", _R, "kinds of the caveats that could change it", attribute="stochastic.caveats"),
+    Variable("stochastic_n_freq", _R, "frequencies of the PEM run", units="1", finite=False,
+             attribute="stochastic.n_freq"),
+    Variable("criterion", _R, "the criterion (limit file/criterion)", in_table=False, label="row_criterion"),
+    Variable("load_model", _R, "the load model", in_table=False),
+    Variable("track", _R, "the track form the limit is of", in_table=False),
+    Variable("utilisation", _R, "value over limit", units="1", finite=False, in_table=False),
+    Variable("caveats", _R, "what could change the verdict", in_table=False),
+)
+#: the check's verdict per EN 1990 A2.4.4 criterion (:class:`tb_exudyn.codes.criteria.CriterionVerdict`,
+#: dim ``criterion``: labelled ``criterion_<name>``)
+CHECK_CRITERIA: tuple[Variable, ...] = tuple(
+    Variable(name, ("criterion",), what, units=units, finite=False, label=f"criterion_{name}") for name, what, units in (
+        ("title", "what the criterion checks", ""), ("clause", "the code's clause", ""),
+        ("load_model", "the load model", ""), ("value", "the deciding value (in 'unit')", ""),
+        ("limit", "the limit (in 'unit')", ""), ("unit", "SI unit of the value and the limit", ""),
+        ("bound", "upper: value <= limit; lower: value >= limit; compare: no limit", ""),
+        ("utilisation", "value / limit (upper), limit / value (lower)", "1"), ("verdict", "the verdict", ""),
+        ("case", "the deciding case", ""), ("location", "the deciding location", ""),
+        ("caveats", "what it leaves out or why not evaluated", "")))
+
+
 def members(schema: Sequence[Variable]) -> dict[str, Member]:
     """The npz members of a schema (name -> :class:`~tb_exudyn.storage.Member`), in file order."""
     return {v.name: v.member for v in schema}
@@ -164,7 +225,7 @@ def to_xarray(result: Any) -> Any:
     names = list(result.channel_names)
     units = [result.unit(n) for n in names]
     scenario = result.scenario
-    random = hasattr(result, "method")
+    random = result.kind.random
     coords: dict[str, Any] = {
         "channel": ("channel", names),
         "unit": ("channel", units, {"long_name": "SI unit of the channel"}),
@@ -174,8 +235,7 @@ def to_xarray(result: Any) -> Any:
     if random:
         coords["psd_unit"] = ("channel", [f"({u})^2/Hz" for u in units])
         context = {"band": f"{result.band[0]:.6g}-{result.band[1]:.6g} Hz",
-                   "mean_kind": "the deterministic run with gravity, no irregularity" if result.method == "pem"
-                   else "sample mean"}
+                   "mean_kind": result.kind.mean}
     data: dict[str, Any] = {}
     for v in result.schema:
         a = arrays.get(v.name)
@@ -208,5 +268,5 @@ def to_xarray(result: Any) -> Any:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-__all__ = ["BOUNDS", "DIM_SIZES", "RANDOM_RESPONSE", "TIME_HISTORY", "Variable", "members", "need_xarray",
+__all__ = ["BOUNDS", "CHECK_CRITERIA", "CHECK_RECORD", "DIM_SIZES", "RANDOM_RESPONSE", "TIME_HISTORY", "Variable", "members", "need_xarray",
            "optional_names", "to_xarray"]

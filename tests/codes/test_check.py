@@ -81,6 +81,21 @@ def test_csv_round_trip(a1, tmp_path):
         assert float(got["max_deck_acc_z"]) == row["max_deck_acc_z"] and got["verdict"] == row["verdict"]
 
 
+def test_netcdf_round_trip(a1, tmp_path):
+    """The labelled form (results.check_records.check_dataset) through NetCDF: the records' values and the
+    verdicts per criterion come back bit for bit (stored doubles, no tolerance)."""
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    from tb_exudyn.results.export import export_netcdf
+
+    with xr.open_dataset(export_netcdf(a1, tmp_path / "check.nc"), engine="h5netcdf") as ds:
+        assert list(ds["max_deck_acc_z"].values) == [r.value for r in a1.rows]
+        assert list(ds["speed_kmh"].values) == a1.column("speed_kmh") and set(ds["verdict"].values) == {"ok"}
+        assert list(ds["criterion"].values) == [c.criterion for c in a1.criteria]
+        assert list(ds["criterion_utilisation"].values[:1]) == [a1.criteria[0].utilisation]
+        assert ds.attrs["kind"] == "en1991_check" and ds.attrs["bridge"] == "single_span_32m"
+
+
 def test_a_light_girder_exceeds_the_limit():
     """The same span with a tenth of the mass and of the stiffness: the same frequencies, accelerations
     ten times larger (1.2 m/s^2 of HSLM-A5 become 12 > 5 m/s^2); every row's verdict is

@@ -199,3 +199,24 @@ def test_matplotlib_is_imported_only_in_the_plotting_package():
     offenders = [str(p.relative_to(root)) for p in root.rglob("*.py")
                  if p.relative_to(root).parts[0] != "plotting" and imports.search(p.read_text())]
     assert not offenders, offenders
+
+
+@pytest.mark.parametrize("kind", ["bounds", "psd_map", "psd_slices"])
+def test_title_sits_where_matplotlibs_automatic_position_puts_it(pem, kind):
+    """The title is placed at a fixed pad (docs/speed.md section 13) instead of matplotlib's automatic
+    position above the position axis; the reference is that automatic position, drawn in this test on
+    the same figure. Within 1 px: text extents round to whole pixels."""
+    from matplotlib import rcParams
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = {"bounds": plot_bounds, "psd_map": plot_psd_map, "psd_slices": plot_psd_slices}[kind](pem, CH)
+    ax = fig.axes[0]
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    fixed = ax.title.get_window_extent(canvas.get_renderer())
+    ax.set_title(ax.get_title(), fontsize="medium", pad=rcParams["axes.titlepad"])
+    ax._autotitlepos = True  # matplotlib's own placement (what set_title without y gives a new axes)
+    canvas.draw()
+    auto = ax.title.get_window_extent(canvas.get_renderer())
+    assert abs(fixed.y0 - auto.y0) <= 1.0 and abs(fixed.x0 - auto.x0) <= 1.0
+    assert auto.y0 > ax.get_window_extent().y1  # above the axes (and its position axis, where it has one)

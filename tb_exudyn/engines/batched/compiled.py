@@ -55,10 +55,18 @@ def _addr(a, offset):  # noqa: ANN001, ANN202
 
 
 @njit(cache=CACHE)
+def _flags():  # noqa: ANN202
+    """gemm's transposition flags ('N': 0, 'T': 1, added to the address of the characters N, T) and a
+    zero offset, as int64 values: constants passed as arguments are typed as literals, and each literal
+    would compile its own copy of _mm, _gemm and _addr (docs/speed.md section 13)."""
+    return np.int64(0), np.int64(1), np.int64(0)
+
+
+@njit(cache=CACHE)
 def _mm(blas, ib, sb, ch, c, ci, a, ai, lda, b, bi, r, k, w, alpha, beta, ta):  # noqa: ANN001, ANN202
     """out (r x w) = alpha op(A) @ B + beta out for row-major (C) arrays: ``out`` starts at flat
     element ``ci`` of ``c``, B (k x w) at ``bi`` of ``b`` (both of leading dimension w), A at ``ai``
-    of ``a`` with leading dimension ``lda`` (r x k, or k x r when ``ta``). As column-major BLAS:
+    of ``a`` with leading dimension ``lda`` (r x k, or k x r when ``ta`` is 1). As column-major BLAS:
     out^T = B^T op(A)^T (gemm('N', ta ? 'T' : 'N', w, r, k, alpha, B, w, A, lda, beta, out, w)),
     the call :func:`.kernels.gemm_call` prepares."""
     if r == 0 or w == 0:
@@ -67,14 +75,15 @@ def _mm(blas, ib, sb, ch, c, ci, a, ai, lda, b, bi, r, k, w, alpha, beta, ta):  
         if beta == 0.0:
             c.reshape(-1)[ci:ci + r * w] = 0.0
         return
-    _gemm(blas, ib, sb, ch, False, ta, w, r, k, alpha, _addr(b.reshape(-1), bi), w, _addr(a, ai), lda, beta,
+    _gemm(blas, ib, sb, ch, _flags()[0], ta, w, r, k, alpha, _addr(b.reshape(-1), bi), w, _addr(a, ai), lda, beta,
           _addr(c.reshape(-1), ci), w)
 
 
 @njit(cache=CACHE)
 def _gemm(blas, ib, sb, ch, ta, tb, m, n, k, alpha, pa, lda, pb, ldb, beta, pc, ldc):  # noqa: ANN001, ANN202
     """Column-major BLAS gemm: C (m x n) = alpha op(A) op(B) + beta C at the addresses pa, pb, pc
-    (``ib``, ``sb``: scratch for the arguments passed by reference; ``ch``: the characters N, T)."""
+    (``ib``, ``sb``: scratch for the arguments passed by reference; ``ch``: the characters N, T;
+    ``ta``, ``tb``: 0 for 'N', 1 for 'T', :func:`_flags`)."""
     ib[0] = m
     ib[1] = n
     ib[2] = k
@@ -84,7 +93,7 @@ def _gemm(blas, ib, sb, ch, ta, tb, m, n, k, alpha, pa, lda, pb, ldb, beta, pc, 
     sb[0] = alpha
     sb[1] = beta
     p, s, c = np.int64(ib.ctypes.data), np.int64(sb.ctypes.data), np.int64(ch.ctypes.data)
-    _call13(blas[0], c + 1 if ta else c, c + 1 if tb else c, p, p + 4, p + 8, s, pa, p + 12, pb, p + 16,
+    _call13(blas[0], c + ta, c + tb, p, p + 4, p + 8, s, pa, p + 12, pb, p + 16,
             s + sb.itemsize, pc, p + 20)
 
 
@@ -139,45 +148,47 @@ def _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle, zk):  # noqa: AN
 @njit(cache=CACHE)
 def _on_bridge(k, blas, ib, sb, ch, QP, VP, DL, G, F, st, Lq, Lv, SaS, hbuf, hoff, a0, vt, vo, bl, vbuf):  # noqa: ANN001, ANN202
     """The Woodbury step of the vehicles with an axle on the bridge (:meth:`.run._Run.solve`)."""
+    keep, trans, origin = _flags()
     w = QP.shape[1]
     nb = Lq.shape[2]
     nrow = Lq.shape[1]
     i, r0, r1, R0, R1, j0, j1 = st[k, 1], st[k, 2], st[k, 3], st[k, 4], st[k, 5], st[k, 6], st[k, 7]
     for j in range(j0, j1):  # g += J_q q~ + J_v v~ of the vehicles
         v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
-        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
-        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, keep)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, keep)
     at = (i * nrow + r0 - a0) * nb
-    _mm(blas, ib, sb, ch, G, r0 * w, Lq.reshape(-1), at, nb, QP, 0, r1 - r0, nb, w, 1.0, 1.0, False)
-    _mm(blas, ib, sb, ch, G, r0 * w, Lv.reshape(-1), at, nb, VP, 0, r1 - r0, nb, w, 1.0, 1.0, False)
+    _mm(blas, ib, sb, ch, G, r0 * w, Lq.reshape(-1), at, nb, QP, origin, r1 - r0, nb, w, 1.0, 1.0, keep)
+    _mm(blas, ib, sb, ch, G, r0 * w, Lv.reshape(-1), at, nb, VP, origin, r1 - r0, nb, w, 1.0, 1.0, keep)
     F[R0:R1, :] = 0.0  # then beta = 1, as the numpy step
-    _mm(blas, ib, sb, ch, F, R0 * w, hbuf, hoff[k], R1 - R0, G, R0 * w, R1 - R0, R1 - R0, w, 1.0, 1.0, False)
-    _mm(blas, ib, sb, ch, DL, 0, SaS.reshape(-1), at, nb, F, r0 * w, nb, r1 - r0, w, -1.0, 1.0, True)
+    _mm(blas, ib, sb, ch, F, R0 * w, hbuf, hoff[k], R1 - R0, G, R0 * w, R1 - R0, R1 - R0, w, 1.0, 1.0, keep)
+    _mm(blas, ib, sb, ch, DL, origin, SaS.reshape(-1), at, nb, F, r0 * w, nb, r1 - r0, w, -1.0, 1.0, trans)
     for j in range(j0, j1):  # Delta = Y0 + A0^-1 G^a^T f of the vehicles
         for e in range(bl.shape[0]):
             if bl[e, 0] == j:
                 b0, b1 = bl[e, 1], bl[e, 2]
-                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, False)
-                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, False)
+                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, keep)
+                _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, bl[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, keep)
         v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
-        _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 2], s1 - s0, F, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, False)
+        _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 2], s1 - s0, F, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, keep)
 
 
 @njit(cache=CACHE)
 def _off_bridge(j, record, blas, ib, sb, ch, QP, VP, DL, G, F, vt, vo, fo, vbuf):  # noqa: ANN001, ANN202
     """The folded step of vehicle j off the bridge, and its contact forces when recording."""
+    keep, trans, origin = _flags()
     w = QP.shape[1]
     v0, v1, s0, s1 = vt[j, 0], vt[j, 1], vt[j, 2], vt[j, 3]
     for e in range(fo.shape[0]):
         if fo[e, 0] == j:
             b0, b1 = fo[e, 1], fo[e, 2]
-            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, False)
-            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, False)
-    _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 3], s1 - s0, G, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, False)
+            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 3], b1 - b0, QP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 0.0, keep)
+            _mm(blas, ib, sb, ch, DL, b0 * w, vbuf, fo[e, 4], b1 - b0, VP, b0 * w, b1 - b0, b1 - b0, w, 1.0, 1.0, keep)
+    _mm(blas, ib, sb, ch, DL, v0 * w, vbuf, vo[j, 3], s1 - s0, G, s0 * w, v1 - v0, s1 - s0, w, 1.0, 1.0, keep)
     if record:
-        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
-        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, False)
-        _mm(blas, ib, sb, ch, F, s0 * w, vbuf, vo[j, 4], s1 - s0, G, s0 * w, s1 - s0, s1 - s0, w, 1.0, 0.0, False)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 0], v1 - v0, QP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, keep)
+        _mm(blas, ib, sb, ch, G, s0 * w, vbuf, vo[j, 1], v1 - v0, VP, v0 * w, s1 - s0, v1 - v0, w, 1.0, 1.0, keep)
+        _mm(blas, ib, sb, ch, F, s0 * w, vbuf, vo[j, 4], s1 - s0, G, s0 * w, s1 - s0, s1 - s0, w, 1.0, 0.0, keep)
 
 
 @njit(cache=CACHE)
@@ -206,12 +217,16 @@ def run_steps(k0, k1, update_first, rec, blas, ib, sb, ch, state, inputs, const,
     if update_first:
         _update(QP, VP, AP, DL, 0 if moving[k0 - 1] else nb, rows_end[k0 - 1], coef)
     for k in range(k0, k1):
-        if constant:
-            Gc[:, :] = Gs
+        if constant:  # element by element: an array assigned to a slice compiles Numba's formatted
+            for r in range(Gc.shape[0]):  # shape-mismatch error, seconds of a first run (docs/speed.md section 13)
+                for c in range(Gc.shape[1]):
+                    Gc[r, c] = Gs[r, c]
         else:
             _inputs(k, Gc, Qss, Qd, z, cols, w, dw, steady, zero, axle, zk)
         if rec[k]:
-            R[:, :] = Gc
+            for r in range(Gc.shape[0]):
+                for c in range(Gc.shape[1]):
+                    R[r, c] = Gc[r, c]
         if constant:
             for r in range(Gc.shape[0]):
                 for c in range(Gc.shape[1]):
@@ -260,6 +275,7 @@ def write_outputs(blas64, ib, sb64, ch, QP, VP, DL, F, R, gp, bp, Yf, c0, nodes,
     (nodes[i] = order, Y row, local row), bridge channels added (per order o: btab[o] = offset of
     its station shapes in bbuf, their number, offset of their Y rows in brows; the product by gemm
     on the float64 rows of the modes, xb), contact forces added (minus the shared input's repeats)."""
+    keep, trans, origin = _flags()
     w = QP.shape[1]
     nb = xb.shape[0]
     for i in range(nodes.shape[0]):
@@ -273,7 +289,7 @@ def write_outputs(blas64, ib, sb64, ch, QP, VP, DL, F, R, gp, bp, Yf, c0, nodes,
         for r in range(nb):
             for j in range(w):
                 xb[r, j] = _state_value(o, QP, VP, DL, gp, bp, r, j)
-        _mm(blas64, ib, sb64, ch, tb, 0, bbuf, btab[o, 0], nb, xb, 0, n, nb, w, 1.0, 0.0, False)
+        _mm(blas64, ib, sb64, ch, tb, origin, bbuf, btab[o, 0], nb, xb, origin, n, nb, w, 1.0, 0.0, keep)
         for i in range(n):
             row = brows[btab[o, 2] + i]
             for j in range(w):
@@ -298,6 +314,7 @@ def contact_inverses(blas64, ib, sb64, ch, row_vehicle, vrows, steps, on, H0, Cb
     contact matrix H = H0[R0:R1, R0:R1] + C_b S^a^T / diag(A0) on [r0, r1) (:meth:`.run._Operators.prepare`),
     written into ``hbuf`` from hoff[k] (entries below ``tiny`` in magnitude set to zero: float32's
     subnormals, :func:`.kernels.in_precision`); st[k] = 1, i, r0, r1, R0, R1, j0, j1."""
+    keep, trans, origin = _flags()
     nrow, nb = Cb.shape[1], Cb.shape[2]
     size = 0
     for i in range(steps.shape[0]):
@@ -314,10 +331,12 @@ def contact_inverses(blas64, ib, sb64, ch, row_vehicle, vrows, steps, on, H0, Cb
         T = np.zeros((nr, nr))
         # T = C_b S^T (row-major) = column-major gemm('T', 'N', nr, nr, nb, 1, S, nb, C_b, nb, 0, T, nr)
         at = (i * nrow + r0 - a0) * nb
-        _gemm(blas64, ib, sb64, ch, True, False, nr, nr, nb, 1.0, _addr(SaS.reshape(-1), at), nb,
-              _addr(Cb.reshape(-1), at), nb, 0.0, _addr(T.reshape(-1), 0), nr)
+        _gemm(blas64, ib, sb64, ch, trans, keep, nr, nr, nb, 1.0, _addr(SaS.reshape(-1), at), nb,
+              _addr(Cb.reshape(-1), at), nb, 0.0, _addr(T.reshape(-1), origin), nr)
         H = np.empty((n, n))
-        H[:, :] = H0[R0:R1, R0:R1]
+        for a in range(n):  # element by element (no slice assigned from an array: run_steps)
+            for b in range(n):
+                H[a, b] = H0[R0 + a, R0 + b]
         for a in range(nr):
             for b in range(nr):
                 H[r0 - R0 + a, r0 - R0 + b] += T[a, b]
