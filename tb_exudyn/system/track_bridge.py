@@ -23,10 +23,17 @@ Phi^T C Phi kept whole (``ModalBridge.coupled_damping``: the pads' and the balla
 proportional). The body's rail shapes (the contact rows) are the rails' Hermite rows times the modes:
 z = (z_L + z_R) / 2 and rx = (z_L - z_R) / (2 b), so that z + e rx is the left rail at e = +b and the
 right at e = -b (a contact on the centre line, e = 0, loads both rails by halves); y the deck's lateral
-rail-level shapes (no lateral rail: a lateral contact stands on the deck's track line as without the
-track). Its station shapes are the deck's (the deck channels as without the track), followed by the rows
-of :class:`TrackPoint` (the track's channels). Vertical only: the rails' lateral bending and torsion are
-not modelled.
+rail-level shapes, or with ``lateral`` the rails' (below). Its station shapes are the deck's (the deck
+channels as without the track), followed by the rows of :class:`TrackPoint` (the track's channels).
+
+With ``lateral`` (a train with lateral contacts: car15's wheelsets) both rails bend laterally as well: each
+the rail of :func:`~.track_model.track_model` on ``structure.lateral()`` (I_lateral; the pad's lateral
+spring-damper, the half sleeper (slab share), the ballast's (mortar's) lateral spring-damper to the ground;
+no ballast mass, no subgrade laterally), whose lowest spring on the deck ends on the deck's lateral rail
+level y_d(x_s) q_d instead of the ground; the rails' and sleepers' lateral inertia leaves the deck's mass as
+their vertical one does. The two directions meet only in the deck's modes (no rail torsion, no
+vertical-lateral coupling in the pad). The body's y = (y_L + y_R) / 2: a lateral contact on the centre line
+loads each rail by half, the alignment irregularity between wheel and rails.
 """
 
 from __future__ import annotations
@@ -38,7 +45,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..scenario.errors import ScenarioError
-from ..scenario.track_structure import TrackStructure, load_track_structure
+from ..scenario.track_structure import LATERAL_TRACK_KINDS, TrackStructure, load_track_structure
 from ..structure.modal import ModalBridge, RailShapes, TrackShapes
 from .channels import Channel
 from .derived import DerivedChannel, station_positions
@@ -93,11 +100,18 @@ def track_extent(axle_start: np.ndarray, speed: float, duration: float, spacing:
     return x0, n
 
 
-def track_dofs(structure: TrackStructure, n_supports: int, n_deck_supports: int) -> int:
-    """DOFs of the unreduced track and deck (two rails; the deck's modes not counted)."""
+def track_dofs(structure: TrackStructure, n_supports: int, n_deck_supports: int, lateral: bool = False) -> int:
+    """DOFs of the unreduced track and deck (two rails, with ``lateral`` their lateral bending and the
+    sleepers' lateral motion as well; the deck's modes not counted)."""
     n_rail = 2 * (n_supports * ELEMENTS_PER_BAY + 1)
     n_mass = len(structure.chain("subgrade")) - 1
-    return 2 * (n_rail + n_supports * n_mass - n_deck_supports)
+    return 2 * (n_rail + n_supports * n_mass - n_deck_supports) + (2 * (n_rail + n_supports) if lateral else 0)
+
+
+def scenario_lateral(scenario) -> bool:  # noqa: ANN001 - a Scenario
+    """Whether a scenario's track is built with the rails' lateral bending: when a vehicle has a lateral
+    contact (``LATERAL_TRACK_KINDS``: car15 and the articulated sets' wheelsets)."""
+    return any(v.kind in LATERAL_TRACK_KINDS for v in scenario.train.vehicles)
 
 
 def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN001 - a Scenario
@@ -110,7 +124,7 @@ def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN
     x0, n = track_extent(axle_start, sc.speed, sc.duration, structure.spacing)
     on = int(np.sum((x0 + (np.arange(n) + 0.5) * structure.spacing >= 0.0)
                     & (x0 + (np.arange(n) + 0.5) * structure.spacing <= sc.bridge.length)))
-    dofs = track_dofs(structure, n, on)
+    dofs = track_dofs(structure, n, on, scenario_lateral(sc))
     if dofs > MAX_TRACK_DOFS:
         most = MAX_TRACK_DOFS * n * structure.spacing / dofs
         raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,
@@ -127,15 +141,17 @@ def scenario_track(scenario, deck: ModalBridge) -> TrackBridge:  # noqa: ANN001 
     structure, x0, n = scenario_extent(scenario)
     stations = {k: x for k, x in station_positions(deck.station_names, getattr(scenario.bridge, "spans", (deck.length,))).items()
                 if k in deck.station_names}
-    return track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, stations=stations)
+    return track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, max_frequency=TRACK_MODE_MAX_FREQUENCY,
+                          stations=stations, lateral=scenario_lateral(scenario))
 
 
 def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_supports: int, half_gauge: float,
                    max_frequency: float = TRACK_MODE_MAX_FREQUENCY,
-                   stations: dict[str, float] | None = None) -> TrackBridge:
+                   stations: dict[str, float] | None = None, lateral: bool = False) -> TrackBridge:
     """Both rails of ``structure`` on ``n_supports`` supports from x0 (module docstring), on ``deck`` (x = 0
     at its start) where it is, reduced to the modes up to ``max_frequency``; ``stations`` (name -> x on
-    the deck) the places of the track channels."""
+    the deck) the places of the track channels; ``lateral``: the rails' lateral bending as well (module
+    docstring), their centre line the body's lateral rail shape y."""
     from scipy.linalg import eigh
 
     one = track_model(structure, n_supports, ELEMENTS_PER_BAY, ground="subgrade")
@@ -160,16 +176,24 @@ def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_su
     sleeper_mass = chain[0][2] + structure.rail.mass_per_length * structure.spacing
     dm = sum(sleeper_mass * (p[on].T @ p[on]) for p in p_side) if np.any(on) else np.zeros((n_d, n_d))
     om, zeta = deck.omega, deck.damping_ratios
+    lat = _lateral_rails(structure, n_supports, on, deck.rail_shapes(xs[on]).y if np.any(on) else None, n_d) \
+        if lateral else None
+    if lat is not None:
+        blocks_k, blocks_m, blocks_c = blocks_k + lat.K, blocks_m + lat.M, blocks_c + lat.C
+        dm = dm + lat.deck_mass
+    n_l = lat.n_dof if lat is not None else 0
     K = sp.block_diag((*blocks_k, sp.diags(om**2)), format="csr")
     M = sp.block_diag((*blocks_m, sp.csr_matrix(np.eye(n_d) - dm)), format="csr")
     C = sp.block_diag((*blocks_c, sp.diags(2 * zeta * om)), format="csr")
+    if lat is not None:  # the lateral ballast (mortar) springs ending on the deck's lateral rail level
+        K, C = K + lat.couple(lat.k_low, 2 * n_t, K.shape[0]), C + lat.couple(lat.c_low, 2 * n_t, K.shape[0])
     # the transformation to the kept DOFs: the lowest mass of a support on the deck is the deck under it
-    n_full = 2 * n_t + n_d
+    n_full = 2 * n_t + 2 * n_l + n_d
     removed = np.concatenate([side * n_t + lowest[on] for side in range(2)])
     kept = np.setdiff1d(np.arange(n_full), removed)
     T = sp.lil_matrix((n_full, kept.size))
     T[kept, np.arange(kept.size)] = 1.0
-    deck_cols = np.searchsorted(kept, 2 * n_t + np.arange(n_d))
+    deck_cols = np.searchsorted(kept, 2 * n_t + 2 * n_l + np.arange(n_d))
     for side in range(2):
         for s in np.flatnonzero(on):
             T[side * n_t + lowest[s], deck_cols] = p_side[side][s]
@@ -182,9 +206,10 @@ def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_su
     damping = phi.T @ (Cr @ phi)
     damping = 0.5 * (damping + damping.T)
     ratios = np.diag(damping) / (2 * np.maximum(2 * np.pi * freq, 1e-300))
-    phi_d = full[2 * n_t:]
+    phi_d = full[2 * n_t + 2 * n_l:]
     rails = (full[:one.n_rail], full[n_t:n_t + one.n_rail])
-    shapes = _RailFunction(rails, phi_d, deck, x0, one.h, n_supports * ELEMENTS_PER_BAY, b)
+    lateral_rails = None if lat is None else tuple(full[2 * n_t + i * n_l:2 * n_t + i * n_l + lat.n_rail] for i in range(2))
+    shapes = _RailFunction(rails, phi_d, deck, x0, one.h, n_supports * ELEMENTS_PER_BAY, b, lateral_rails)
     points = _points(stations or {}, xs, on, one, full, p_side[0], phi_d, structure)
     zero = np.zeros(freq.size)
     extra = np.array([[zero, row, zero] for p in points for row in (p.rail, p.sleeper, p.deck)]).reshape(-1, 3, freq.size)
@@ -196,7 +221,8 @@ def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_su
     body = ModalBridge(
         frequencies=freq, damping_ratios=ratios, length=deck.length, mode_types=types,
         station_names=deck.station_names, station_shapes=station_shapes, rail_shape_function=shapes,
-        description=(f"{deck.description}; under the track {structure.name} ({n_supports} supports per rail from "
+        description=(f"{deck.description}; under the track {structure.name}{' (vertical and lateral)' if lat else ''} "
+                     f"({n_supports} supports per rail from "
                      f"x = {x0:.4g} m, {int(on.sum())} on the deck): {freq.size} modes of the track and the deck "
                      f"up to {max_frequency:g} Hz"),
         tracks=tracks, track=deck.track, rail_extent=(x0, x0 + n_supports * structure.spacing),
@@ -240,8 +266,9 @@ def track_forces(track: TrackBridge) -> list[DerivedChannel]:
 class _RailFunction:
     """x -> RailShapes of the two rails (module docstring); picklable (no closure)."""
 
-    def __init__(self, rails, phi_d, deck, x0, h, n_el, b) -> None:  # noqa: ANN001
+    def __init__(self, rails, phi_d, deck, x0, h, n_el, b, lateral=None) -> None:  # noqa: ANN001
         self.rails, self.phi_d, self.deck, self.x0, self.h, self.n_el, self.b = rails, phi_d, deck, x0, h, n_el, b
+        self.lateral = lateral
 
     def __call__(self, x: np.ndarray) -> RailShapes:
         x = np.atleast_1d(np.asarray(x, dtype=float))
@@ -255,9 +282,60 @@ class _RailFunction:
         H, dH = hermite(xi, self.h), hermite_slope(xi, self.h)
         zl, zr = (np.einsum("xk,xkn->xn", H, r[dofs]) * inside[:, None] for r in self.rails)
         dzl, dzr = (np.einsum("xk,xkn->xn", dH, r[dofs]) * inside[:, None] for r in self.rails)
-        d = self.deck.rail_shapes(x)
-        return RailShapes(d.y @ self.phi_d, 0.5 * (zl + zr), (zl - zr) / (2 * self.b), d.dy @ self.phi_d,
+        if self.lateral is None:  # the lateral contact on the deck's track line
+            d = self.deck.rail_shapes(x)
+            y, dy = d.y @ self.phi_d, d.dy @ self.phi_d
+        else:  # on the rails' centre line: a lateral force loads each rail by half
+            y = sum(np.einsum("xk,xkn->xn", H, r[dofs]) for r in self.lateral) * (0.5 * inside[:, None])
+            dy = sum(np.einsum("xk,xkn->xn", dH, r[dofs]) for r in self.lateral) * (0.5 * inside[:, None])
+        return RailShapes(y, 0.5 * (zl + zr), (zl - zr) / (2 * self.b), dy,
                           0.5 * (dzl + dzr), (dzl - dzr) / (2 * self.b))
+
+
+@dataclass(frozen=True)
+class _Lateral:
+    """The two rails in lateral bending (their blocks of K, M, C, left then right), the deck's mass they
+    take (rail and sleeper on the deck, under both rails) and the lateral ballast (mortar) springs of the
+    supports on the deck, whose lower end the deck's lateral rail level is (:meth:`couple`)."""
+
+    K: list
+    M: list
+    C: list
+    n_dof: int
+    n_rail: int
+    deck_mass: np.ndarray
+    k_low: float
+    c_low: float
+    sleepers: np.ndarray  # (n_on,) the DOF of each support on the deck's sleeper within one rail's block
+    p_y: np.ndarray  # (n_on, n_d) the deck's lateral rail-level rows under them
+
+    def couple(self, value: float, offset: int, n: int) -> sp.csr_matrix:
+        """The spring (damper) ``value`` between each sleeper on the deck and the deck's rail level under it,
+        less its end on rigid ground (which the rail's block holds): cross terms -v p and the deck's v p^T p;
+        ``offset`` the first lateral DOF, the deck's modes the last of the ``n``."""
+        n_d = self.p_y.shape[1]
+        deck = n - n_d + np.arange(n_d)
+        rows, cols, vals = [], [], []
+        for side in range(2):
+            j = offset + side * self.n_dof + self.sleepers
+            rows += [np.repeat(j, n_d), np.tile(deck, j.size)]
+            cols += [np.tile(deck, j.size), np.repeat(j, n_d)]
+            vals += [-value * self.p_y.ravel()] * 2
+        dd = 2 * value * (self.p_y.T @ self.p_y)
+        rows.append(np.repeat(deck, n_d)), cols.append(np.tile(deck, n_d)), vals.append(dd.ravel())
+        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def _lateral_rails(structure: TrackStructure, n_supports: int, on: np.ndarray, p_y: np.ndarray | None,
+                   n_d: int) -> _Lateral:
+    """Both rails of ``structure.lateral()`` on rigid ground (pad, sleeper, ballast laterally), the supports
+    ``on`` the deck to be coupled to its lateral rail-level rows ``p_y``."""
+    side = track_model(structure.lateral(), n_supports, ELEMENTS_PER_BAY, ground="rigid")
+    (_, _, m_sleeper), (k_low, c_low, _) = side.chain
+    p = np.zeros((0, n_d)) if p_y is None else p_y
+    mass = 2 * (m_sleeper + structure.rail.mass_per_length * structure.spacing) * (p.T @ p)
+    return _Lateral(K=[side.K, side.K], M=[side.M, side.M], C=[side.C, side.C], n_dof=side.n_dof, n_rail=side.n_rail,
+                    deck_mass=mass, k_low=k_low, c_low=c_low, sleepers=side.support_dofs[on, 0], p_y=p)
 
 
 class _through:  # noqa: N801 - a function object
@@ -287,5 +365,5 @@ def _points(stations: dict[str, float], xs: np.ndarray, on: np.ndarray, one, ful
     return tuple(out)
 
 
-__all__ = ["POINT_PARTS", "track_channels", "track_forces", "scenario_extent", "scenario_track", "MARGIN_BAYS", "MAX_TRACK_DOFS", "TRACK_MODE_MAX_FREQUENCY", "TrackBridge", "TrackPoint",
+__all__ = ["scenario_lateral", "POINT_PARTS", "track_channels", "track_forces", "scenario_extent", "scenario_track", "MARGIN_BAYS", "MAX_TRACK_DOFS", "TRACK_MODE_MAX_FREQUENCY", "TrackBridge", "TrackPoint",
            "track_and_deck", "track_dofs", "track_extent"]
