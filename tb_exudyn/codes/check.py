@@ -381,6 +381,7 @@ def check(
     Raises SettingError naming ``where`` and the argument for any value outside what is allowed, before any
     work and before ``out`` is touched.
     """
+    started = time.perf_counter()
     execution_args = dict(executor=executor, out=out, resume=resume, progress=progress, where=where,
                           overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     Execution(workers=workers, **execution_args)  # its arguments checked first (nothing is touched)
@@ -392,7 +393,7 @@ def check(
     if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
         workers = 1
     method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
-        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES)
+        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
     return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers, **execution_args))
 
 

@@ -193,9 +193,11 @@ class CheckMethod:
     assemble: Callable[..., Any] = field(repr=False)
     render: Callable[[Any], dict[str, bytes]] = field(repr=False)
     group: tuple[str, ...] = ()
+    #: when the check began (time.perf_counter(); 0: at this plan), for the result's seconds
+    started: float = field(default=0.0, repr=False)
 
     def plan(self, execution: Execution) -> RunPlan:
-        t0 = _time.perf_counter()
+        t0 = self.started or _time.perf_counter()
         stochastic, cls = _stochastic_tasks(self.setup)
         if cls is not None:
             warm_up.start(cls, None, execution.announce)  # a first run's compile, not in every worker
