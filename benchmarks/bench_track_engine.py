@@ -7,8 +7,9 @@ spread over 2-100 Hz, the outputs of the test (three contact forces, a wheel, th
 - ``deck``: the wheels on a 12 m simply supported deck (8 Hz, its modes up to 130 Hz): today's model;
 - ``track, modal damping``: ballasted_uic60 (40 supports) on that deck, the track and the deck as one
   modal body of 103 modes up to 3 kHz, damping Phi^T C Phi cut to its diagonal (the compiled step);
-- ``track, full damping``: the same with the full damping, a coupled bridge block (the numpy step,
-  the constant block's inverse and the contacts by Woodbury: engines/batched/run.py);
+- ``track, full damping``: the same with the full damping, a coupled bridge block (the numpy step, the
+  block in the basis where A0_b^-1 K0_b is diagonal, the contacts by Woodbury: engines/batched/coupled.py);
+- ``track, full, two products``: the same block as given (A0_b inverted once, two dense products a step);
 - ``dense``: the full-damping system on the dense engine (one LU of the whole system per step).
 
 Usage::
@@ -40,7 +41,7 @@ try:
 except ImportError:  # a plain checkout: use the package next to this folder
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tb_exudyn.engines.batched import BatchedEngine  # noqa: E402
+from tb_exudyn.engines.batched import BatchedEngine, coupled  # noqa: E402
 from tb_exudyn.engines.dense import DenseEngine  # noqa: E402
 from tb_exudyn.execution.threads import single_threaded_blas  # noqa: E402
 from tb_exudyn.scenario.track_structure import load_track_structure  # noqa: E402
@@ -90,10 +91,12 @@ def systems(n_supports: int = 40) -> dict[str, tuple]:
 
     mid_deck = deck.rail_shapes(np.array([span / 2])).z[0]
     mid_track = mid_deck @ track.modes[fe.deck_dofs]
-    return {"deck": (BatchedEngine, *case(alone, STARTS - DECK_START, "full", mid_deck)),
-            "track, modal damping": (BatchedEngine, *case(track, STARTS, "modal", mid_track)),
-            "track, full damping": (BatchedEngine, *case(track, STARTS, "full", mid_track)),
-            "dense (track, full damping)": (DenseEngine, *case(track, STARTS, "full", mid_track))}
+    full = case(track, STARTS, "full", mid_track)
+    return {"deck": (BatchedEngine, *case(alone, STARTS - DECK_START, "full", mid_deck), True),
+            "track, modal damping": (BatchedEngine, *case(track, STARTS, "modal", mid_track), True),
+            "track, full damping": (BatchedEngine, *full, True),
+            "track, full, two products": (BatchedEngine, *full, False),
+            "dense (track, full damping)": (DenseEngine, *full, True)}
 
 
 def _median_cpu(fn, repeat: int = 5) -> float:  # noqa: ANN001
@@ -166,9 +169,10 @@ def run_cases(cases: dict[str, tuple], steps, args) -> None:  # noqa: ANN001
     for m in args.columns:
         source = columns(m)
         base = None
-        for name, (cls, lin, om) in cases.items():
+        for name, (cls, lin, om, basis) in cases.items():
             if cls is DenseEngine and m > args.dense_columns:
                 continue
+            coupled.DIAGONAL_STIFFNESS_BASIS = basis  # the coupled block in its eigenbasis, or as given
             engine = cls.on_system(lin, steps, 0.9, om)
             engine.integrate(columns(2), _Sum(steps.n_outputs))  # warm: the compiled step loaded
             wall, cpu = [], []
@@ -177,6 +181,7 @@ def run_cases(cases: dict[str, tuple], steps, args) -> None:  # noqa: ANN001
                 engine.integrate(source, _Sum(steps.n_outputs))
                 wall.append(time.perf_counter() - t0)
                 cpu.append(time.process_time() - c0)
+            coupled.DIAGONAL_STIFFNESS_BASIS = True
             w, c = statistics.median(wall), statistics.median(cpu)
             base = base or c
             print(f"{m:4d} columns  {name:28s} wall {w:7.3f} s  cpu {c:7.3f} s  "

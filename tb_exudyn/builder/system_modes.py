@@ -179,8 +179,6 @@ def excited_coordinates(scenario: Scenario, model: TrainBridgeModel) -> NDArray[
     sprung mass on a vertical profile, no weak-spring coordinate ever. Switches the model to no
     excitation, no gravity, rest (the pseudo-runs' state)."""
     kinds = {KINDS.index(k) for k in scenario_kinds(scenario)}
-    if model.track is not None:  # the track and the deck: one coupled body (damping not modal) that every
-        return np.ones(model.n_ode2, dtype=bool)  # vertical contact reaches: all of it counts as excited
     out = np.zeros(model.n_ode2, dtype=bool)
     for comp in find_components(linear_system(model), scenario_steps(scenario).output_times):
         if kinds & set(comp.kinds):

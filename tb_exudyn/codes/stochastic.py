@@ -73,7 +73,7 @@ def eligible(train: ForceTrain) -> bool:
 
 def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str) -> Scenario:
     """The scenario whose track and analysis the rows take (None: :data:`DEFAULT_SCENARIO`); an unknown
-    name or one without track irregularities raises SettingError naming ``key``."""
+    name, one without track irregularities or one with a track structure raises SettingError naming ``key``."""
     if scenario is None:
         scenario = DEFAULT_SCENARIO
     if isinstance(scenario, Scenario):
@@ -90,6 +90,10 @@ def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str
     if not sc.track.irregularities:
         raise SettingError(where, key, sc.name, "a scenario with track irregularities (track.irregularities)",
                            "no irregularity: nothing random to analyse")
+    if sc.track.structure:  # the check's trains are cars with a wheel on each rail: not on the track layer yet
+        raise SettingError(where, key, sc.name, "a scenario without track.structure (the check's stochastic column "
+                           "does not model the track layer yet: docs/track.md)", f"track.structure = "
+                           f"{sc.track.structure!r}")
     return sc
 
 

@@ -142,10 +142,12 @@ def test_a_run_of_a_scenario_with_a_track_gives_the_track_channels():
     (["run", "yang_yau_sprung_mass", "--engine", "exudyn"], "'engine'"),
     (["run", "quick"], "train.vehicles"),
     (["sweep", "yang_yau_sprung_mass", "--speeds-kmh", "80:100:10"], "track.structure"),
+    (["run", "yang_yau_sprung_mass", "--engine", "dense", "--set", "track.lead_in=300"], "track.lead_in"),
 ])
 def test_what_the_track_layer_does_not_run_yet_is_refused_in_one_line(tmp_path, capsys, argv, key):
-    """The Exudyn engine's and the batched engine's runs, the cars with lateral contacts and the speed sweep
-    with a track structure: one line naming the key, exit 2, nothing written."""
+    """The Exudyn engine's and the batched engine's runs, the cars with lateral contacts, the speed sweep with
+    a track structure, and a track too long for its dense eigen-solution (347 m of rails under a 300 m
+    lead-in: 6868 DOFs, more than 6000): one line naming the key, exit 2, nothing written."""
     out = tmp_path / "out"
     sets = [] if argv[1] == "quick" else ["--set", "bridge.track_height=1.0"]
     sets += ["--set", "track.structure=ballasted_uic60"]
@@ -193,3 +195,36 @@ def test_modes_describes_the_track(capsys):
     low, high = (float(v) for v in line.rsplit(": ", 1)[1].split(" modes, ")[1].removesuffix(" Hz").split("-"))
     assert 20.0 < low < 100.0 and 1000.0 < high <= 2000.0, line
     assert "bridge track" not in out
+
+
+def test_every_track_channel_has_a_readable_label(stiff):
+    """The track's channels and its derived forces by the naming rule (system/labels.py): each gets a label,
+    e.g. track.span1.mid.left.pad.force_z -> "track at span 1, mid-span, left rail, pad, vertical force"."""
+    from tb_exudyn.system.labels import channel_label
+
+    _, model = stiff
+    names = [c.name for c in model.channels if c.name.startswith("track.")]
+    names += [d for d in model.derived_catalogue.names() if d.startswith("track.")]
+    assert len(names) == 3 * 3 * 3 + 3 * 2  # 3 stations x (rail, sleeper, deck) x (disp, vel, acc) + pad, ballast
+    labels = {n: channel_label(n) for n in names}
+    assert all(label != n for n, label in labels.items()), [n for n, label in labels.items() if label == n]
+    assert labels["track.span1.mid.left.pad.force_z"] == "track at span 1, mid-span, left rail, pad, vertical force"
+    assert labels["track.span1.q1.left.sleeper.acc_z"] == ("track at span 1, first quarter point, left rail, sleeper, "
+                                                          "vertical acceleration")
+
+
+def test_the_checks_stochastic_column_with_a_track_structure_is_refused_in_one_line(tmp_path, capsys):
+    """``check --stochastic --stochastic-scenario`` naming a scenario with a track structure: one line naming the
+    option, exit 2, nothing written (the check's trains are cars on both rails: not on the track layer yet)."""
+    from tb_exudyn.scenario.registry import model_path
+
+    text = model_path("scenarios", "quick", None, "scenario").read_text()
+    scenario = tmp_path / "quick_track.toml"
+    scenario.write_text(text.replace('run_out = 10.0', 'run_out = 10.0\nstructure = "ballasted_uic60"'))
+    out = tmp_path / "out"
+    argv = ["check", "single_span_32m", "--line-speed-kmh", "200", "--trains", "ice_mttm", "--stochastic",
+            "--stochastic-scenario", str(scenario), "--out", str(out), "--no-figures"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--stochastic-scenario" in err and "track.structure" in err, err
+    assert not out.exists()

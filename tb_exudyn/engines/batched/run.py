@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
+from .coupled import CoupledBridge
 from .inputs import _HarmonicInputs, _StaticInputs, run_inputs
 from ...jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
@@ -127,9 +128,12 @@ class _Operators:
         self.pk_c = in_precision(self.pk[:, None], self.dtype)
         self.pd_c = in_precision(self.pd[:, None], self.dtype)
         A0inv = np.zeros_like(A0)
-        self.coupled = comp.coupled  # the bridge block dense (a track's modes): see _coupled_bridge
+        self.coupled = comp.coupled  # the bridge block dense (a track's modes): its operators in .coupled
+        self.bridge_block: CoupledBridge | None = None
         if self.coupled:
-            self._coupled_bridge(A0, K0, D0, A0inv)
+            self.bridge_block = CoupledBridge(M, K0, D0, nb, bp, gp, self.dtype)
+            self.M = M.copy()  # its mass block in the block's basis (the first accelerations)
+            self.M[:nb, :nb] = self.bridge_block.mass
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
@@ -161,21 +165,6 @@ class _Operators:
         self._kinv: tuple[Any, ...] | None = None
         self.kblock: tuple[Any, ...] | None = None
         self._ktables: tuple[Any, ...] | None = None
-
-    def _coupled_bridge(self, A0: FloatArray, K0: FloatArray, D0: FloatArray, A0inv: FloatArray) -> None:
-        """The bridge's operators when its block of M, K0, D0 is coupled (:attr:`Component.coupled`):
-        the constant block A0_b is inverted once (into ``A0inv``), P_k = A0_b^-1 K0_b and P_d = A0_b^-1
-        D0_b are dense (the bridge's step Delta_b = -P_k q~_b - P_d v~_b - A0_b^-1 S^a^T f, two
-        products per step), L_q = S^k - C_b P_k, L_v = S^d - C_b P_d and S^a A0_b^-T take the place of
-        the diagonal case's column scalings (:meth:`prepare`); the contacts stay the low-rank part
-        (Woodbury)."""
-        nb = self.nb
-        Ab = np.linalg.inv(A0[:nb, :nb])
-        A0inv[:nb, :nb] = Ab
-        self.A0b_inv = Ab
-        self.Pk, self.Pd = Ab @ K0[:nb, :nb], Ab @ D0[:nb, :nb]
-        self.mPk = in_precision(-self.Pk, self.dtype)
-        self.mPd = in_precision(-self.Pd, self.dtype)
 
     def vehicle_tables(self) -> tuple[Any, ...]:
         """The vehicles' operators for the compiled step (:mod:`.compiled`): (vt, vo, bl, fo, vbuf),
@@ -250,12 +239,12 @@ class _Operators:
         a0, a1 = int(used[0]), int(used[-1]) + 1  # rows evaluated: [a0, a1)
         # S^m[r] = sum_j shape_m[r, j] rail_j(x_a(r)): one (3 x 6) @ (6 x n_b) product per row and step
         S = np.matmul(self.shape_maps[a0:a1], rails[steps][:, self.axle[a0:a1]])  # (k, rows, 3, n_b)
+        if self.bridge_block is not None:  # the shapes in the coupled block's basis
+            S = self.bridge_block.to_basis(S)
         Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
         Cb = Sk + self.gp * Sd
-        if self.coupled:  # dense P_k, P_d, A0_b^-1 (_coupled_bridge)
-            Lq = Sk - Cb @ self.Pk
-            Lv = Sd - Cb @ self.Pd
-            SaS = Sa @ self.A0b_inv.T
+        if self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
+            Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb)
         else:
             Lq = Sk - Cb * self.pk
             Lv = Sd - Cb * self.pd
@@ -314,9 +303,9 @@ class _Run:
         self._advance: dict[tuple[int, int], list[Any]] = {}
         self._gemm = gemm_call(self.F, self.F, self.F)[0]  # the gemm of the run's precision
         self._bridge_views = (self.QP[:nb], self.VP[:nb], self.DL[:nb])
-        # a coupled bridge block: Delta_b = -P_k q~_b - P_d v~_b, two products (_Operators._coupled_bridge)
-        self.calls_bridge = [gemm_call(self.DL[:nb], ops.mPk, self.QP[:nb], beta=0.0),
-                             gemm_call(self.DL[:nb], ops.mPd, self.VP[:nb])] if ops.coupled and nb else None
+        # a coupled bridge block: Delta_b = -P_k q~_b - P_d v~_b (.coupled.CoupledBridge.step_calls)
+        self.calls_bridge = (ops.bridge_block.step_calls(self.QP[:nb], self.VP[:nb], self.DL[:nb])
+                             if ops.bridge_block is not None and nb else None)
         # vehicles still at rest (no input yet, off the bridge: their state is exactly zero) are not
         # stepped; they are the trailing ones, so the active vehicles are a leading range
         self.n_active = 0
@@ -329,7 +318,11 @@ class _Run:
             Fc = force(g)[:, cols]  # (n, m) complex, local coordinates
             yc = np.zeros_like(Fc)
             yc[nb:] = ops.A0inv[nb:, nb:] @ Fc[nb:]
-            yc[:nb] = ops.A0b_inv @ Fc[:nb] if ops.coupled else Fc[:nb] / ops.a0b[:, None]
+            if ops.bridge_block is not None:  # in the coupled block's basis
+                Fc[:nb] = ops.bridge_block.force(Fc[:nb])
+                yc[:nb] = ops.bridge_block.solve(Fc[:nb])
+            else:
+                yc[:nb] = Fc[:nb] / ops.a0b[:, None]
             self.constant_force = Fc
             self.force_delta = np.ascontiguousarray(yc).view(np.float64).astype(dt)  # added to Delta every step
             self.force_rows = (-(ops.Cw[:, nb:] @ yc[nb:])).astype(self.cdtype)  # wheel part of C y_c
@@ -367,6 +360,8 @@ class _Run:
         if self.nb and ops.shape_key in block0.rails:
             P = P.copy()
             P[:, : self.nb] = np.matmul(ops.shape_maps[:, :1], block0.rails[ops.shape_key][0][self.axle])[:, 0]
+            if ops.bridge_block is not None:
+                P[:, : self.nb] = ops.bridge_block.to_basis(P[:, : self.nb])
         rhs = -(P.T @ self.Gc.astype(np.complex128))
         if self.force_delta is not None:
             rhs += self.constant_force
