@@ -182,9 +182,8 @@ def refuse_unmodelled_track(scenario) -> None:  # noqa: ANN001
     wheel on the deck (docs/track.md says what exists: the track alone and a wheel on it, in numpy)."""
     if scenario.track.structure:
         raise ScenarioError(scenario.where, "track.structure", scenario.track.structure,
-                            "empty: the engines do not model the track layer yet (docs/track.md); the "
-                            "EN 1991-2 load distribution is in tb_exudyn.codes.load_distribution",
-                            "a track structure no run models yet")
+                            "empty; docs/track.md, EN 1991-2's spread: codes.load_distribution",
+                            "no run models the track layer yet")
 
 
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",
