@@ -107,7 +107,7 @@ def node_phases(scenario) -> dict[str, float]:  # noqa: ANN001
     from tb_exudyn.methods.common import MeanTask
     from tb_exudyn.methods.driver import worker_task
     from tb_exudyn.methods.pem.method import PemMethod
-    from tb_exudyn.methods.sweep import check_columns
+    from tb_exudyn.methods.sweep import check_values
     from tb_exudyn.methods.uq.method import NODE_SLICES
     from tb_exudyn.methods.uq.summary import node_summary
 
@@ -137,7 +137,7 @@ def node_phases(scenario) -> dict[str, float]:  # noqa: ANN001
     result = method.finish(plan.state, {})
     t["finish"] = time.perf_counter() - c
     c = time.perf_counter()
-    node_summary(result, check_columns)
+    node_summary(result, check_values)
     t["summary (checks)"] = time.perf_counter() - c
     return t
 

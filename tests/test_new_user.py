@@ -95,10 +95,15 @@ class _Sweep:
 
     def rows(self):
         return [{"speed_kmh": 100.0 + 2.5 * i, "deck_acc_z_max_abs_mean_plus_3sigma": 0.1 + 0.01 * i - 1e-4 * i * i,
-                 "wheel_force_y_max_abs_mean_plus_3sigma": 5e4 + (3e4 if i == 37 else 0.0),
-                 "a/x_verdict": "OK", "a/x_utilisation": 0.01 * i, "b/y_verdict": "NOT EVALUATED",
-                 "b/y_reason": "running safety needs creep-guided wheelsets; " * 4, "c/z_verdict": "NOT EVALUATED",
-                 "c/z_reason": "running safety needs creep-guided wheelsets; " * 4} for i in range(100)]
+                 "wheel_force_y_max_abs_mean_plus_3sigma": 5e4 + (3e4 if i == 37 else 0.0)} for i in range(100)]
+
+    def criterion_values(self):
+        from tb_exudyn.results.sweep import CriterionValues
+
+        nan, why = float("nan"), "running safety needs creep-guided wheelsets; " * 4
+        return [{"a/x": CriterionValues(0.01 * i, nan, nan, nan, "", "", "OK"),
+                 **{c: CriterionValues(nan, nan, nan, nan, "", "", "NOT EVALUATED", reason=why) for c in ("b/y", "c/z")}}
+                for i in range(100)]
 
     def criteria(self):
         return ["a/x", "b/y", "c/z"]
@@ -156,7 +161,7 @@ def test_uq_fits_a_screen(tmp_path, capsys):
 @pytest.mark.parametrize("argv", [
     ["--set", "track.lead_in=0.5"],  # the approach: the longest of the scenario's checks
     ["--set", "analysis.n_freq=30", "--freq-spacing", "adaptive"],  # too few frequencies for the modes
-    ["--set", "track.structure=ballasted_uic60"],  # a track layer no run models
+    ["--set", "track.structure=ballasted_uic60"],  # a car whose contacts the track layer does not carry
 ])
 def test_a_new_users_errors_are_one_line_within_the_width(tmp_path, capsys, argv):
     """Errors a new user provokes on a shipped scenario: one line, exit 2, at most 200 characters (the

@@ -78,6 +78,15 @@ def _diagonal(values: np.ndarray) -> exu.MatrixContainer:
     return mc
 
 
+def _damping(bridge: ModalBridge) -> exu.MatrixContainer:
+    """The body's damping: diag(2 zeta omega), or its coupled matrix (the track's pads and ballast)."""
+    if bridge.coupled_damping is None:
+        return _diagonal(2.0 * bridge.damping_ratios * bridge.omega)
+    mc = exu.MatrixContainer()
+    mc.SetWithSparseMatrix(sp.csr_matrix(bridge.coupled_damping))
+    return mc
+
+
 def _modal_node(mbs: exu.MainSystem, n: int, name: str) -> int:
     zeros = [0.0] * n
     return mbs.AddNode(ei.NodeGenericODE2(
@@ -140,7 +149,7 @@ def _add_generic(mbs: exu.MainSystem, bridge: ModalBridge, name: str) -> BridgeB
     node = _modal_node(mbs, n, f"{name}.modes")
     obj = mbs.AddObject(ei.ObjectGenericODE2(
         name=name, nodeNumbers=[node], massMatrix=_diagonal(np.ones(n)),
-        stiffnessMatrix=_diagonal(om**2), dampingMatrix=_diagonal(2.0 * bridge.damping_ratios * om),
+        stiffnessMatrix=_diagonal(om**2), dampingMatrix=_damping(bridge),
         visualization=ei.VObjectGenericODE2(show=False),
     ))
     return BridgeBody("generic", int(node), int(obj), n)

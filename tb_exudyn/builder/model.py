@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Literal
 
 import exudyn as exu
@@ -30,7 +30,7 @@ from ..execution.resources import check_system_size
 from ..scenario.errors import ScenarioError
 from ..scenario.model import Scenario, SimpleBeam
 from ..scenario.sections import track_lines
-from ..scenario.track_structure import refuse_unmodelled_track
+from ..scenario.track_structure import refuse_unbuilt_track
 from ..structure import StructureError, located, modal_bridge
 from ..structure.modal import ModalBridge, simply_supported_modes
 from ..system import channels as chan
@@ -39,6 +39,7 @@ from ..system.conventions import scenario_steps
 from .bridge_body import add_modal_bridge_body
 from ..system.coupling import WheelRailCoupling
 from ..system.excitation import Excitation, as_excitation
+from ..system.track_bridge import TrackBridge, scenario_extent, scenario_track, track_channels, track_forces
 from .vehicles import VEHICLE_BUILDERS, TrainParts
 
 #: fewest time steps per period of the stiffest contact mode before a warning
@@ -188,9 +189,11 @@ class TrainBridgeModel:
     warnings : scenario warnings found while building
     """
 
-    def __init__(self, scenario: Scenario, bridge: ModalBridge) -> None:
+    def __init__(self, scenario: Scenario, bridge: ModalBridge, track: TrackBridge | None = None) -> None:
         self.scenario = scenario
         self.bridge = bridge
+        #: the track between wheel and deck (track.structure), whose modes ``bridge`` holds with the deck's
+        self.track = track
         self.system_container = exu.SystemContainer()
         self.mbs = self.system_container.AddSystem()
         self.gravity_on = True
@@ -227,10 +230,16 @@ class TrainBridgeModel:
             [(b.name, b.node, b.components) for b in parts.bodies],
             self.contact_names, parts.load_names,
         )
+        if self.track is not None:  # the track's channels after the deck's
+            n_deck = sum(c.name.startswith("bridge.") for c in self.channels)
+            self.channels[n_deck:n_deck] = track_channels(self.track, len(self.bridge.station_names))
         steps = scenario_steps(sc)
         self.derived_catalogue = dch.derived_catalogue(
             self.channels, dch.station_positions(self.bridge.station_names, sc.bridge.spans), self.bridge,
             sc.track.half_gauge, steps.n_outputs * steps.h * steps.ratio)
+        if self.track is not None:
+            self.derived_catalogue = replace(self.derived_catalogue,
+                                             channels=self.derived_catalogue.channels + tuple(track_forces(self.track)))
         self.selected, self.derived = dch.select_channels(self.channels, self.derived_catalogue, an.channels, sc.where)
         #: the station shapes extended by the derived channels' auxiliary rows (what outputs index)
         self.output_shapes = dch.extended_shapes(self.bridge.station_shapes, self.derived_catalogue)
@@ -441,10 +450,15 @@ def build_model(
     -------
     TrainBridgeModel, with gravity on and the initial state not yet set (call ``reset``).
     """
-    refuse_unmodelled_track(scenario)  # the engines have no track layer yet: never the wheel on the deck silently
+    refuse_unbuilt_track(scenario)  # what the track layer does not carry, before any work
     bridge = (modal_bridge if modal_bridge is not None else bridge_modes(scenario)).on_track(scenario.track.on)
+    track = None
+    if scenario.track.structure:  # the track between wheel and deck: one modal body of the track and the deck
+        scenario_extent(scenario)  # its size, before its modes are solved
+        track = scenario_track(scenario, bridge)
+        bridge = track.bridge
     check_system_size(scenario, bridge.n_modes)  # before the vehicles are built
-    model = TrainBridgeModel(scenario, bridge)
+    model = TrainBridgeModel(scenario, bridge, track)
     if excitation is not None:
         model.set_excitation(excitation)
     if warn:

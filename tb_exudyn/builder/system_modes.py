@@ -126,7 +126,8 @@ def system_modes(
     inputs = input_forces(model, t)
     x0 = -scenario.track.lead_in + scenario.speed * t
     on = sum(0.0 <= x0 - a <= scenario.bridge.length for a in scenario.train.axle_positions)
-    where = ("vehicles on rigid track, bridge free" if on == 0 and t == 0.0
+    ground = "rigid track" if model.track is None else f"the track {scenario.track.structure}"
+    where = (f"vehicles on {ground}, bridge free" if on == 0 and t == 0.0
              else f"first axle at x = {x0:.4g} m (t = {t:.4g} s), {on} of {len(scenario.train.axle_positions)} axles on the bridge")
     on_track = model.bridge.track_text()
     where += f"; {on_track}" if on_track else ""

@@ -5,44 +5,47 @@ What the command does to ``--out`` (a folder that may hold other files, e.g. a r
 - first, read only, ``--out`` as it is (:func:`tb_exudyn.files.check_writable` with ``create=False``: a
   file, a FIFO, a path under a file, a folder this user cannot write in, /proc are refused with one line
   saying what is allowed) and, if it exists, its earlier files (:func:`refuse_earlier_files`: an earlier
-  check's files without ``--overwrite``; an entry of an output's name that is not a file, with or without
-  it; a folder inside a result folder);
+  check's files without ``--overwrite`` (or ``--resume``); an entry of an output's name that is not a file,
+  with or without it; a folder inside a result folder);
 - then the check's other arguments (:func:`tb_exudyn.codes.check` checks them and plans the work: modes,
   speed series, the integrations' sizes), touching nothing;
-- then, before the first integration (check's ``before_work``), ``--out`` is made, tested by a write,
-  locked (:func:`tb_exudyn.execution.folder_lock`) and its earlier files tested again under the lock. The
-  lock is held until the files are written, so a second check into the same folder is refused at once,
-  naming the first; nothing of the first is replaced;
+- then the check runs on the method driver (:mod:`tb_exudyn.methods.check`): ``--out`` is made, locked
+  (:func:`tb_exudyn.execution.folder_lock`) and its earlier files tested again under the lock (a second
+  check into the same folder is refused at once, naming the first; nothing of the first is replaced); each
+  finished task (a mass case and train, a stochastic speed) goes to ``--out/checkpoint-check``;
 - the files (check.csv, check.png, check.html) are rendered in memory after the analysis and written as
   one group (:func:`tb_exudyn.files.write_output`): all of them or none, also on Ctrl-C (a Ctrl-C during
-  the renames is held until the group is in place). ``--overwrite --no-figures`` removes an earlier
-  check.png with the same renames;
-- a Ctrl-C before the files are written leaves ``--out`` as it was (a folder the command made is removed
-  again), and the message says that the same command can simply be run again.
+  the renames is held until the group is in place); the checkpoint is removed then (``--keep-checkpoint``:
+  kept). ``--overwrite --no-figures`` removes an earlier check.png with the same renames;
+- a Ctrl-C before the files are written leaves the earlier files as they were and the finished tasks in
+  the checkpoint: the message says to run the same command with ``--resume`` (the same check.csv, to the
+  bit); before any task finished, ``--out`` is as it was (a folder the command made is removed again) and
+  the message says that the same command can simply be run again.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
-from contextlib import ExitStack
 from pathlib import Path
 
-from .flags import WHERE, options
+from .flags import WHERE
 from .results import report_package
 from . import text as cli_text
 from ..codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
+from ..codes.check import CHECK_FILES
+from ..codes.check_plan import CHECKPOINT
 from ..codes.a2_verdicts import ALPHA_VALUES
 from ..errors import SettingError
-from ..execution import folder_lock
-from ..execution.output import refuse_earlier_files, removed_if_left_empty
-from ..files import check_writable, write_output
+from ..execution.output import holdings, RunFiles
+from ..execution.output import refuse_earlier_files, remove_entry, removed_if_left_empty
+from ..files import check_writable
 from ..scenario.show import LISTING_WIDTH
 
 #: exit status after a Ctrl-C (128 + SIGINT, as a shell reports it)
 EXIT_INTERRUPTED = 130
 #: the files of a check in --out, in the order they are written
-FILES = (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE)
+FILES = CHECK_FILES
 
 
 def _speeds(text: str | None) -> list[float] | None:
@@ -63,6 +66,14 @@ def _holds(path: Path, data: bytes) -> bool:
         return False
 
 
+def _finished(out: Path) -> int:
+    """The finished tasks in ``out``'s check checkpoint; a checkpoint without any is removed (nothing to resume)."""
+    held = holdings(out, RunFiles("check", CHECKPOINT)) if out.is_dir() else []
+    if not held and (out / CHECKPOINT).is_dir() and not (out / CHECKPOINT).is_symlink():
+        remove_entry(out / CHECKPOINT)
+    return sum(1 for _ in (out / CHECKPOINT / "tasks").glob("*.npz")) if held else 0
+
+
 def _cmd_check(args: argparse.Namespace) -> int:
     """EN 1991-2 dynamic check (tb_exudyn.codes): the table, the figure, the page and the verdict (see the
     module docstring for what it does to --out)."""
@@ -74,42 +85,46 @@ def _cmd_check(args: argparse.Namespace) -> int:
     speeds = _speeds(args.stochastic_speeds)
     # --out as it is, read only: what no later step can change is refused at once
     check_writable(args.out, create=False)
-    refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)  # (or a result folder's)
-    files: dict[str, bytes] | None = None
-    taken: list[Path] = []
-    try:
-        with ExitStack() as stack:
-            def take_out() -> None:  # every other argument checked: --out made, locked and tested again
-                stack.enter_context(removed_if_left_empty(args.out))  # a check refused or interrupted later
-                out = check_writable(args.out)                        # leaves no new empty --out
-                stack.enter_context(folder_lock(out, WHERE, "wait for it to end, or use another --out"))
-                refuse_earlier_files(out, FILES, "check", overwrite=args.overwrite, where=WHERE)
-                taken.append(out)
+    if not args.resume:  # with --resume the driver's claim decides (a checkpoint to continue)
+        refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)
+    files: dict[str, bytes] = {}
 
-            result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
-                           construction=args.construction, additional_damping=args.additional_damping,
-                           where=WHERE, option_names=options("line_speed_kmh", "trains", "track", "construction",
-                                                             "bridge", "stochastic", "stochastic_speeds",
-                                                             "stochastic_scenario", "interaction", "alpha"),
-                           stochastic=args.stochastic, stochastic_speeds=speeds,
-                           stochastic_scenario=args.stochastic_scenario, interaction=args.interaction,
-                           alpha=args.alpha, workers=args.workers,
-                           progress=not args.no_progress, before_work=take_out)
-            out = taken[0]
-            files = report_package().check_files(result, None if args.no_figures else result.plot())
-            stale = [out / CHECK_FIGURE] if CHECK_FIGURE not in files else []  # --overwrite --no-figures
-            write_output([(out / name, data) for name, data in files.items()], named=out,
-                         overwrite=args.overwrite, where=WHERE, key="out", remove=stale)
+    def render(result) -> dict[str, bytes]:  # noqa: ANN001 - the files, drawn under the lock, written as one
+        files.update(report_package().check_files(result, None if args.no_figures else result.plot()))
+        return files
+
+    out = Path(args.out)
+    try:
+        with removed_if_left_empty(args.out):
+            try:
+                result = check(args.bridge, line_speed, trains=args.trains, track=args.track,
+                               construction=args.construction, additional_damping=args.additional_damping,
+                               where=WHERE, stochastic=args.stochastic, stochastic_speeds=speeds,
+                               stochastic_scenario=args.stochastic_scenario, interaction=args.interaction,
+                               alpha=args.alpha, workers=args.workers, progress=not args.no_progress, out=args.out,
+                               resume=args.resume, overwrite=args.overwrite, keep_checkpoint=args.keep_checkpoint,
+                               render=render)
+            except KeyboardInterrupt:
+                _finished(out)  # an unstarted checkpoint goes (and a new --out with it)
+                raise
     except KeyboardInterrupt:  # in the analysis, the drawing or the writing (whose renames finish first)
-        if files is not None and all(_holds(taken[0] / name, data) for name, data in files.items()):
+        if files and all(_holds(out / name, data) for name, data in files.items()):
+            if not args.keep_checkpoint and (out / CHECKPOINT).is_dir() and not (out / CHECKPOINT).is_symlink():
+                remove_entry(out / CHECKPOINT)  # the files hold everything (as after a check not interrupted)
             print(f"tb-exudyn: interrupted after the check's files were written whole: {', '.join(files)} in "
-                  f"{str(taken[0])!r}", file=sys.stderr)
+                  f"{str(out)!r}", file=sys.stderr)
+        elif (n := _finished(out)):
+            print(f"tb-exudyn: interrupted before the check's files were written: --out {args.out!r} keeps {n} "
+                  f"finished tasks in {CHECKPOINT}/; run the same command with --resume", file=sys.stderr)
         else:
             print(f"tb-exudyn: interrupted before the check's files were written: --out {args.out!r} is as it was; "
                   "run the same command again", file=sys.stderr)
         return EXIT_INTERRUPTED
     print(cli_text.fitted(result.summary(), LISTING_WIDTH))
-    print(f"{len(result)} rows in {result.seconds:.1f} s: {(out / CHECK_CSV).resolve()}"
+    ran = result.run
+    from_checkpoint = f", {ran['tasks_from_checkpoint']} from the checkpoint" if ran.get("tasks_from_checkpoint") else ""
+    print(f"{len(result)} rows in {result.seconds:.1f} s ({ran.get('tasks', 0)} tasks{from_checkpoint}, "
+          f"{ran.get('executor', '')}): {(out / CHECK_CSV).resolve()}"
           + ("" if CHECK_FIGURE not in files else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
     return 0
 
@@ -158,8 +173,14 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--alpha", type=float, default=None, metavar="ALPHA",
                    help="EN 1991-2 6.3.2(3)'s classified-load factor on LM71, SW/0 and the nosing force in the static "
                         "criteria: one of " + ", ".join(f"{a:g}" for a in ALPHA_VALUES) + " (default: 1, said in the verdicts)")
-    p.add_argument("--workers", default=None, help="worker processes of the --stochastic runs (default: all cores)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar (--stochastic)")
+    p.add_argument("--workers", default=None, help="worker processes of the check's tasks, one per mass case and train "
+                   "and one per --stochastic speed (default: all cores; a small check runs in this process); the "
+                   "result is the same to the bit for any count")
+    p.add_argument("--resume", action="store_true", help="continue an interrupted check in --out: the finished tasks of "
+                   "--out/checkpoint-check are read (each file checked first), the others run")
+    p.add_argument("--keep-checkpoint", dest="keep_checkpoint", action="store_true",
+                   help="keep --out/checkpoint-check after the files are written")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_check)
 
 

@@ -50,7 +50,7 @@ FLAGS: dict[str, str] = {
     # structure.imported.export_modes
     "max_frequency": "--max-frequency",
     "max_modes": "--max-modes",
-    # codes.check (its option_names)
+    # codes.check (the check's arguments)
     "trains": "--trains",
     "track": "--track",
     "construction": "--construction",
@@ -69,6 +69,12 @@ MENTIONS: dict[str, str] = {
     "keep_checkpoint=True": FLAGS["keep_checkpoint"],
     "another out folder": f"another {FLAGS['out']}",
     "the max_memory of": f"the {FLAGS['max_memory']} of",
+    "with stochastic=True only": f"with {FLAGS['stochastic']} only",
+    "fewer samples (n_samples or": f"fewer samples ({FLAGS['n_samples']}, n_samples or",
+    "not keeping them (keep_samples=False)": f"not keeping them (no {FLAGS['keep_samples']})",
+    "fewer PSD maps (psd_channels), or keep_psd=False": f"fewer PSD maps ({FLAGS['psd_channels']} key)",
+    "an uncertain file (uncertain_file)": "an uncertain file (--uncertain-file)",
+    "run_pem of the scenario at that speed": "run --speed-kmh",
 }
 _MENTION = re.compile("|".join(re.escape(m) for m in sorted(MENTIONS, key=len, reverse=True)))
 #: the head of a library notice about one of its arguments, ``command line: workers = 8 ...``
@@ -78,11 +84,6 @@ _NOTICE_HEAD = re.compile(rf"^{re.escape(WHERE)}: (\w+) = ")
 def flag(key: str) -> str:
     """The flag of a library key (the key itself when no flag sets it)."""
     return FLAGS.get(key, key)
-
-
-def options(*keys: str) -> dict[str, str]:
-    """``{key: flag}`` of ``keys``, for a library call that takes its option names (codes.check)."""
-    return {k: FLAGS[k] for k in keys}
 
 
 def respelled(text: str) -> str:
@@ -140,4 +141,4 @@ def int_option(text: str | None, option: str, low: int, high: int | None = None,
         raise SettingError("command line", option, value, allowed, "out of range")
     return value
 
-__all__ = ["FLAGS", "MENTIONS", "WHERE", "as_flags", "flag", "int_option", "notice_as_flags", "options", "respelled"]
+__all__ = ["FLAGS", "MENTIONS", "WHERE", "as_flags", "flag", "int_option", "notice_as_flags", "respelled"]

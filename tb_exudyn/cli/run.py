@@ -71,7 +71,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     else:
         result = methods.run_monte_carlo(scenario, keep_samples=args.keep_samples, **common)
         p = result.provenance
-        what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.method == "monte_carlo_linear" \
+        what = f"Monte Carlo of the LINEAR model ({args.engine} engine)" if result.kind.linear_samples \
             else "Monte Carlo"
         print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
@@ -81,7 +81,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         print(cli_text.short_summary(result, table))
     if not args.no_figures:
         reporting = report_package()
-        folder = {"pem": "pem", "monte_carlo": "mc", "monte_carlo_linear": "mc_linear"}.get(getattr(result, "method", ""), "det")
+        folder = result.kind.folder
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         # the page draws its figures (the standard ones, in parallel) and embeds them: one pass, no second read
         report = reporting.write_report(out, found=found, progress=not args.no_progress)

@@ -253,8 +253,13 @@ def modes_text(table: Any) -> list[str]:
         zr = f"{min(zs):.2g}" if f"{min(zs):.2g}" == f"{max(zs):.2g}" else f"{min(zs):.2g}-{max(zs):.2g}"
         lines.append(f"{min(fs):>9.4g} {zr:>9} {'':>9} {'contact':<8} every wheelset on its "
                      f"contact springs, {direction}: {len(fs)} modes, {min(fs):.4g}-{max(fs):.4g} Hz")
+    track = [float(f) for d, fs in bridge.items() if d.split(" ")[0] == "track" for f in fs]
     for direction, fs in bridge.items():
-        lines.append(textwrap.fill(f"bridge {direction} [Hz]: {', '.join(fs)}", LINE_WIDTH, subsequent_indent="  "))
+        if direction.split(" ")[0] != "track":
+            lines.append(textwrap.fill(f"bridge {direction} [Hz]: {', '.join(fs)}", LINE_WIDTH, subsequent_indent="  "))
+    if track:  # the track's modes (track.structure: rails, pads, sleepers, ballast with the deck), summarised
+        lines.append(f"track (rails, pads, sleepers, ballast; with the deck): {len(track)} modes, "
+                     f"{min(track):.4g}-{max(track):.4g} Hz")
     lines.append("(f_n undamped |lambda| / 2 pi; zeta >= 1: a non-oscillating motion; decay = 1 / (zeta omega_n))")
     return lines
 

@@ -105,17 +105,18 @@ def verdict_lines(result: Any, width: int = TERMINAL_WIDTH) -> list[str]:
     n = f"{len(rows)} speed{'s' if len(rows) != 1 else ''}"
     out = [f"code checks at {n} (utilisation: the estimate at the target probability over the limit):"]
     not_evaluated: dict[str, list[str]] = {}
+    checks = result.criterion_values()
     for c in criteria:
-        verdicts = [str(r.get(f"{c}_verdict", "")) for r in rows]
-        us = [(float(r.get(f"{c}_utilisation", math.nan)), r["speed_kmh"]) for r in rows]
-        known = [(u, v) for u, v in us if math.isfinite(u)]
+        mine = [(at[c], r["speed_kmh"]) for at, r in zip(checks, rows) if c in at]
+        verdicts = [x.verdict for x, _ in mine]
+        known = [(x.utilisation, v) for x, v in mine if math.isfinite(x.utilisation)]
         if not known:
-            reason = next((str(r[f"{c}_reason"]) for r in rows if r.get(f"{c}_reason")), "")
+            reason = next((x.reason for x, _ in mine if x.reason), "")
             not_evaluated.setdefault(reason, []).append(c)
             continue
         u, v = max(known)
         counts = ", ".join(f"{name} {verdicts.count(name)}" for name in VERDICTS if verdicts.count(name))
-        cond = sum(bool(r.get(f"{c}_caveats")) for r in rows)
+        cond = sum(bool(x.caveats) for x, _ in mine)
         out += textwrap.wrap(f"  {c}: {counts} of {n}; largest utilisation {format_number(u, 3)} at "
                              f"{format_number(v)} km/h" + (f"; conditional at {cond}" if cond else ""), width,
                              subsequent_indent="    ", break_on_hyphens=False)

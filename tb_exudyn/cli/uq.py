@@ -165,7 +165,8 @@ def summary_lines(result: Any) -> list[str]:
     for r in rows[:CRITERION_ROWS]:
         est = ("" if not math.isfinite(r["estimate_mean"]) else
                f"; estimate {format_number(r['estimate_mean'], 3)} +- {format_number(r['estimate_std'], 2)}"
-               f" (95 % {format_number(r['estimate_band'][-1], 3)}) {r['unit']}"
+               + (f" (95 % {format_number(r['estimate_band'][-1], 3)})" if math.isfinite(r["estimate_band"][-1]) else "")
+               + f" {r['unit']}"
                + (f" (limit {format_number(r['limit'], 3)})" if math.isfinite(r["limit"]) else ""))
         lines.append(_clip(f"  {r['criterion']:<44} {r['verdict']:<13} P_f {_probability(r['pf']):>9}"
                            f" (largest at a node {_probability(r['node_max'])}){est}"))

@@ -151,9 +151,12 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
         out.append(_verdict(c, phi * v, lims[i], f"{comfort_load.split(' (')[0]}{on(t)}", f"span {i + 1}",
                             f"{comfort_load}; b_v = 1.0 m/s^2 (very good comfort) at {line_speed_kmh:g} km/h"))
     else:
+        beyond = [f"line speed {line_speed_kmh:g} km/h: Figure A2.3's curves above 220 km/h are not digitised"
+                  ] if line_speed_kmh > 220.0 else []
+        beyond += [f"span {s:g} m beyond the figure's 120 m" for s in spans if s > 120.0]
         out.append(_verdict(c, math.nan, math.nan, comfort_load, "-",
-                            f"line speed {line_speed_kmh:g} km/h: Figure A2.3 as digitised covers up to 220 km/h "
-                            f"and spans up to 120 m"))
+                            "; ".join(beyond or ["outside Figure A2.3 as digitised"]) + ": A2.4.4.3.3 asks a dynamic "
+                            "vehicle-bridge analysis of the car-body acceleration instead"))
     out.append(_envelope_verdict(crits.criterion("dynamic_factor_envelope"), rows, responses, cases, train_names,
                                  alpha * phi * np.max([d.max() for d in sd.deflection[:1]]), load))
     return tuple(out)

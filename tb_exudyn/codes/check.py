@@ -26,23 +26,21 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..atomic import write_text_atomic
-from ..errors import ResourceError, ScenarioError, SettingError, UserError
+from ..errors import SettingError
+from ..execution import Execution
 from ..results.check_records import CheckRecord, check_dataset, record_columns, records_csv
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
-from ..scenario.io import load_bridge
-from ..scenario.code_data import MASS_CASES, with_mass_case
-from ..scenario.model import Continuous, Frame, SimpleBeam
-from ..scenario.registry import model_files
-from ..scenario.schema import source_file
+from ..scenario.io import load_bridge  # noqa: F401 - the check's bridges (tests read them here)
 from . import en1991 as code
 from .check_modes import FIRST_MODE_LIMIT_HZ, MODE_LIMIT_CAP_HZ  # noqa: F401 - the check's, named here too
-from .check_modes import modes_for_check as _modes_for_check, vertical as _vertical
-from .moving_force import MAX_STEPS, MovingForceResponse, integration_steps, moving_force_response
+from .check_modes import vertical as _vertical
+from .check_plan import (CHECK_ELEMENTS_PER_SPAN, HSLM_A_MIN_SPAN, MIN_LINE_SPEED_KMH, NOMINAL_CASE,  # noqa: F401
+                         CheckSetup, plan_check)
+from .moving_force import MovingForceResponse, integration_steps
 from . import stochastic as stoch
-from .trains import ForceTrain, TrainSource, distinct_trains, train_sources
-from .a2_verdicts import a2_verdicts, check_alpha, place_words
+from .trains import ForceTrain
+from .a2_verdicts import a2_verdicts, place_words
 from .criteria import deck_criterion, moving_force_load_model
-from .hslm_b import HSLM_B_SPANS, hslm_b
 from . import interaction as vbi
 
 #: the table's file in an output folder
@@ -50,20 +48,8 @@ CHECK_CSV = "check.csv"
 CHECK_FIGURE = "check.png"
 #: the check's HTML page (tb_exudyn.report.check)
 CHECK_PAGE = "check.html"
-#: the mass case of a bridge without ballast (EN 1991-2 6.4.6.3.2: its only case)
-NOMINAL_CASE = "nominal"
-#: HSLM-A applies to spans from this length; HSLM-B below (EN 1991-2 Annex E, Table E.4) [m] [check]
-HSLM_A_MIN_SPAN = 7.0
-#: the check's finite-element mesh: at least this many beam elements per span. The shipped bridges' 16
-#: place single_span_32m's third torsion mode at 43.84 Hz against the closed form's 43.22 Hz, and the
-#: deck accelerations at speeds off resonance follow it (up to 32 % apart under HSLM-A1); 64 give 43.26
-#: Hz and every speed's mid-span acceleration within 0.83 % of the closed form (tests/codes/test_check.py)
-CHECK_ELEMENTS_PER_SPAN = 64
-#: the lowest line speed a check takes [km/h]: its series is rounded to 1e-6 km/h (1e-300 km/h would round to
-#: a speed of 0) and its time steps grow as 1 / v (HSLM-A1 over single_span_32m at 1.2 km/h needs 1.2 million,
-#: refused by MAX_STEPS with its own message); a railway line speed is tens to hundreds of km/h, so a value
-#: below 1 km/h can only be a mistake (a unit, a typo)
-MIN_LINE_SPEED_KMH = 1.0
+#: every file a check writes into its output folder, in the order they are written
+CHECK_FILES = (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE)
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 
@@ -123,6 +109,9 @@ class CheckResult:
     criteria: tuple = ()
     #: the bridge's file as the user gave it, where it is not the shipped bridge of that name ('' if so)
     bridge_file: str = ""
+    #: how the check's tasks ran (tb_exudyn.methods.check on the driver): tasks, tasks_run,
+    #: tasks_from_checkpoint, executor
+    run: dict = field(default_factory=dict, repr=False)
 
     def __len__(self) -> int:
         return len(self.rows)
@@ -221,13 +210,104 @@ class CheckResult:
         return importlib.import_module("tb_exudyn.plotting").plot_check(self)
 
 
-def _prefixed(exc: UserError, prefix: str) -> UserError:
-    """The same error (class and attributes) with ``prefix: `` before its one line."""
-    out = type(exc).__new__(type(exc))
-    Exception.__init__(out, f"{prefix}: {exc}")
-    out.__dict__.update(exc.__dict__)
-    out.message = f"{prefix}: {exc}"
-    return out
+def _case_rows(setup: CheckSetup, case: str, train: str, resp: MovingForceResponse) -> list[CheckRecord]:
+    """The rows of one mass case and train: one per speed of its response."""
+    m = setup.modes[case]
+    phi_dyn = resp.phi_dyn.max(axis=0)
+    mids = resp.mid_stations
+    where_max = resp.max_acc.argmax(axis=0)
+    limit, k_irr = setup.limit, setup.k_irr
+    rows = []
+    for j, v in enumerate(resp.speeds_kmh):
+        s = int(where_max[j])
+        peak = float(resp.max_acc[s, j])
+        phi2 = code.phi_irregularity_annex_c(m.f1, setup.span, v / 3.6)  # L_Phi: the longest span [check]
+        rows.append(CheckRecord(
+            criterion=deck_criterion(setup.track), load_model=moving_force_load_model(train), train=train,
+            speed_kmh=float(v), case=case, track=setup.track,
+            location=f"{resp.station_names[s]} ({resp.station_x[s]:g} m)", value=peak, limit=limit,
+            damping_ratio=setup.zeta, cutoff_hz=float(m.cutoff),
+            acc_z_mid_span=tuple(float(resp.max_acc[mid, j]) for mid in mids),
+            disp_z_mid=float(resp.max_disp[mids, j].max()), phi_dyn=float(phi_dyn[j]), phi_irregularity=phi2,
+            enhancement=float(1.0 + phi_dyn[j] + k_irr * phi2),
+            value_with_phi2=float(peak * (1.0 + k_irr * phi2))))
+    return rows
+
+
+def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) -> str:
+    if not setup.stochastic_trains:
+        return ""
+    source = setup.stochastic_source
+    n_runs = sum(len(v) for v in setup.run_speeds.values())
+    return (f"PEM of {', '.join(source.track.irregularities)} (track and analysis of {source.name}) on the vehicle "
+            f"models of {', '.join(t.name for t in setup.stochastic_trains)}, nominal case, damping "
+            f"{100 * setup.zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target "
+            f"probability {DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(setup.track)}")
+
+
+def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceResponse],
+              stochastic: dict[str, list[tuple[float, dict[str, Any]]]], stats: dict[str, Any], t0: float) -> CheckResult:
+    """The CheckResult of the check's tasks (tb_exudyn.methods.check): the rows of every (case, train) in that
+    order, the stochastic values in the nominal case's rows, the A2.4.4 verdicts, the interaction runs."""
+    rows, ordered = [], []
+    for case in setup.cases:
+        for train in setup.trains:
+            ordered.append(responses[(case, train.name)])
+            rows += _case_rows(setup, case, train.name, ordered[-1])
+    runs = [stoch.stochastic_run(setup.bases[t.name], stochastic[t.name], setup.track, t.name)
+            for t in setup.stochastic_trains]
+    for run in runs:
+        rows = [replace(r, stochastic=run.values.get(stoch.speed_key(r.speed_kmh))) if r.train == run.train and
+                r.case == NOMINAL_CASE else r for r in rows]
+    messages = [m for run in runs for m in run.warnings]
+    m = setup.modes[setup.ref_case]
+    mb, used, cutoff = m.modal, m.used, m.cutoff
+    inter = vbi.check_rows(setup.bridge, setup.interaction_trains, rows, setup.zeta_vehicles, cutoff,
+                           setup.ref_case) if setup.interaction_trains else ()
+    verdicts = a2_verdicts(setup.bridge, setup.line_speed_kmh, setup.track, setup.maintenance, mb, rows, ordered,
+                           setup.cases, [t.name for t in setup.trains], setup.limit, setup.alpha, setup.alpha_given)
+    bridge = setup.bridge
+    return CheckResult(
+        criteria=verdicts, bridge=bridge.name, bridge_file="" if setup.label == bridge.name else setup.label,
+        line_speed_kmh=setup.line_speed_kmh, track=setup.track, limit=setup.limit, construction=setup.construction,
+        damping_ratio=setup.zeta, damping_basis=setup.damping_basis, cutoff_hz=float(cutoff), cutoff_basis=m.basis,
+        mode_frequencies=tuple(float(f) for f in mb.frequencies[used]),
+        vertical_frequencies=tuple(float(f) for f in mb.frequencies[_vertical(mb)] if f <= cutoff * (1.0 + 1e-9)),
+        cases=setup.cases, construction_basis=setup.construction_basis, mesh_basis=setup.mesh_basis,
+        dynamic_analysis=code.dynamic_analysis_required(setup.line_speed_kmh, setup.span, m.f1),
+        resonant_speeds_kmh={t.name: tuple(float(v) for v in code.resonant_speeds_kmh(m.f1, t.regular_length))
+                             for t in setup.trains},
+        columns=record_columns(len(setup.spans)), rows=tuple(rows), responses=tuple(ordered),
+        seconds=time.perf_counter() - t0, stochastic_scenarios=dict(setup.bases),
+        stochastic_basis=_stochastic_basis(setup, runs),
+        target_probability=float(DEFAULT_TARGET_PROBABILITY) if setup.stochastic_trains else None,
+        warnings=tuple(dict.fromkeys(messages)), interaction=inter, run=dict(stats))
+
+
+def table_files(result: CheckResult) -> dict[str, bytes]:
+    """What a check writes into its output folder unless told otherwise: its table (check.csv)."""
+    return {CHECK_CSV: result.csv_text().encode()}
+
+
+#: a check whose moving-force integrations add up to less than this (steps x modes x speeds) runs in this
+#: process when no worker count is given: a worker process's start (importing the methods, 1-2 s each, in
+#: parallel) would cost more than it saves. About 8e-8 CPU-s per unit: li_zhu_2011_bridge under HSLM-A at
+#: 250 km/h is 4.2e8 (33 CPU-s: a pool of 2), single_span_32m under HSLM-A1 at 120 km/h 2.5e5 (in this process)
+IN_PROCESS_WORK = 5e7
+
+
+def _work(setup: CheckSetup) -> float:
+    """The moving-force integrations' size, steps x modes x speeds summed (the stochastic rows: infinite)."""
+    if setup.stochastic_trains:
+        return math.inf
+    total = 0.0
+    for case in setup.cases:
+        m = setup.modes[case]
+        f = m.modal.frequencies[m.used]
+        for t in setup.trains:
+            speeds = np.array(setup.series[t.name])
+            total += integration_steps(m.modal.length, f, t, speeds, setup.spans).n_steps * f.size * speeds.size
+    return total
 
 
 def check(
@@ -242,7 +322,6 @@ def check(
     speed_step_kmh: float = code.MAX_SPEED_STEP_KMH,
     cases: Sequence[str] | None = None,
     where: str = "check",
-    option_names: dict[str, str] | None = None,
     stochastic: bool = False,
     stochastic_speeds: Sequence[float] | None = None,
     stochastic_scenario: Any = None,
@@ -251,7 +330,11 @@ def check(
     executor: Any = None,
     progress: bool = False,
     alpha: float | None = None,
-    before_work: Callable[[], None] | None = None,
+    out: str | Path | None = None,
+    resume: bool = False,
+    overwrite: bool = False,
+    keep_checkpoint: bool = False,
+    render: Callable[[CheckResult], dict[str, bytes]] | None = None,
 ) -> CheckResult:
     """The EN 1991-2 dynamic check of ``bridge`` under ``trains`` (deterministic moving forces).
 
@@ -271,276 +354,47 @@ def check(
     cases : the mass cases (EN 1991-2 6.4.6.3.2, :data:`tb_exudyn.scenario.MASS_CASES`) each of whose
         bridge gets its own modes and rows; None (default): lower, nominal and upper where the bridge
         declares ballast, else nominal
-    where : how error messages name the caller (the CLI passes 'command line')
-    option_names : argument -> name in error messages (the CLI's options, e.g. {'trains': '--trains'})
+    where : how error messages name the caller (errors name the arguments as their keys)
     stochastic : also the stochastic rows (:mod:`tb_exudyn.codes.stochastic`): for every train given as
         vehicle models, the PEM of the track irregularity at its speeds of the nominal mass case (one PEM
-        run per speed: about 12-20 s each for the reference study's ICE over li_zhu_2011_bridge)
+        run per speed: about 4 CPU-s each for the reference study's ICE over li_zhu_2011_bridge)
     stochastic_speeds : those speeds only [km/h] (None: every speed of the series); a speed not in the
         series is added to it (for the trains with stochastic rows), within the series' range
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
     interaction : per train given as vehicle models, its vehicle-bridge interaction run beside its moving forces
         at its deciding speed (:func:`tb_exudyn.codes.interaction.check_rows`; one Exudyn run per train)
-    workers, executor, progress : how the PEM runs execute (as :func:`tb_exudyn.methods.sweep.run_sweep`)
+    workers, executor, progress : how the check's tasks run (:class:`tb_exudyn.execution.Execution`: one task
+        per mass case and train, one per stochastic speed; :mod:`tb_exudyn.methods.check`); workers None: all
+        cores, or this process for a check whose integrations are small (:data:`IN_PROCESS_WORK`). The
+        result is bitwise the same for any of them
     alpha : the classified-load factor alpha of EN 1991-2 6.3.2(3) on LM71 and SW/0 in the static criteria
         (None: 1.0, which the verdicts say was not given)
-    before_work : called once, after every argument is checked and the work planned (modes, speed series,
-        the integrations' sizes, the stochastic rows' scenarios), before the first integration: the command
-        line takes its output folder there, so that a refused argument leaves it untouched
+    out, resume, overwrite, keep_checkpoint : the output folder (None: nothing written) and what may be done
+        to it (:class:`~tb_exudyn.execution.Execution`): the check's checkpoint ``out/checkpoint-check`` (one
+        file per finished task: an interrupted check resumes with ``resume=True``, to the same bits), then
+        the files of ``render`` written as one group (all or none); earlier check files are refused unless
+        ``overwrite``
+    render : the files written into ``out`` from the result ({name: bytes}; default :func:`table_files`, the
+        table alone); names among :data:`CHECK_FILES` (one left out is removed with the write)
 
-    Raises SettingError naming ``where`` and the argument for any value outside what is allowed.
+    Raises SettingError naming ``where`` and the argument for any value outside what is allowed, before any
+    work and before ``out`` is touched.
     """
-    t0 = time.perf_counter()
-    names = dict(option_names or {})
-
-    def err(key: str, value: Any, allowed: str, reason: str = "") -> SettingError:
-        return SettingError(where, names.get(key, key), value, allowed, reason)
-
-    ok = isinstance(line_speed_kmh, (int, float)) and not isinstance(line_speed_kmh, bool) and math.isfinite(
-        line_speed_kmh) and MIN_LINE_SPEED_KMH <= line_speed_kmh <= code.MAX_LINE_SPEED_KMH
-    if not ok:
-        raise err("line_speed_kmh", line_speed_kmh,
-                  f"a speed in [{MIN_LINE_SPEED_KMH:g}, {code.MAX_LINE_SPEED_KMH:g}] km/h",
-                  "out of range" if isinstance(line_speed_kmh, (int, float)) and not isinstance(line_speed_kmh, bool)
-                  and math.isfinite(line_speed_kmh) else "")
-    if track not in code.DECK_ACCELERATION_LIMITS:
-        raise err("track", track, " or ".join(code.DECK_ACCELERATION_LIMITS))
-    if maintenance not in code.IRREGULARITY_FACTOR:
-        raise err("maintenance", maintenance, " or ".join(code.IRREGULARITY_FACTOR))
-    if not (isinstance(speed_step_kmh, (int, float)) and 0 < speed_step_kmh <= code.MAX_SPEED_STEP_KMH):
-        raise err("speed_step_kmh", speed_step_kmh, f"0 < step <= {code.MAX_SPEED_STEP_KMH:g} km/h")
-    if damping_ratio is not None and not (isinstance(damping_ratio, (int, float)) and 0.0 <= damping_ratio < 1.0):
-        raise err("damping_ratio", damping_ratio, "a ratio in [0, 1), or none for Table 6.6")
-    label = str(bridge) if isinstance(bridge, (str, Path)) else (
-        source_file(bridge) or getattr(bridge, "name", type(bridge).__name__))  # the bridge as the user gave it
-    if isinstance(bridge, (str, Path)):
-        text = str(bridge)
-        known = model_files("bridges")
-        if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
-            raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
-        bridge = load_bridge(bridge)
-    if not isinstance(bridge, (SimpleBeam, Frame, Continuous)):  # e.g. a modal_table: no section data
-        raise err("bridge", label, "a bridge name, a .toml path, SimpleBeam, Frame or Continuous",
-                  f"a {getattr(bridge, 'kind', 'bridge')} bridge has no section data for the code's mass cases"
-                  if hasattr(bridge, "kind") else "")
-    mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
-    if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:
-        mesh_basis = (f"{CHECK_ELEMENTS_PER_SPAN} beam elements per span (the bridge's {bridge.elements_per_span} "
-                      "refined: the torsion modes up to the cut-off converge)")
-        bridge = bridge.replace(elements_per_span=CHECK_ELEMENTS_PER_SPAN)
-    if construction is None:
-        if bridge.code is None:
-            raise err("bridge", label, "a bridge whose file declares its construction type ([code] table, "
-                      f"code.construction: {', '.join(code.CONSTRUCTION_TYPES)}), or a construction type given",
-                      "no construction type")
-        construction, construction_basis = bridge.code.construction, "the bridge's data (code.construction)"
-    else:
-        construction_basis = "given"
-    if construction not in code.CONSTRUCTION_TYPES:
-        raise err("construction", construction, ", ".join(code.CONSTRUCTION_TYPES))
-    ballast = bridge.code is not None and bridge.code.ballast_mass_per_length > 0.0
-    if cases is None:
-        cases = ("lower", NOMINAL_CASE, "upper") if ballast else (NOMINAL_CASE,)
-    cases = tuple(cases)
-    bad = [c for c in cases if c not in MASS_CASES] or ([] if ballast or cases == (NOMINAL_CASE,) else
-                                                         [c for c in cases if c != NOMINAL_CASE])
-    if bad or not cases:
-        raise err("cases", list(cases), "mass cases of " + ", ".join(MASS_CASES) + (
-            "" if ballast else " (only nominal: the bridge declares no ballast, code.ballast_mass_per_length)"))
-    given = [trains] if isinstance(trains, (str, ForceTrain)) else list(trains)
-    if not given:
-        raise err("trains", given, "hslm_a, HSLM-A1 ... HSLM-A10 or a train of models/trains", "no train")
-    key_trains = names.get("trains", "trains")
-    pairs = [pair for t in given for pair in ([(t, TrainSource(t.name, f"the ForceTrain object {t.name!r}", id(t)))]
-                                              if isinstance(t, ForceTrain) else train_sources(t, where, key_trains))]
-    train_list = distinct_trains(pairs, where, key_trains)  # two trains with one name: refused, naming both
-    spans = [float(s) for s in bridge.spans]
-    if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN and not isinstance(
-            bridge, Continuous) and min(spans) >= HSLM_B_SPANS[0]:  # HSLM-B instead (EN 1991-2 6.4.6.1.1)
-        b = hslm_b(min(spans))
-        train_list = distinct_trains([p for p in pairs if not p[0].name.startswith("HSLM-A")] + [
-            (b, TrainSource("hslm_a", f"EN 1991-2's {b.name} (HSLM-A's stand-in under 7 m)", "hslm_b"))],
-            where, key_trains)
-    if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
-        raise err("trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
-                  f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans under 7 m "
-                  "(EN 1991-2 Table E.4)")
-
-    stochastic_trains: list[ForceTrain] = []
-    extra_speeds: list[float] = []
-    if not isinstance(stochastic, bool):
-        raise err("stochastic", stochastic, "True or False")
-    if not stochastic and (stochastic_speeds is not None or stochastic_scenario is not None):
-        given_key = "stochastic_speeds" if stochastic_speeds is not None else "stochastic_scenario"
-        raise err(given_key, stochastic_speeds if stochastic_speeds is not None else str(stochastic_scenario),
-                  f"with {names.get('stochastic', 'stochastic=True')} only", "no stochastic rows asked for")
-    if stochastic:
-        stochastic_trains = [t for t in train_list if stoch.eligible(t)]
-        if not stochastic_trains:
-            raise err("stochastic", [t.name for t in train_list], "trains given as vehicle models among the trains "
-                      "(ice_mttm, ave_s103 or a train .toml file of vehicles): HSLM-A trains are moving forces",
-                      "no train for the stochastic rows")
-        if NOMINAL_CASE not in cases:
-            raise err("cases", list(cases), f"mass cases including {NOMINAL_CASE!r} (the stochastic rows' case)")
-        top_speed = code.DESIGN_SPEED_FACTOR * float(line_speed_kmh)
-        low_speed = min(code.SPEED_SERIES_START_KMH, top_speed)
-        if stochastic_speeds is not None:
-            if isinstance(stochastic_speeds, (str, bytes)):
-                raise err("stochastic_speeds", stochastic_speeds, "speeds [km/h] as numbers, or none for every speed")
-            values = [stochastic_speeds] if isinstance(stochastic_speeds, (int, float)) else stochastic_speeds
-            try:
-                values = [v for v in values]
-            except TypeError:
-                raise err("stochastic_speeds", stochastic_speeds, "speeds [km/h], or none for every speed") from None
-            allowed = (f"speeds from {low_speed:g} to {top_speed:g} km/h (the check's series: 40 m/s to 1.2 x the "
-                       "line speed), each once")
-            if not values:
-                raise err("stochastic_speeds", list(values), allowed, "no speed")
-            for v in values:
-                if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)) or not (
-                        math.isfinite(v) and low_speed - 1e-6 <= v <= top_speed + 1e-6):
-                    raise err("stochastic_speeds", v, allowed, "outside the series' range")
-            keys = [round(float(v), 6) for v in values]
-            if len(set(keys)) != len(keys):
-                raise err("stochastic_speeds", list(values), allowed, "a speed given twice")
-            extra_speeds = [min(max(k, low_speed), top_speed) for k in keys]
-        stoch.check_limits(track, code.deck_acceleration_limit(track), where)
-        source_scenario = stoch.scenario_source(stochastic_scenario, where,
-                                                names.get("stochastic_scenario", "stochastic_scenario"))
-
-    interaction_trains = vbi.check_trains(train_list, interaction, err)
-    alpha_value = check_alpha(alpha, where, names.get("alpha", "alpha"))
-    span = max(spans)  # the longest span: the smallest Table 6.6 ratio (the lower limit for every span)
-    if damping_ratio is not None:
-        zeta = float(damping_ratio)
-        basis = f"damping ratio {100 * zeta:.3g} % (given)"
-    else:
-        zeta = code.damping_ratio_table_6_6(construction, span)
-        basis = f"damping {100 * zeta:.3g} % (Table 6.6, {construction.replace('_', ' ')}, L = {span:g} m)"
-    zeta_vehicles = zeta  # eq. 6.13 is for moving-force models: the vehicle model's rows leave it out
-    if additional_damping:
-        dz = code.additional_damping_eq_6_13(span)
-        zeta += dz
-        basis += f" + {100 * dz:.3g} % (eq. 6.13)"
-
-    limit = code.deck_acceleration_limit(track)
-    k_irr = code.IRREGULARITY_FACTOR[maintenance]
-    # each mass case its own bridge and modes; the nominal case's (or the first's) describe the result
-    modes_of = {case: _modes_for_check(with_mass_case(bridge, case) if bridge.code is not None else bridge, err,
-                                       label) for case in cases}
-    ref_case = NOMINAL_CASE if NOMINAL_CASE in modes_of else cases[0]
-    mb, used, f1, _f3, cutoff, cutoff_basis = modes_of[ref_case]
-    dyn_required = code.dynamic_analysis_required(line_speed_kmh, span, f1)
-
-    columns = record_columns(len(spans))
-    stochastic_names = {t.name for t in stochastic_trains}
-    series: dict[str, np.ndarray] = {}
-    for train in train_list:
-        # the resonances of every case: the series is refined near each case's v_i = n0 D / i
-        v_res = sorted({float(v) for c in cases for v in code.resonant_speeds_kmh(modes_of[c][2], train.regular_length)})
-        speeds = code.speed_series(line_speed_kmh, v_res, step_kmh=speed_step_kmh)
-        if train.name in stochastic_names and extra_speeds:
-            speeds = np.unique(np.round(np.concatenate([speeds, extra_speeds]), 6))
-        series[train.name] = speeds
-    # the stochastic rows' scenarios, built (and every speed's scenario checked) before any run
-    bases: dict[str, Any] = {}
-    run_speeds: dict[str, list[float]] = {}
-    if stochastic_trains:
-        _, _, _, _, cutoff_n, _ = modes_of[NOMINAL_CASE]
-        key_sc = names.get("stochastic_scenario", "stochastic_scenario")
-        for train in stochastic_trains:
-            bases[train.name] = stoch.base_scenario(source_scenario, bridge, train, zeta_vehicles, cutoff_n,
-                                                    where, key_sc)
-            chosen = series[train.name] if not extra_speeds else np.array(extra_speeds)
-            run_speeds[train.name] = [float(v) for v in series[train.name] if stoch.speed_key(v) in
-                                      {stoch.speed_key(c) for c in chosen}]
-            for v in run_speeds[train.name]:
-                try:
-                    stoch.scenario_at(bases[train.name], v)
-                except ScenarioError as exc:
-                    given = source_scenario.source_file or source_scenario.name
-                    raise err("stochastic_scenario", given, exc.allowed,
-                              f"its analysis at {v:g} km/h (the speed rule: its band x v / v0, at most "
-                              f"0.1 / analysis.time_step): analysis.{exc.key}: {exc.reason}"
-                              ) from None
-    def too_many_steps(train: ForceTrain, steps: Any) -> ResourceError:
-        return ResourceError.from_parts(
-            where, names.get("line_speed_kmh", "line_speed_kmh"), line_speed_kmh,
-            "a higher line speed: the lowest speed of the series sets the step",
-            f"{train.name} at {series[train.name][0]:g} km/h needs {steps} steps, more than {MAX_STEPS}")
-
-    for case, train in ((c, t) for c in cases for t in train_list):  # every integration's size, before any
-        mb_c, used_c = modes_of[case][:2]
-        steps = integration_steps(mb_c.length, mb_c.frequencies[used_c], train, series[train.name], spans).n_steps
-        if steps > MAX_STEPS:
-            raise too_many_steps(train, steps)
-    if before_work is not None:  # every argument checked and the work planned: the caller's turn (its --out)
-        before_work()
-    rows, responses, resonant = [], [], {}
-    for case, train in ((c, t) for c in cases for t in train_list):
-        mb_c, used_c, f1_c, _, cutoff_c, _ = modes_of[case]
-        resonant[train.name] = tuple(float(v) for v in code.resonant_speeds_kmh(f1, train.regular_length))
-        speeds = series[train.name]
-        try:
-            resp = moving_force_response(mb_c, train, speeds, spans, damping_ratio=zeta, modes=used_c)
-        except ResourceError as exc:
-            raise too_many_steps(train, getattr(exc, "steps", "?")) from None
-        responses.append(resp)
-        phi_dyn = resp.phi_dyn.max(axis=0)
-        mids = resp.mid_stations
-        where_max = resp.max_acc.argmax(axis=0)
-        for j, v in enumerate(resp.speeds_kmh):
-            s = int(where_max[j])
-            peak = float(resp.max_acc[s, j])
-            phi2 = code.phi_irregularity_annex_c(f1_c, span, v / 3.6)  # L_Phi: the longest span [check]
-            rows.append(CheckRecord(
-                criterion=deck_criterion(track), load_model=moving_force_load_model(train.name), train=train.name,
-                speed_kmh=float(v), case=case, track=track,
-                location=f"{resp.station_names[s]} ({resp.station_x[s]:g} m)", value=peak, limit=limit,
-                damping_ratio=zeta, cutoff_hz=float(cutoff_c),
-                acc_z_mid_span=tuple(float(resp.max_acc[m, j]) for m in mids),
-                disp_z_mid=float(resp.max_disp[mids, j].max()), phi_dyn=float(phi_dyn[j]), phi_irregularity=phi2,
-                enhancement=float(1.0 + phi_dyn[j] + k_irr * phi2),
-                value_with_phi2=float(peak * (1.0 + k_irr * phi2))))
-    # the stochastic rows: one PEM sweep per train over its chosen speeds, into the nominal case's rows
-    runs, messages = [], []
-    for train in stochastic_trains:
-        try:
-            run = stoch.run_stochastic(bases[train.name], run_speeds[train.name], track, workers=workers,
-                                       executor=executor, progress=progress, name=train.name)
-        except UserError as exc:  # e.g. a run this machine cannot hold: say which option's runs
-            given = source_scenario.source_file or source_scenario.name
-            raise _prefixed(exc, f"{where}: key '{names.get('stochastic_scenario', 'stochastic_scenario')}' = "
-                                 f"{given!r}, the stochastic rows of {train.name}") from None
-        runs.append(run)
-        messages += run.warnings
-        rows = [replace(r, stochastic=run.values.get(stoch.speed_key(r.speed_kmh))) if r.train == train.name and
-                r.case == NOMINAL_CASE else r for r in rows]
-    stochastic_basis = ""
-    if stochastic_trains:
-        n_runs = sum(len(v) for v in run_speeds.values())
-        stochastic_basis = (
-            f"PEM of {', '.join(source_scenario.track.irregularities)} (track and analysis of {source_scenario.name}) "
-            f"on the vehicle models of {', '.join(t.name for t in stochastic_trains)}, nominal case, damping "
-            f"{100 * zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target probability "
-            f"{DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {stoch.LIMIT_SET}/{stoch.CRITERIA[track]}")
-    inter = vbi.check_rows(bridge, interaction_trains, rows, zeta_vehicles, cutoff, ref_case) if interaction_trains else ()
-    verdicts = a2_verdicts(bridge, float(line_speed_kmh), track, maintenance, mb, rows, responses, cases,
-                           [t.name for t in train_list], limit, alpha_value, alpha is not None)
-    return CheckResult(
-        criteria=verdicts, bridge=bridge.name, bridge_file="" if label == bridge.name else label,
-        line_speed_kmh=float(line_speed_kmh), track=track, limit=limit, construction=construction,
-        damping_ratio=zeta, damping_basis=basis, cutoff_hz=float(cutoff), cutoff_basis=cutoff_basis,
-        mode_frequencies=tuple(float(f) for f in mb.frequencies[used]),
-        vertical_frequencies=tuple(float(f) for f in mb.frequencies[_vertical(mb)] if f <= cutoff * (1.0 + 1e-9)),
-        cases=cases, construction_basis=construction_basis, mesh_basis=mesh_basis, dynamic_analysis=dyn_required,
-        resonant_speeds_kmh=resonant, columns=columns, rows=tuple(rows), responses=tuple(responses),
-        seconds=time.perf_counter() - t0, stochastic_scenarios=bases, stochastic_basis=stochastic_basis,
-        target_probability=float(DEFAULT_TARGET_PROBABILITY) if stochastic_trains else None, warnings=tuple(dict.fromkeys(messages)),
-        interaction=inter,
-    )
+    execution_args = dict(executor=executor, out=out, resume=resume, progress=progress, where=where,
+                          overwrite=overwrite, keep_checkpoint=keep_checkpoint)
+    Execution(workers=workers, **execution_args)  # its arguments checked first (nothing is touched)
+    setup = plan_check(bridge, line_speed_kmh, trains=trains, track=track, construction=construction,
+                       additional_damping=additional_damping, damping_ratio=damping_ratio, maintenance=maintenance,
+                       speed_step_kmh=speed_step_kmh, cases=cases, where=where, stochastic=stochastic,
+                       stochastic_speeds=stochastic_speeds, stochastic_scenario=stochastic_scenario,
+                       interaction=interaction, alpha=alpha)
+    if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
+        workers = 1
+    method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
+        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES)
+    return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers, **execution_args))
 
 
-
-__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check"]
+__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
+           "table_files"]

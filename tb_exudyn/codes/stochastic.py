@@ -19,8 +19,10 @@ and runs it at the chosen speeds with :func:`tb_exudyn.methods.sweep.run_sweep` 
 speed: :func:`scenario_at` is ``sweep_scenario``, i.e. :func:`tb_exudyn.scenario.speed_rule.at_speed`: the
 scenario's band and approach scaled by v / v0, its grid kept), on the channels :data:`CHANNELS`. Each
 speed's row takes from the verdicts' exceedance machinery (``RandomResponse.checks()``, the default limits
-and target probability: :func:`tb_exudyn.methods.sweep.check_columns`) the deck acceleration criterion of
-the check's track (:data:`CRITERIA`) at its deciding location: ``p_exceed``, the probability of exceeding
+and target probability: :func:`tb_exudyn.methods.sweep.check_values`) the deck acceleration criterion of
+the check's track (:func:`tb_exudyn.codes.criteria.deck_criterion`: the criterion of models/limits/en1990_deck.toml
+whose value is the moving-force rows' limit too, :func:`~tb_exudyn.codes.criteria.deck_acceleration_limit`) at its
+deciding location: ``p_exceed``, the probability of exceeding
 the limit at least once in one passage (Rice's rate, Poisson's first passage), and ``level_at_target``,
 the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem``
 (or ``tb-exudyn run``) of :func:`scenario_at` at that speed, to round-off.
@@ -29,7 +31,6 @@ the level exceeded with the target probability per passage. The row at a speed i
 from __future__ import annotations
 
 import importlib
-import json
 import math
 import time
 from dataclasses import dataclass, field
@@ -39,12 +40,11 @@ from typing import Any, Sequence
 from ..errors import ScenarioError, SettingError
 from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
-from ..results.checks import default_limits
+from ..results.sweep import read_checks
 from ..scenario import Scenario, load_scenario
 from ..scenario.model import Train
 from ..scenario.registry import model_files
-from ..scenario.schema import source_file
-from .criteria import DECK_ACCELERATION_CRITERIA
+from .criteria import deck_criterion
 from .trains import ForceTrain
 
 #: the scenario whose track and analysis the stochastic rows take by default: the reference study
@@ -53,9 +53,6 @@ DEFAULT_SCENARIO = "li_zhu_2011"
 #: match a channel of the model: the plain ``acc_z``) and with them the derived ``acc_z_en1990`` along the
 #: track, modes up to the cut-off, which the deck criterion reads
 CHANNELS: tuple[str, ...] = ("bridge.span*.acc_z*",)
-#: the deck acceleration criterion of each track (models/limits/en1990_deck.toml)
-LIMIT_SET = "en1990_deck"
-CRITERIA: dict[str, str] = DECK_ACCELERATION_CRITERIA  # the one source of the deck limits (codes/criteria.py)
 #: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
 MODE_MARGIN = 1.05
 #: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
@@ -76,7 +73,7 @@ def eligible(train: ForceTrain) -> bool:
 
 def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str) -> Scenario:
     """The scenario whose track and analysis the rows take (None: :data:`DEFAULT_SCENARIO`); an unknown
-    name or one without track irregularities raises SettingError naming ``key``."""
+    name, one without track irregularities or one with a track structure raises SettingError naming ``key``."""
     if scenario is None:
         scenario = DEFAULT_SCENARIO
     if isinstance(scenario, Scenario):
@@ -93,6 +90,10 @@ def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str
     if not sc.track.irregularities:
         raise SettingError(where, key, sc.name, "a scenario with track irregularities (track.irregularities)",
                            "no irregularity: nothing random to analyse")
+    if sc.track.structure:  # the check's trains are cars with a wheel on each rail: not on the track layer yet
+        raise SettingError(where, key, sc.name, "a scenario without track.structure (the check's stochastic column "
+                           "does not model the track layer yet: docs/track.md)", f"track.structure = "
+                           f"{sc.track.structure!r}")
     return sc
 
 
@@ -135,23 +136,6 @@ def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> 
     return sc
 
 
-def check_limits(track: str, limit: float, where: str = "check") -> None:
-    """The limit file of the rows' criterion is there and its limit is the check's (``limit``): else a
-    ScenarioError naming the file (or SettingError when no file of that name is among the limits)."""
-    criterion = CRITERIA[track]
-    sets = {ls.name: ls for ls in default_limits()}
-    ls = sets.get(LIMIT_SET)
-    found = None if ls is None else next((c for c in ls.criteria if c.id == criterion), None)
-    if found is None:
-        raise SettingError(where, "limits", sorted(sets), f"a limit file {LIMIT_SET!r} with criterion {criterion!r} "
-                           "(models/limits/en1990_deck.toml)", "the stochastic rows' criterion is missing")
-    value = found.limit_value() if found.limit.kind == "fixed" else math.nan
-    if not (math.isfinite(value) and abs(value - limit) <= 1e-12 * limit):
-        raise ScenarioError(source_file(ls) or LIMIT_SET, f"criteria.{criterion}.limit", value,
-                            f"the check's limit {limit:g} m/s^2 (EN 1990 A2.4.4.2.1), a fixed limit",
-                            "the stochastic rows must compare with the check's limit")
-
-
 @dataclass(frozen=True)
 class StochasticRun:
     """The stochastic rows of one train: per speed (km/h, rounded to 1e-6) its values (the columns of
@@ -175,7 +159,6 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     track's deck criterion at its deciding location, that location, the largest |mean| there (the
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
     t0 = time.perf_counter()
-    crit = f"{LIMIT_SET}/{CRITERIA[track]}"
     methods = _sweep()
     # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
     # separate sweeps (e.g. 250 and 250.0001 km/h)
@@ -190,25 +173,35 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
         sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
                                   progress=progress)
         done += list(zip(sweep.speeds, sweep.summaries))
+    return stochastic_run(base, done, track, name, time.perf_counter() - t0)
+
+
+def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str, name: str = "",
+                   seconds: float | None = None) -> StochasticRun:
+    """The stochastic rows of one train from its speeds' sweep summaries (``done``: (speed, summary) as
+    :func:`tb_exudyn.methods.sweep.speed_summary` makes them, one per PEM run; the EN 1991-2 check's
+    method runs them as its tasks); ``seconds``: the runs' time (default: the summaries' own)."""
+    crit = deck_criterion(track)
     values: dict[float, StochasticValues] = {}
     messages: list[str] = []
     for v, s in done:
-        cols = json.loads(str(s["checks"]))
-        if f"{crit}_probability" not in cols:  # check_limits ran first: the channels are the model's
+        found = read_checks(s).get(crit)
+        if found is None:  # the channels are the model's (its limit file was read before the work)
             raise SettingError("check", "stochastic", name or base.name, f"a model with the channels {CHANNELS[0]}",
                                f"no {crit} row at {v:g} km/h")
-        channel = str(cols[f"{crit}_channel"])
         names = [str(c) for c in s["channels"]]
-        mean = float(s["max_abs_mean"][names.index(channel)]) if channel in names else math.nan
-        reason = str(cols.get(f"{crit}_reason", ""))
+        mean = float(s["max_abs_mean"][names.index(found.channel)]) if found.channel in names else math.nan
         values[speed_key(v)] = StochasticValues(
-            p_exceed=float(cols[f"{crit}_probability"]), level_at_target=float(cols[f"{crit}_estimate"]),
-            location=channel, mean_acc=mean, verdict=str(cols[f"{crit}_verdict"]) + (f" ({reason})" if reason else ""),
-            caveats=str(cols.get(f"{crit}_caveats", "")), n_freq=int(s["n_freq"]))
+            p_exceed=found.probability, level_at_target=found.estimate, location=found.channel, mean_acc=mean,
+            verdict=found.verdict + (f" ({found.reason})" if found.reason else ""), caveats=found.caveats,
+            n_freq=int(s["n_freq"]))
         messages += [str(m) for m in s.get("warnings", ())]
+    if seconds is None:
+        seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))
     return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
-                         seconds=time.perf_counter() - t0)
+                         seconds=seconds)
 
 
-__all__ = ["CHANNELS", "COLUMNS", "CRITERIA", "DEFAULT_SCENARIO", "LIMIT_SET", "MODE_MARGIN", "StochasticRun",
-           "base_scenario", "check_limits", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key"]
+__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "MODE_MARGIN", "StochasticRun",
+           "base_scenario", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+           "stochastic_run"]

@@ -49,6 +49,11 @@ class RunFiles:
     result: str
     checkpoint: str | None = None
     drawn: tuple[str, ...] = ()
+    #: a run whose result is files at the folder's top written as one group at its end (the EN 1991-2
+    #: check: check.csv, check.png, check.html), not a result folder: ``result`` is then what the messages
+    #: call it ('check'); the files are refused as :func:`refuse_earlier_files` says and never cleared
+    #: before the new group replaces them (an interrupted --overwrite leaves the old ones whole)
+    group: tuple[str, ...] = ()
 
 
 #: how a message names the options (the function arguments; a caller that names them otherwise, the
@@ -109,6 +114,9 @@ def clear_run(folder: Path, files: RunFiles) -> None:
 def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
     """Refuse (OutputFolderError naming the folder, what it holds and the options) or clear, as the
     module docstring says; call with the folder's lock held."""
+    if files.group:
+        _prepare_group(folder, files, resume=resume, overwrite=overwrite, where=where)
+        return
     opt = _OPTIONS
     held = holdings(folder, files)
     if resume:
@@ -132,6 +140,29 @@ def prepare_folder(folder: Path, files: RunFiles, *, resume: bool, overwrite: bo
             f"{opt['overwrite']} to replace it, or {opt['out']}", where=where, key="out", value=str(folder),
             allowed=f"{cont}{opt['overwrite']} to replace it, or {opt['out']}")
     clear_run(folder, files)
+
+
+def _finished_tasks(folder: Path, checkpoint: str | None) -> int:
+    tasks = folder / checkpoint / "tasks" if checkpoint is not None else None
+    return sum(1 for _ in tasks.glob("*.npz")) if tasks is not None and tasks.is_dir() and not tasks.is_symlink() else 0
+
+
+def _prepare_group(folder: Path, files: RunFiles, *, resume: bool, overwrite: bool, where: str) -> None:
+    """:func:`prepare_folder` for a run of ``files.group`` (see :class:`RunFiles`): the group's earlier files
+    refused without ``overwrite`` (with ``resume`` too unless a checkpoint is there to continue), an earlier
+    checkpoint with finished tasks refused without ``resume`` or ``overwrite`` and removed with ``overwrite``."""
+    finished = _finished_tasks(folder, files.checkpoint)
+    refuse_earlier_files(folder, files.group, files.result, overwrite=overwrite or (resume and finished > 0),
+                         where=where)
+    if resume or not finished:
+        return
+    if not overwrite:
+        allowed = f"{_OPTIONS['resume']} to continue it, {_OPTIONS['overwrite']} to replace it, or {_OPTIONS['out']}"
+        raise OutputFolderError(
+            f"{where}: output folder {str(folder)!r} holds the checkpoint {files.checkpoint}/ ({finished} finished "
+            f"tasks) of an earlier {files.result}: use {allowed}", where=where, key="out", value=str(folder),
+            allowed=allowed)
+    remove_entry(folder / files.checkpoint)  # type: ignore[operator]
 
 
 def refuse_earlier_files(folder: str | Path, names: Sequence[str], what: str, *, overwrite: bool, where: str) -> None:

@@ -124,8 +124,8 @@ def mc_memory(s: McSizing, engine: Any) -> MemoryEstimate:
     pool = s.workers > 0
     nb = s.task_samples
     key = ("n_samples", s.n_samples)
-    remedy = ("fewer samples (--samples, n_samples or analysis.n_samples)"
-              + (", or not keeping them (--keep-samples, keep_samples)" if s.keep_samples else ""))
+    remedy = ("fewer samples (n_samples or analysis.n_samples)"
+              + (", or not keeping them (keep_samples=False)" if s.keep_samples else ""))
     kept = 8 * n_sel * n_t if s.keep_samples else 0
     task_result = nb * (8 * n_force * n_t + kept + 16 * n_sel) + 16 * n_sel * n_t
     parent = (

@@ -38,7 +38,7 @@ The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output fold
 :func:`tb_exudyn.plotting.plot_speed_sweep`, the page :func:`tb_exudyn.report.write_sweep_report`,
 ``speed_sweep.html``, both written by ``tb-exudyn sweep``): one row per speed with, per key quantity, the
 largest |mean|, sigma and |mean| + 3 sigma over its channels and time, and the channel; the code
-checks' estimates and exceedance probabilities enter through :func:`check_columns` (the hook for
+checks' estimates and exceedance probabilities enter through :func:`check_values` (the hook for
 ``RandomResponse.checks()``, issue 16). :func:`resonance_speeds` gives v = f_n d / i for the
 bridge's first modes, d the car length and the bogie spacing, i = 1, 2, 3.
 
@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import fnmatch
 import itertools
-import json
 import math
 import time as _time
 import typing
@@ -69,7 +68,8 @@ from ..execution.output import SWEEP_FIGURE, SWEEP_PAGE
 from ..execution.resources import MAX_STEPS, check_run_length
 from ..results.checks import default_limits, grid_error_of
 from ..results.random_response import RandomResponse
-from ..results.sweep import SWEEP_TABLE, Resonance, SweepResult, grouped_warnings, write_sweep
+from ..results.sweep import (SWEEP_TABLE, CriterionValues, Resonance, SweepResult, checks_text, criterion_values,
+                             grouped_warnings, write_sweep)
 from ..scenario import Scenario, scenario_to_toml
 from ..scenario.io import as_scenario
 from ..scenario.model import KMH, Analysis
@@ -271,7 +271,7 @@ def speed_summary(result: RandomResponse) -> dict[str, np.ndarray]:
         "lead_in": np.array(float(result.scenario.track.lead_in) if result.scenario is not None else math.nan),
         "freq_spacing": np.array(result.scenario.analysis.freq_spacing if result.scenario is not None else ""),
         "seconds": np.array(float(result.provenance.get("seconds", math.nan))),
-        "checks": np.array(json.dumps(check_columns(result))),
+        "checks": np.array(checks_text(check_values(result))),
     }
 
 
@@ -283,32 +283,11 @@ def grid_errors(result: RandomResponse) -> np.ndarray:
     return np.array([np.nan if v is None else v for v in values], dtype=float)
 
 
-def check_columns(result: RandomResponse) -> dict[str, Any]:
-    """The table columns of one speed's code checks (:meth:`RandomResponse.checks`, the default
-    limits and target probability): per criterion that applies, at its deciding location
-    (``ChecksTable.worst``), ``"<criterion>_utilisation"`` (the estimate over the limit),
-    ``"<criterion>_probability"`` (of exceeding the limit in one passage; NaN where the criterion is
-    not a random process), ``_estimate`` and ``_limit`` (SI, in ``_unit``), ``_channel``,
-    ``_verdict``, ``_title`` (what the criterion checks) and ``_caveats`` (the kinds of the caveats that could change the verdict, "; "
-    separated: e.g. a lightly damped mode), ``_reason`` (why a criterion was not evaluated), and
-    ``"checks_exceeding"``, the number of criteria whose
-    verdict is EXCEEDS. The one place that turns checks into sweep columns (rows, CSV, figure and
-    report)."""
-    table = result.checks()
-    out: dict[str, Any] = {}
-    worst = table.worst()
-    for r in worst:
-        ratio = r.estimate / r.limit if math.isfinite(r.limit) and r.limit != 0 else math.nan
-        c = r.criterion
-        out[f"{c}_utilisation"] = float(ratio)
-        out[f"{c}_probability"] = math.nan if r.probability is None else float(r.probability)
-        out[f"{c}_estimate"], out[f"{c}_limit"], out[f"{c}_unit"] = float(r.estimate), float(r.limit), str(r.unit)
-        out[f"{c}_channel"], out[f"{c}_verdict"], out[f"{c}_title"] = str(r.channel), str(r.verdict), str(r.title)
-        out[f"{c}_caveats"] = "; ".join(dict.fromkeys(k.kind for k in r.caveats if k.changes_verdict))
-        out[f"{c}_reason"] = "; ".join(k.text for k in r.caveats if k.kind in ("statistic", "model")) \
-            if r.verdict == "NOT EVALUATED" else ""
-    out["checks_exceeding"] = float(sum(r.verdict == "EXCEEDS" for r in worst))
-    return out
+def check_values(result: RandomResponse) -> dict[str, CriterionValues]:
+    """One speed's code checks (:meth:`RandomResponse.checks`, the default limits and target probability) per
+    criterion that applies, at its deciding location: :func:`tb_exudyn.results.sweep.criterion_values`. The one
+    place that turns checks into a sweep's values (rows, CSV, figure and report)."""
+    return criterion_values(result.checks())
 
 
 def check_sweep(scenario: Scenario, speeds_kmh: Iterable[float], *, engine: str = DEFAULT_ENGINE,
@@ -339,12 +318,24 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
     quantities = key_patterns(scenario, channels)
     left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
+    if scenario.track.structure:  # before any run
+        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a speed sweep "
+                            "(a run at one speed models the track: run_pem of the scenario at that speed)", "the sweep with the track "
+                            "layer is not built yet")
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
     scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
     for sc in scenarios:  # every speed's grid and spectra checked before any run
         prepare_sweep(sc)
     return speeds, quantities, cls, scenarios, left_out
+
+
+def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
+                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
+    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+    return cls, scenarios
 
 
 @dataclass
@@ -376,7 +367,7 @@ class SweepMethod:
 
     def plan(self, execution: Execution) -> RunPlan:
         t0 = _time.perf_counter()
-        default_limits()  # the limit files of check_columns, read and checked before any speed runs
+        default_limits()  # the limit files of check_values, read and checked before any speed runs
         scenario = self.scenario
         speeds, quantities, cls, scenarios, left_out = _plan(scenario, self.speeds_kmh, self.engine, self.channels,
                                                              self.n_freq, self.options, self.freq_spacing)
@@ -453,6 +444,6 @@ def run_sweep(scenario: Scenario | str | Path, speeds_kmh: Sequence[float], *, e
 
 
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
-           "SWEEP_SLICES", "SpeedTask", "check_columns", "check_speeds", "check_sweep", "en1991_speeds",
+           "SWEEP_SLICES", "SpeedTask", "check_values", "check_speeds", "check_sweep", "en1991_speeds",
            "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
+           "speed_label", "speed_range", "speed_scenarios", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]

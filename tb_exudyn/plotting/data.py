@@ -340,13 +340,10 @@ def sigma_to_mean_ratio(resp: RandomResponse, channel: str, k: float = 3.0) -> f
 def mc_label(resp: RandomResponse) -> str:
     """'PEM', or 'MC500' as the reference study names a Monte Carlo run of 500 samples ('MC500 (linear)'
     for the batched engine's Monte Carlo of the linear model)."""
-    if resp.method == "pem":
-        return "PEM"
-    if resp.method == "monte_carlo_linear":
-        return f"MC{resp.n_samples} (linear)"
-    if resp.method.startswith("monte_carlo"):
-        return f"MC{resp.n_samples}"
-    return resp.method
+    kind = resp.kind
+    if kind.sampled:
+        return f"MC{resp.n_samples}" + (" (linear)" if kind.linear_samples else "")
+    return kind.label
 
 
 def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | None:

@@ -148,8 +148,8 @@ def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels:
     jobs: list[FigureJob] = []
     for path, result in found:
         jobs += _jobs_of(root, path, result, channels, formats, where)
-    pems = [r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem"]
-    mcs = [(p, r) for p, r in found if isinstance(r, RandomResponse) and r.method.startswith("monte_carlo")]
+    pems = [r for _, r in found if r.kind.gaussian]
+    mcs = [(p, r) for p, r in found if r.kind.sampled]
     if pems and mcs:
         for ch in data.select_channels(pems[0], channels, where=where):
             if all(ch in r.channels for _, r in mcs):

@@ -75,13 +75,13 @@ def ordered(found: Sequence[tuple[Path, Result]]) -> list[tuple[Path, Result]]:
     """The results in reading order: PEM first, then Monte Carlo, then single runs (stable)."""
     def rank(item):
         r = item[1]
-        return 0 if isinstance(r, RandomResponse) and r.method == "pem" else 1 if isinstance(r, RandomResponse) else 2
+        return 0 if r.kind.gaussian else 1 if r.kind.random else 2
     return sorted(found, key=rank)
 
 
 def _first_random(found: Sequence[tuple[Path, Result]]) -> Result | None:
     for _, r in found:
-        if isinstance(r, RandomResponse) and r.method == "pem":
+        if r.kind.gaussian:
             return r
     return found[0][1] if found else None
 
@@ -128,7 +128,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
             w += f", sigma over {pdata.band_text(r)}" + (f", {r.n_samples} samples" if r.n_samples else
                                                          f", {len(r.freq)} frequencies")
         what.append(w)
-    pem = next((r for _, r in found if isinstance(r, RandomResponse) and r.method == "pem" and r.psd is not None), None)
+    pem = next((r for _, r in found if r.kind.gaussian and r.psd is not None), None)
     studies = studies_for(sc)
     nav = [("verdicts", "Verdicts"), ("warnings", "Warnings")] + ([("findings", "Study findings")] if studies else []) + [
         ("figures", "Figures"), ("channels", "All channels"), ("modes", "Modes"), ("scenario", "Scenario"),

@@ -15,6 +15,7 @@ from ..plotting import data as pdata
 from ..system.labels import channel_label
 from ..results import RandomResponse, TimeHistory
 from ..results.checks_table import Caveat
+from ..results.kinds import ResultKind
 from ..scenario import Car15, Scenario
 from ..scenario.studies import Study, StudyFinding, StudyQuantity
 
@@ -66,14 +67,14 @@ class Verdicts:
     """The report's verdict section: ``rows`` (every criterion and location, :class:`CheckEntry`),
     ``heading`` (what was checked: method, speed, passage, target probability; "" if unknown), the
     table's ``notes`` (remarks on the whole table), the ``target`` probability per passage (None if
-    unknown), the result's ``method`` ("pem", "monte_carlo...", "deterministic"; "" if unknown), the train
-    speed and the bridge's name (the scope the bridge's verdict holds for; None / "" if unknown)."""
+    unknown), what the result is (``kind``, :class:`~tb_exudyn.results.kinds.ResultKind`; None if unknown), the
+    train speed and the bridge's name (the scope the bridge's verdict holds for; None / "" if unknown)."""
 
     rows: tuple[CheckEntry, ...]
     heading: str = ""
     notes: tuple[str, ...] = ()
     target: float | None = None
-    method: str = ""
+    kind: ResultKind | None = None
     speed_kmh: float | None = None
     bridge: str = ""
 
@@ -81,6 +82,11 @@ class Verdicts:
     def decisive(self) -> list[CheckEntry]:
         """One row per criterion: the location that decides it."""
         return [r for r in self.rows if r.decisive]
+
+    @property
+    def deterministic(self) -> bool:
+        """One deterministic run (no probability); False when the kind is not known."""
+        return self.kind is not None and not self.kind.random
 
 
 @dataclass(frozen=True)
@@ -162,8 +168,8 @@ def verdicts_of(checks: Any, scenario: Scenario | None = None) -> Verdicts | Non
         heading = (f"{checks.method}, {checks.speed_kmh:g} km/h, passage: the run {checks.window[0]:.3g}-"
                    f"{checks.window[1]:.4g} s{crossed}, target P <= {checks.target:.3g} per passage"
                    + (f" ({FIRST_PASSAGE_WORDS.get(checks.first_passage, checks.first_passage)})"
-                      if checks.method == "pem" else ""))
-        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes), float(checks.target), checks.method,
+                      if checks.kind.gaussian else ""))
+        return Verdicts(tuple(check_entries(checks)), heading, tuple(checks.notes), float(checks.target), checks.kind,
                         float(checks.speed_kmh), bridge)
     return Verdicts(tuple(as_check_entries(checks)))
 

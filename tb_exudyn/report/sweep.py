@@ -5,7 +5,7 @@ Read top-down, like the report of one run:
 - what was swept: the scenario, the speeds, the engine, the run time;
 - the verdicts by speed: per code criterion at its deciding location, the utilisation (estimate over
   limit) and the probability of exceeding the limit in one passage (the sweep's check columns,
-  :func:`tb_exudyn.methods.sweep.check_columns`), and how many criteria EXCEED at each speed;
+  :func:`tb_exudyn.methods.sweep.check_values`), and how many criteria EXCEED at each speed;
 - the key quantities by speed: the largest max |mean| + 3 sigma of each (display units), then per
   quantity its largest |mean|, sigma, the channel and the estimated grid error of its channels;
 - the figure (the table's quantities against speed, the resonance speeds marked), when drawn;
@@ -39,7 +39,7 @@ from ..execution.output import SWEEP_PAGE
 from ..system.labels import display_unit, format_number
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..results.checks_table import SMALLEST_SHOWN
-from ..results.sweep import criteria_of
+from ..results.sweep import CriterionValues
 from ..scenario.speed_rule import RULE
 from .sections import STYLE, Raw, _img, html_table, link, scenario_section, verdict_class
 
@@ -64,10 +64,11 @@ def _probability(p: float) -> str:
     return f"< {SMALLEST_SHOWN:.0e}" if p < SMALLEST_SHOWN else f"{p:.3g}"
 
 
-def _verdict_cell(row: dict[str, Any], c: str) -> Raw:
-    verdict = str(row.get(f"{c}_verdict", ""))
-    u, p = row.get(f"{c}_utilisation", math.nan), row.get(f"{c}_probability", math.nan)
-    mark = " &dagger;" if row.get(f"{c}_caveats") else ""
+def _verdict_cell(values: CriterionValues | None, c: str) -> Raw:
+    if values is None:
+        return Raw('<span class="not-evaluated">not evaluated</span>')
+    verdict, u, p = values.verdict, values.utilisation, values.probability
+    mark = " &dagger;" if values.caveats else ""
     if verdict == "NOT EVALUATED" or u is None or not math.isfinite(u):
         return Raw(f'<span class="not-evaluated">not evaluated</span>{mark}')
     cls = verdict_class(verdict) if verdict else ("exceeds" if u > 1.0 else "ok")
@@ -76,11 +77,12 @@ def _verdict_cell(row: dict[str, Any], c: str) -> Raw:
     return Raw(f'<span class="{cls}">{esc(format_number(u, 3))}</span>{mark}{prob}')
 
 
-def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
+def verdicts_by_speed(result: Any) -> str:
     """Per speed: the number of criteria that EXCEED, then per criterion the utilisation (estimate
     over limit; above 1 exceeds) with the probability of exceeding in one passage below it; per
     criterion a folded table of the estimate, the limit, the deciding channel and the caveats."""
-    criteria = criteria_of(rows)
+    criteria, checks, speeds = result.criteria(), result.criterion_values(), result.speeds
+    exceeding = [r.get("checks_exceeding", math.nan) for r in result.rows()]
     out = ['<section id="verdicts"><h2>Verdicts by speed</h2>']
     if not criteria:
         out.append("<p>No code check applies to the key quantities of this sweep.</p></section>")
@@ -96,26 +98,24 @@ def verdicts_by_speed(rows: list[dict[str, Any]]) -> str:
                "one speed (tb-exudyn run --speed-kmh, the same scenario as the sweep's there) checks every "
                "criterion of its channels.</p>")
     body = []
-    for row in rows:
-        n = row.get("checks_exceeding", math.nan)
-        body.append([format_number(row["speed_kmh"]), "-" if not math.isfinite(n) else f"{int(n)} of {len(criteria)}"]
-                    + [_verdict_cell(row, c) for c in criteria])
+    for v, n, at in zip(speeds, exceeding, checks):
+        body.append([format_number(v), "-" if not math.isfinite(n) else f"{int(n)} of {len(criteria)}"]
+                    + [_verdict_cell(at.get(c), c) for c in criteria])
     heads = [Raw(esc(c).replace("/", "/<wbr>").replace("_", "_<wbr>")) for c in criteria]  # long names may wrap
     out.append(html_table("sweep-verdicts", ["speed [km/h]", "criteria exceeding"] + heads, body,
                           ["num", "num"] + ["num"] * len(criteria)))
     for c in criteria:
-        reasons = list(dict.fromkeys(str(r[f"{c}_reason"]) for r in rows if r.get(f"{c}_reason")))
+        reasons = list(dict.fromkeys(at[c].reason for at in checks if c in at and at[c].reason))
         if reasons:
             out.append(f'<p class="meta">{esc(c)} not evaluated: {esc("; ".join(reasons))}</p>')
     for c in criteria:
-        title = next((str(r[f"{c}_title"]) for r in rows if r.get(f"{c}_title")), "")
-        unit = next((str(r[f"{c}_unit"]) for r in rows if r.get(f"{c}_unit")), "")
+        mine = [(v, at[c]) for v, at in zip(speeds, checks) if c in at]
+        title = next((x.title for _, x in mine if x.title), "")
+        unit = next((x.unit for _, x in mine if x.unit), "")
         du = display_unit(unit)
-        detail = [[format_number(r["speed_kmh"]), str(r.get(f"{c}_verdict", "")),
-                   format_number(r.get(f"{c}_estimate", math.nan) * du.factor),
-                   format_number(r.get(f"{c}_limit", math.nan) * du.factor),
-                   format_number(r.get(f"{c}_utilisation", math.nan), 3), _probability(r.get(f"{c}_probability", math.nan)),
-                   str(r.get(f"{c}_channel", "")), str(r.get(f"{c}_caveats", "")).replace("_", " ")] for r in rows]
+        detail = [[format_number(v), x.verdict, format_number(x.estimate * du.factor),
+                   format_number(x.limit * du.factor), format_number(x.utilisation, 3), _probability(x.probability),
+                   x.channel, x.caveats.replace("_", " ")] for v, x in mine]
         out.append(f"<details><summary>{esc(c)}: {esc(title)}</summary>"
                    + html_table(f"sweep-verdicts-{c.replace('/', '-')}",
                                 ["speed [km/h]", "verdict", f"estimate [{du.unit}]", f"limit [{du.unit}]", "utilisation",
@@ -264,7 +264,7 @@ def render_sweep_report(result: Any, figure_png: bytes | None = None, tolerance:
             f'<p class="meta">{esc(what)}. Generated {esc(now)} by tb_exudyn {esc(__version__)}. Each speed\'s '
             f"full result is in its folder (&lt;speed&gt;/pem).</p>",
             "<nav>" + " | ".join(link(a, t) for a, t in nav) + "</nav>",
-            verdicts_by_speed(result.rows()), quantities_by_speed(result), figure, resonances_section(result),
+            verdicts_by_speed(result), quantities_by_speed(result), figure, resonances_section(result),
             grid_section(result, tolerance), warnings_by_message(result),
             '<p class="meta" id="base-scenario">The scenario below is the sweep\'s base: at each speed the speed rule '
             "sets the speed, the band, the grid and the approach (the grid section above); each speed's own scenario, "

@@ -166,7 +166,7 @@ def decision_html(verdicts: Verdicts, top: Sequence[CheckEntry]) -> str:
                 text += f" ({len(rows)} criteria)"
             sets.append(text)
         line = f"<b>{esc(PARTS[part])}</b>: " + "; ".join(sets)
-        if part == "bridge" and verdicts.method != "deterministic":
+        if part == "bridge" and not verdicts.deterministic:
             speed = f" at {verdicts.speed_kmh:g} km/h" if verdicts.speed_kmh else ""
             check = f"tb-exudyn check {verdicts.bridge or 'BRIDGE'} --line-speed-kmh V"
             line += (f"; this train{speed} over random track irregularities only (code trains and speeds, EN 1991-2: "
@@ -178,7 +178,7 @@ def decision_html(verdicts: Verdicts, top: Sequence[CheckEntry]) -> str:
 def terms_html(verdicts: Verdicts) -> str:
     """What the target probability and the estimate are, one sentence each."""
     t = verdicts.target
-    if verdicts.method == "deterministic":
+    if verdicts.deterministic:
         return ('<p class="terms" id="verdict-terms"><b>Estimate</b>: one deterministic run, so the estimate is the '
                 "run's own statistic (its largest value) against the limit, with no probability of exceedance.</p>")
     why = ("once a year at 100 passages a day; not a code value"

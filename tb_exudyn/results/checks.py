@@ -61,6 +61,7 @@ from .caveats import (_CAR_ANY, MODEL_REQUIREMENTS, ModelRequirement, can_turn, 
                       unmet_requirement, window_effect)
 from .checks_table import VERDICTS, Caveat, CheckRow, ChecksTable, format_probability, format_value, wrapped_line
 from .empirical import binomial_interval
+from .kinds import DETERMINISTIC, ResultKind
 from .limit_values import default_limits, limit_at, limit_sets, static_axle_load
 
 #: the literature's per-passage target (docs/references.md, code limits [abstract]): 100 train pairs a day, 1-year return period
@@ -139,7 +140,7 @@ def _loss_of_contact(result: Any, target: float, method: str) -> dict[int | None
     answer running safety (:func:`unmet_requirement`) it is a note, not a condition: the loads come
     from the model that cannot answer."""
     prov = result.provenance
-    if result.method != "pem":
+    if not result.kind.gaussian:
         lost = int(prov.get("samples_with_loss_of_contact", 0) or 0)
         if lost:
             return {None: (Caveat("loss_of_contact", f"{lost} of {result.n_samples} samples lost wheel-rail contact "
@@ -244,10 +245,10 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
     if c.statistic == "window_max":
         with np.errstate(invalid="ignore"):
             estimate = float(np.nanmax(result.mean[i], initial=-np.inf))
-        text = ("largest window value of the index of the expected energy" if result.method == "pem"
+        text = ("largest window value of the index of the expected energy" if result.kind.gaussian
                 else "largest window value of the samples' mean index")
         prob = interval = None
-        if result.method != "pem" and result.sample_max is not None:
+        if not result.kind.gaussian and result.sample_max is not None:
             prob, interval = _index_exceedance(result, i, limit, confidence)
         verdict = "OK" if estimate <= limit else "EXCEEDS"
         win = _channel_window(result, channel)
@@ -263,7 +264,7 @@ def _rows_for(c: Criterion, set_name: str, result: Any, channel: str, target: fl
                         probability_vanmarcke=None, verdict=verdict, grade=grade, caveats=tuple(kept))
     lower, upper, kind = _bounds(c.statistic, limit)
     pv = None
-    if result.method == "pem":
+    if result.kind.gaussian:
         ex = result.exceedance_probability(channel, upper=upper, lower=lower, method=method)
         p = ex.probability
         other = "vanmarcke" if method == "poisson" else "poisson"
@@ -332,7 +333,7 @@ class _RunView:
     time: np.ndarray
     scenario: Any
     provenance: dict[str, Any]
-    method: str = "deterministic"
+    kind: ResultKind = DETERMINISTIC
     n_samples: int = 0
     sample_max: Any = None
 
@@ -391,7 +392,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
     if method not in st.METHODS:
         raise SettingError("checks", "method", method, " | ".join(st.METHODS))
     sets = limit_sets(limits)
-    run = None if hasattr(result, "method") else _run_view(result)
+    run = None if result.kind.random else _run_view(result)
     contact_caveats = {} if run is not None else _loss_of_contact(result, probability, method)
     rows: list[CheckRow] = []
     notes = [f"target probability per passage {probability:.3g}"
@@ -399,7 +400,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
                 "literature, docs/references.md [abstract]; not a code value: the clauses give no probability)"
                 if probability == DEFAULT_TARGET_PROBABILITY
                 else " (chosen by the caller)")]
-    if getattr(result, "method", "") == "pem":
+    if result.kind.gaussian:
         notes.append("PEM probabilities from Rice's non-stationary rate (derivative statistics: recorded velocities for "
                      "displacements, pseudo-derivatives otherwise; provenance['derivatives'])")
     view = run if run is not None else result
@@ -415,7 +416,7 @@ def checks(result: Any, limits: Any = None, *, probability: float = DEFAULT_TARG
                             _rows_for(c, ls.name, result, name, probability, method, confidence, contact_caveats))
     sc = result.scenario
     return ChecksTable(
-        method=getattr(result, "method", "deterministic"), scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
+        kind=result.kind, scenario=getattr(sc, "name", "?"), speed_kmh=float(getattr(sc, "speed_kmh", math.nan)),
         target=float(probability), first_passage=method, window=(float(result.time[0]), float(result.time[-1])),
         rows=tuple(rows), notes=tuple(notes),
     )
@@ -457,7 +458,7 @@ def verdict_lines(result: Any, limits: Any = None, **options: Any) -> list[str]:
     said = lambda rows: ", ".join(f"{n} {v}" for v in VERDICTS if (n := sum(r.verdict == v for r in rows)))  # noqa: E731
     lines = [f"code checks ({table.method}, target P <= {table.target:.3g}): {len(worst)} criteria: "
              f"{said(worst)} (at {len(table.rows)} locations{f'; {n_cond} conditional' if n_cond else ''})"]
-    if table.method != "deterministic":  # what the numbers are (the report's "Estimate" sentence)
+    if table.kind.random:  # what the numbers are (the report's "Estimate" sentence)
         lines.append(f" values: the level exceeded with P {table.target:.3g} per passage, where most likely to exceed")
     pad = max((len(r.verdict_text) for r in worst if r.verdict != "NOT EVALUATED"), default=2)  # the verdicts' column
     sets = sorted(dict.fromkeys(r.criterion.split("/")[0] for r in worst),

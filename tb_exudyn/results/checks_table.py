@@ -10,6 +10,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 from ..system.labels import display_unit, format_number
+from .kinds import ResultKind
 
 #: the verdicts a row can have
 VERDICTS = ("OK", "EXCEEDS", "UNDETERMINED", "NOT EVALUATED")
@@ -92,14 +93,15 @@ class CheckRow:
 class ChecksTable:
     """The checks of one result (module docstring).
 
-    method : the result's method; scenario : its name; speed_kmh : the train speed
+    kind : what the result is (:class:`~tb_exudyn.results.kinds.ResultKind`; ``method`` its name); scenario : its
+    name; speed_kmh : the train speed
     target : the target probability per passage; first_passage : the PEM first-passage method
     window : (t_start, t_end) [s] of the passage
     rows : per criterion and location
     notes : remarks on the whole table (target, criteria without channels, global caveats)
     """
 
-    method: str
+    kind: ResultKind
     scenario: str
     speed_kmh: float
     target: float
@@ -107,6 +109,11 @@ class ChecksTable:
     window: tuple[float, float]
     rows: tuple[CheckRow, ...]
     notes: tuple[str, ...] = field(default=())
+
+    @property
+    def method(self) -> str:
+        """The name of the result's method ("pem", "monte_carlo", ..., "deterministic"), for display."""
+        return self.kind.method
 
     def by_criterion(self) -> dict[str, list[CheckRow]]:
         out: dict[str, list[CheckRow]] = {}
@@ -155,7 +162,7 @@ class ChecksTable:
         fmt = "  ".join(f"{{:<{w}}}" for w in widths)
         lines = [f"checks of {self.scenario} ({self.method}, {self.speed_kmh:g} km/h, passage "
                  f"{self.window[0]:.3g}-{self.window[1]:.4g} s, target P <= {self.target:.3g} per passage"
-                 + (f", first passage: {self.first_passage}" if self.method == "pem" else "") + ")",
+                 + (f", first passage: {self.first_passage}" if self.kind.gaussian else "") + ")",
                  fmt.format(*head)]
         lines += [fmt.format(*row) for row in table]
         lines += [f"  [{i + 1}] {c}" for i, c in enumerate(caveats)]

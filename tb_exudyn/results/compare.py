@@ -124,7 +124,7 @@ def compare(pem: RandomResponse, mc: RandomResponse, channels: str | Sequence[st
     ------
     ComparisonError (a ValueError) if the methods, output times or channels do not fit.
     """
-    if pem.method != "pem" or not mc.method.startswith("monte_carlo"):
+    if not pem.kind.gaussian or not mc.kind.sampled:
         raise ComparisonError(f"compare needs a PEM and a Monte Carlo result, got {pem.method!r} and {mc.method!r}")
     if mc.n_samples < 2:
         raise ComparisonError(f"the Monte Carlo result has {mc.n_samples} samples; at least 2 are needed")

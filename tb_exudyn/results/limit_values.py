@@ -108,6 +108,9 @@ def limit_sets(limits: Any) -> list[LimitSet]:
     out = []
     for item in items:
         if isinstance(item, LimitSet):
+            if any(c.structural for c in item.criteria):
+                raise SettingError("checks", "limits", item.name, "limit sets of criteria on a result's channels (a "
+                                   "statistic each: models/limits)", "structural criteria (the EN 1991-2 check's)")
             out.append(item)
         elif isinstance(item, str) or hasattr(item, "__fspath__"):
             out.append(load_limits(item))

@@ -33,12 +33,13 @@ from .metadata import (meta_band, meta_channels, meta_int, meta_provenance, meta
                        open_result_folder)
 from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values, freeze,
                        load_json, save_result_folder)
+from .kinds import RANDOM_KINDS, ResultKind
 from .schema import RANDOM_RESPONSE, members, optional_names, to_xarray
 
 FORMAT = "tb_exudyn.random_response/2"
 #: formats this version reads (1: before the exceedance arrays)
 READABLE_FORMATS = ("tb_exudyn.random_response/1", FORMAT)
-METHODS = ("pem", "monte_carlo", "monte_carlo_linear")
+METHODS = tuple(RANDOM_KINDS)
 #: the optional arrays, in file order (the schema's arrays a result may lack)
 OPTIONAL_ARRAYS = optional_names(RANDOM_RESPONSE)
 #: channel kinds without exceedance statistics (windowed indices, not Gaussian processes)
@@ -181,8 +182,9 @@ class RandomResponse(ChannelResult):
 
     # ---------------------------------------------------------------- exceedance
     @property
-    def is_pem(self) -> bool:
-        return self.method == "pem"
+    def kind(self) -> ResultKind:
+        """What the result is (:mod:`.kinds`: Gaussian (PEM) or sampled (Monte Carlo), ...), by its method."""
+        return RANDOM_KINDS[self.method]
 
     def _exceedance_channel(self, channel: str, where: str) -> int:
         i = self.index(channel)
@@ -195,7 +197,7 @@ class RandomResponse(ChannelResult):
         """The per-time Gaussian statistics of a PEM channel and its derivative (:class:`~.statistics.GaussianResponse`)."""
         where = "RandomResponse.gaussian"
         i = self._exceedance_channel(channel, where)
-        if not self.is_pem or self.std_rate is None or self.rho is None or self.mean_rate is None:
+        if not self.kind.gaussian or self.std_rate is None or self.rho is None or self.mean_rate is None:
             raise ResultsError(f"{where}: {self.method} result without the derivative statistics (a PEM result "
                                "of format 2 has them)")
         bw = None if self.bandwidth is None else np.clip(self.bandwidth[i], 0.0, 1.0)
@@ -226,7 +228,7 @@ class RandomResponse(ChannelResult):
         narrow-band responses) or 'vanmarcke' (tb_exudyn.system.statistics gives the formulas and the
         measured errors). Monte Carlo: the fraction of samples that left the bounds, with its
         Clopper-Pearson interval at ``confidence`` (``method`` is ignored: 'empirical')."""
-        if self.is_pem:
+        if self.kind.gaussian:
             return st.first_passage_probability(self.gaussian(channel), lower=lower, upper=upper, method=method,  # type: ignore[arg-type]
                                                 window=window, initial=initial, channel=channel)
         lo, hi, span = self._extremes(channel, "RandomResponse.exceedance_probability", window)
@@ -239,7 +241,7 @@ class RandomResponse(ChannelResult):
         """The level ``channel`` exceeds at least once in the window with ``probability``: kind 'symmetric'
         (|y| > level), 'upper' (y > level) or 'lower' (y < level); PEM by ``method``, Monte Carlo from the
         per-sample extremes (quantile with an order-statistic interval at ``confidence``)."""
-        if self.is_pem:
+        if self.kind.gaussian:
             return st.exceedance_level(self.gaussian(channel), probability, kind=kind, method=method,  # type: ignore[arg-type]
                                        window=window, initial=initial, channel=channel)
         lo, hi, span = self._extremes(channel, "RandomResponse.exceedance_level", window)

@@ -225,7 +225,7 @@ def to_xarray(result: Any) -> Any:
     names = list(result.channel_names)
     units = [result.unit(n) for n in names]
     scenario = result.scenario
-    random = hasattr(result, "method")
+    random = result.kind.random
     coords: dict[str, Any] = {
         "channel": ("channel", names),
         "unit": ("channel", units, {"long_name": "SI unit of the channel"}),
@@ -235,8 +235,7 @@ def to_xarray(result: Any) -> Any:
     if random:
         coords["psd_unit"] = ("channel", [f"({u})^2/Hz" for u in units])
         context = {"band": f"{result.band[0]:.6g}-{result.band[1]:.6g} Hz",
-                   "mean_kind": "the deterministic run with gravity, no irregularity" if result.method == "pem"
-                   else "sample mean"}
+                   "mean_kind": result.kind.mean}
     data: dict[str, Any] = {}
     for v in result.schema:
         a = arrays.get(v.name)

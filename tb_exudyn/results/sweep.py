@@ -9,8 +9,10 @@ the dims ``speed``, ``quantity`` and ``criterion``) and drives both of its forms
 
 - the rows (:meth:`SweepResult.rows`, :func:`sweep_rows`, ``speed_sweep.csv``: :func:`write_sweep`),
   one per speed, a column ``<name>`` per speed variable, ``<quantity>_<name>`` per key quantity and
-  ``<criterion>_<name>`` per code criterion (the columns of
-  :func:`tb_exudyn.methods.sweep.check_columns`), in the order of the schema;
+  ``<criterion>_<name>`` per code criterion, in the order of the schema; the names are composed here only:
+  a speed's code checks travel labelled, one :class:`CriterionValues` per criterion (its fields the
+  variables over ``criterion``; :func:`criterion_values` of a speed's checks, kept in its summary as
+  :func:`checks_text`, read back by :func:`read_checks`, and :meth:`SweepResult.criterion_values`);
 - the labelled form (:meth:`SweepResult.to_xarray`): each variable over its dims, the speeds [km/h],
   quantities (with their channel pattern, description and SI unit) and criteria as coordinates, the
   base scenario (TOML), the provenance and the resonance speeds (JSON) as attributes.
@@ -27,9 +29,9 @@ import importlib
 import json
 import math
 import re
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 
@@ -76,7 +78,53 @@ SWEEP_SCHEMA: tuple[Variable, ...] = (
     Variable("seconds", _S, "run time of the speed", units="s", finite=False),
 )
 _BY_DIMS = {dims: tuple(v for v in SWEEP_SCHEMA if v.dims == dims) for dims in (_S, _Q, _C)}
-_CRITERION_SUFFIX = "_" + _BY_DIMS[_C][0].name
+
+
+@dataclass(frozen=True)
+class CriterionValues:
+    """One code criterion at one speed, at its deciding location: the variables of :data:`SWEEP_SCHEMA` over
+    ``criterion``, field for field (tests/results/test_sweep_schema.py)."""
+
+    utilisation: float
+    probability: float
+    estimate: float
+    limit: float
+    unit: str
+    channel: str
+    verdict: str
+    title: str = ""
+    caveats: str = ""
+    reason: str = ""
+
+
+def criterion_values(table: Any) -> dict[str, CriterionValues]:
+    """A result's code checks (a :class:`~tb_exudyn.results.checks_table.ChecksTable`) as the sweep keeps them: per
+    criterion that applies, at its deciding location (``table.worst()``), the estimate over the limit, the
+    probability of exceeding the limit in one passage (NaN where it is not a random process), the estimate and
+    the limit (SI, in ``unit``), the channel, the verdict, what it checks, the kinds of the caveats that could
+    change the verdict ("; " separated) and why it was not evaluated."""
+    out = {}
+    for r in table.worst():
+        out[r.criterion] = CriterionValues(
+            utilisation=float(r.estimate / r.limit if math.isfinite(r.limit) and r.limit != 0 else math.nan),
+            probability=math.nan if r.probability is None else float(r.probability), estimate=float(r.estimate),
+            limit=float(r.limit), unit=str(r.unit), channel=str(r.channel), verdict=str(r.verdict), title=str(r.title),
+            caveats="; ".join(dict.fromkeys(k.kind for k in r.caveats if k.changes_verdict)),
+            reason="; ".join(k.text for k in r.caveats if k.kind in ("statistic", "model"))
+            if r.verdict == "NOT EVALUATED" else "")
+    return out
+
+
+def checks_text(values: Mapping[str, CriterionValues]) -> str:
+    """The values as a speed's summary keeps them (JSON: criterion -> its fields; checkpointable)."""
+    return json.dumps({c: asdict(v) for c, v in values.items()})
+
+
+def read_checks(summary: Mapping[str, Any]) -> dict[str, CriterionValues]:
+    """A speed summary's code checks (its ``checks``, :func:`checks_text`), criterion by criterion."""
+    names = {f.name for f in fields(CriterionValues)}
+    return {c: CriterionValues(**{k: v for k, v in d.items() if k in names})
+            for c, d in json.loads(str(summary["checks"])).items()}
 
 
 def _speed_text(v: float) -> str:
@@ -112,9 +160,13 @@ class SweepResult:
         """The table, one row per speed (:func:`sweep_rows`)."""
         return sweep_rows(self)
 
+    def criterion_values(self) -> list[dict[str, CriterionValues]]:
+        """Per speed its code criteria's values (:class:`CriterionValues`), by criterion."""
+        return [read_checks(s) for s in self.summaries]
+
     def criteria(self) -> list[str]:
-        """The code criteria of the table, in the order first met (those of any speed): :func:`criteria_of`."""
-        return criteria_of(self.rows())
+        """The code criteria of the table, in the order first met (those of any speed)."""
+        return list(dict.fromkeys(c for values in self.criterion_values() for c in values))
 
     def to_xarray(self) -> Any:
         """The table as an :class:`xarray.Dataset` over ``speed``, ``quantity`` and ``criterion``
@@ -147,7 +199,8 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
     and approach, from the speed rule); per key quantity the largest |mean|, sigma and |mean| + 3
     sigma over its channels and time, the channel of the largest |mean| + 3 sigma and the largest
     estimated grid error of its channels (NaN: not estimated); the number of channels whose grid
-    error exceeds GRID_ERROR_TOLERANCE; then the check hook's columns and the run time."""
+    error exceeds GRID_ERROR_TOLERANCE; then per criterion its :class:`CriterionValues` as the columns
+    ``<criterion>_<name>``, the number of criteria that EXCEED and the run time."""
     rows = []
     for v, s in zip(result.speeds, result.summaries):
         names = list(s["channels"])
@@ -163,16 +216,13 @@ def sweep_rows(result: SweepResult) -> list[dict[str, Any]]:
         ge = np.asarray(s["grid_error"], dtype=float)
         row["channels_grid_error_over_tolerance"] = float("nan") if np.all(np.isnan(ge)) else \
             int(np.sum(ge > GRID_ERROR_TOLERANCE))
-        row.update(json.loads(str(s["checks"])))
+        checks = read_checks(s)
+        for c, values in checks.items():
+            row.update({f"{c}_{v.name}": getattr(values, v.name) for v in _BY_DIMS[_C]})
+        row["checks_exceeding"] = float(sum(values.verdict == "EXCEEDS" for values in checks.values()))
         row["seconds"] = float(s["seconds"])
         rows.append(row)
     return rows
-
-
-def criteria_of(rows: Sequence[dict[str, Any]]) -> list[str]:
-    """The code criteria of a table's check columns (``<criterion>_utilisation``, the first criterion
-    variable of :data:`SWEEP_SCHEMA`), in the order they first appear."""
-    return list(dict.fromkeys(k[: -len(_CRITERION_SUFFIX)] for row in rows for k in row if k.endswith(_CRITERION_SUFFIX)))
 
 
 def _column(values: list[Any]) -> np.ndarray:
@@ -188,7 +238,7 @@ def _column(values: list[Any]) -> np.ndarray:
 def sweep_dataset(result: SweepResult) -> Any:
     """:meth:`SweepResult.to_xarray`: every variable of :data:`SWEEP_SCHEMA` from the rows."""
     xr = need_xarray("SweepResult.to_xarray")
-    rows = result.rows()
+    rows, checks = result.rows(), result.criterion_values()
     keys, criteria = [q[0] for q in result.quantities], result.criteria()
     coords: dict[str, Any] = {
         "speed": ("speed", np.array([r["speed_kmh"] for r in rows], dtype=float), {"units": "km/h"}),
@@ -205,9 +255,10 @@ def sweep_dataset(result: SweepResult) -> Any:
                                               {"units": v.units} if v.units else {})}
         if v.dims == _S:
             values = [r.get(v.name) for r in rows]
+        elif v.dims == _Q:
+            values = [[r.get(f"{n}_{v.name}") for n in keys] for r in rows]
         else:
-            names = keys if v.dims == _Q else criteria
-            values = [[r.get(f"{n}_{v.name}") for n in names] for r in rows]
+            values = [[getattr(at.get(c), v.name, None) for c in criteria] for at in checks]
         name = v.name if v.dims == _S else f"{v.dims[1]}_{v.name}"  # channel: quantity_channel, criterion_channel
         data[name] = (v.dims, _column(values), attrs)
     attrs = {"title": f"tb_exudyn speed sweep, scenario {result.base.name}", "kind": "speed_sweep",
@@ -289,5 +340,6 @@ def write_sweep(result: SweepResult, folder: str | Path) -> Path:
     return write_table_csv(result.rows(), Path(folder) / SWEEP_TABLE)
 
 
-__all__ = ["SWEEP_SCHEMA", "SWEEP_TABLE", "Resonance", "SweepResult", "criteria_of", "grouped_warnings", "speeds_text", "sweep_dataset",
+__all__ = ["SWEEP_SCHEMA", "SWEEP_TABLE", "CriterionValues", "Resonance", "SweepResult", "checks_text", "criterion_values",
+           "read_checks", "grouped_warnings", "speeds_text", "sweep_dataset",
            "sweep_rows", "write_sweep"]

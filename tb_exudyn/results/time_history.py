@@ -20,6 +20,7 @@ from .base import ChannelResult, channel_name
 from .metadata import meta_channels, meta_provenance, meta_scenario, meta_str, open_result_folder
 from ..storage import (ArraysInMemory, NpzFile, check_increasing, check_members, check_output_times, check_values,
                        freeze, load_json, save_result_folder)
+from .kinds import DETERMINISTIC, ResultKind
 from .schema import TIME_HISTORY, members, to_xarray
 
 FORMAT = "tb_exudyn.time_history/1"
@@ -57,6 +58,8 @@ class TimeHistory(ChannelResult):
                 raise ValueError(f"channel {name!r} has no unit")
 
     default_plot = "history"
+    #: what it is: one deterministic run (:mod:`.kinds`)
+    kind: ClassVar[ResultKind] = DETERMINISTIC
     #: every array this type holds, declared once (:mod:`.schema`): npz and NetCDF
     schema: ClassVar = TIME_HISTORY
 

@@ -70,7 +70,7 @@ UQ_SCHEMA: tuple[Variable, ...] = (
     Variable("quantity_mean", ("quantity",), "mean over the uncertain keys", required=True, finite=False),
     Variable("quantity_std", ("quantity",), "standard deviation over the uncertain keys", required=True, finite=False),
     Variable("quantity_band", ("percentile", "quantity"), "5, 50 and 95 % points of each quantity over the keys",
-             required=True, finite=False),
+             finite=False),  # not in a result of the first version: NaN when loaded from one
     Variable("sobol_first", ("key", "quantity"), "first-order Sobol index", units="1", required=True, finite=False),
     Variable("sobol_total", ("key", "quantity"), "total Sobol index", units="1", required=True, finite=False),
     Variable("loo", ("quantity",), "leave-one-out error of the surrogate, relative to the variance", units="1",
@@ -242,7 +242,8 @@ def load_uq(folder: str | Path) -> UqResult:
     with NpzFile(folder / "arrays.npz") as npz:
         members = {v.name: _member(v) for v in UQ_SCHEMA}
         check_members(npz, members, sizes, {})
-        data = {v.name: npz.read(v.name) for v in UQ_SCHEMA}
+        data = {v.name: npz.read(v.name) for v in UQ_SCHEMA if v.required or v.name in npz.headers}
+    data.setdefault("quantity_band", np.full((len(PERCENTILES), sizes["nq"]), np.nan))
     check_values(folder / "arrays.npz", data, members)
     scenario = scenario_from_dict(tomllib.loads(meta["scenario_toml"]), str(folder), resolve_names=False)
     return UqResult(scenario=scenario, keys=tuple(meta["keys"]), channels=tuple(meta["channels"]),

@@ -1,4 +1,5 @@
 """Code limits as data: models/limits/*.toml, their validated dataclasses and the quantity vocabulary.
+The kinds of a limit (fixed, speed bands, grades, static load, span ratio, comfort figure): :mod:`.limit_kinds`.
 
 A limit file holds criteria; each names its clause and source, the quantity it applies to (a name of
 :data:`QUANTITIES`), how the quantity is reduced to the number compared with the limit (a name of
@@ -76,14 +77,15 @@ Gaussian processes: their limits use the statistic ``window_max`` (no exceedance
 from __future__ import annotations
 
 import fnmatch
-import math
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import ClassVar, Literal, Sequence
+from typing import Literal, Sequence, get_args
 
 from ..errors import SettingError
-from .schema import NONNEGATIVE, POSITIVE, Check, Context, Validated, convert, param, set_source_file
+from .schema import NONNEGATIVE, Check, Context, Validated, convert, param, set_source_file
+from .limit_kinds import (LIMIT_KINDS, RESPONSE_LIMITS, STRUCTURAL_LIMITS, ComfortFigureLimit, FixedLimit,  # noqa: F401
+                          GradedLimit, Limit, SpanRatioLimit, SpeedBandLimit, StaticLoadLimit)
 from .io import resolve_model_path
 from .toml_io import read_toml
 
@@ -166,6 +168,7 @@ STATISTICS: dict[str, str] = {
                             "(EN 14363 style post-processing)",
 }
 Statistic = Literal["max_abs", "max", "min", "rms_window", "window_max", "sliding_mean_max_abs"]
+_OptionalStatistic = Literal[("", *get_args(Statistic))]  # '': a structural criterion
 
 #: the quantities that are windowed indices, not Gaussian processes: checked by ``window_max`` only (and
 #: ``window_max`` checks only them: on a random process it would read the mean and drop sigma)
@@ -182,125 +185,12 @@ def quantity(name: str) -> Quantity:
     return QUANTITIES[name]
 
 
-def _finite(ctx: Context, key: str, values: Sequence[float]) -> None:
-    """Every limit value a finite number: NaN would leave the criterion NOT EVALUATED and inf would always pass."""
-    for i, v in enumerate(values):
-        if not math.isfinite(v):
-            sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
-            raise sub.error(v, "a finite number in the quantity's unit", "not a limit (nan is never evaluated, "
-                            "inf always passes)")
-
-
 def channels_for(name: str, channels: Sequence[str]) -> list[str]:
     """The channels (of a result's or model's list) that carry quantity ``name``, in their order."""
     q = quantity(name)
     return [c for c in channels if q.matches(c)]
 
 
-# ============================================================================================ limit values
-@dataclass(frozen=True, kw_only=True)
-class FixedLimit(Validated):
-    """One value, in the quantity's unit."""
-
-    kind: ClassVar[str] = "fixed"
-    value: float = param(doc="the limit, in the quantity's unit")
-
-    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                 static_wheel_load: float | None = None) -> float:
-        return self.value
-
-    def _validate(self, ctx: Context) -> None:
-        _finite(ctx, "value", (self.value,))
-
-
-@dataclass(frozen=True, kw_only=True)
-class SpeedBandLimit(Validated):
-    """Values by train speed: values[i] applies up to speed_max_kmh[i] (inclusive), above the previous one."""
-
-    kind: ClassVar[str] = "speed_bands"
-    speed_max_kmh: tuple[float, ...] = param(unit="km/h", doc="upper end of each band, increasing, the last inf",
-                                             check=Check(low=0.0, allow_inf=True))
-    values: tuple[float, ...] = param(doc="the limit in each band, in the quantity's unit")
-
-    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                 static_wheel_load: float | None = None) -> float:
-        if speed_kmh is None or not speed_kmh > 0:
-            raise SettingError("value_at", "speed_kmh", speed_kmh, "the train speed in km/h (> 0): this limit has speed bands")
-        for v_max, value in zip(self.speed_max_kmh, self.values):
-            if speed_kmh <= v_max:
-                return value
-        raise AssertionError("the last band is inf")  # pragma: no cover - _validate guarantees it
-
-    def _validate(self, ctx: Context) -> None:
-        if len(self.values) != len(self.speed_max_kmh) or not self.values:
-            raise ctx.child("values").error(list(self.values), f"one value per band ({len(self.speed_max_kmh)})",
-                                            "length mismatch")
-        _finite(ctx, "values", self.values)
-        if any(b <= a for a, b in zip(self.speed_max_kmh, self.speed_max_kmh[1:])):
-            raise ctx.child("speed_max_kmh").error(list(self.speed_max_kmh), "strictly increasing speeds", "not increasing")
-        if not math.isinf(self.speed_max_kmh[-1]):
-            raise ctx.child("speed_max_kmh").error(list(self.speed_max_kmh), "a last band up to inf (every speed covered)",
-                                                   "speeds above the last band have no limit")
-
-
-@dataclass(frozen=True, kw_only=True)
-class GradedLimit(Validated):
-    """Graded levels (e.g. comfort 'very good', 'good', 'acceptable'): labels[i] holds up to values[i].
-    The pass/fail limit is the last value."""
-
-    kind: ClassVar[str] = "grades"
-    labels: tuple[str, ...] = param(doc="grade names, best first")
-    values: tuple[float, ...] = param(doc="upper end of each grade, increasing, in the quantity's unit")
-
-    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                 static_wheel_load: float | None = None) -> float:
-        return self.values[-1]
-
-    def grade(self, value: float) -> str | None:
-        """The best grade whose upper end the value does not exceed, or None (beyond the last grade)."""
-        for label, upper in zip(self.labels, self.values):
-            if value <= upper:
-                return label
-        return None
-
-    def _validate(self, ctx: Context) -> None:
-        if len(self.labels) != len(self.values) or not self.values:
-            raise ctx.child("values").error(list(self.values), f"one value per label ({len(self.labels)})", "length mismatch")
-        _finite(ctx, "values", self.values)
-        for i, label in enumerate(self.labels):
-            if not label.strip() or label in self.labels[:i]:
-                raise ctx.child("labels").child(i).error(label, "a grade name, not empty and not used before in labels",
-                                                         "empty" if not label.strip() else "duplicate label")
-        if any(b <= a for a, b in zip(self.values, self.values[1:])):
-            raise ctx.child("values").error(list(self.values), "strictly increasing values (best grade first)", "not increasing")
-
-
-@dataclass(frozen=True, kw_only=True)
-class StaticLoadLimit(Validated):
-    """limit = factor * (constant + coefficient * reference) [N], reference the static axle or wheel load [N]
-    (e.g. Prud'homme 0.85 (10 kN + P/3))."""
-
-    kind: ClassVar[str] = "static_load"
-    reference: Literal["static_axle_load", "static_wheel_load"] = param(doc="which static load enters")
-    factor: float = param(doc="alpha", check=POSITIVE)
-    constant: float = param(unit="N", doc="constant term (10 kN in the Prud'homme form)", check=NONNEGATIVE)
-    coefficient: float = param(doc="multiplier of the static load", check=NONNEGATIVE)
-
-    def value_at(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                 static_wheel_load: float | None = None) -> float:
-        load = static_axle_load if self.reference == "static_axle_load" else static_wheel_load
-        if load is None or not load > 0:
-            raise SettingError("value_at", self.reference, load, f"the {self.reference.replace('_', ' ')} in N (> 0)")
-        return self.factor * (self.constant + self.coefficient * load)
-
-    def _validate(self, ctx: Context) -> None:
-        if not self.constant + self.coefficient > 0:
-            raise ctx.child("coefficient").error(self.coefficient, "a coefficient > 0 or a constant > 0 (the limit "
-                                                 "factor x (constant + coefficient x load) must be > 0)", "the limit is 0")
-
-
-Limit = FixedLimit | SpeedBandLimit | GradedLimit | StaticLoadLimit
-LIMIT_KINDS: dict[str, type] = {c.kind: c for c in (FixedLimit, SpeedBandLimit, GradedLimit, StaticLoadLimit)}
 
 _ID = re.compile(r"[a-z][a-z0-9_]*")
 
@@ -308,15 +198,30 @@ _ID = re.compile(r"[a-z][a-z0-9_]*")
 # ============================================================================================ criteria
 @dataclass(frozen=True, kw_only=True)
 class Criterion(Validated):
-    """One criterion of a code: what is limited, how it is evaluated, the limit and where it comes from."""
+    """One criterion of a code: what is limited, how it is evaluated, the limit and where it comes from.
+
+    Two forms, one type: a criterion on a result's channels (models/limits/: a ``quantity`` of
+    :data:`QUANTITIES` reduced by a ``statistic``, its unit the quantity's) and a structural one that the
+    EN 1991-2 check computes on the bridge (models/criteria/: no statistic; the quantity in words, its
+    ``unit``, its ``bound``, the ``load_model`` and where it is ``read_at``; limits also ``span_ratio``,
+    ``comfort_figure``)."""
 
     id: str = param(doc="identifier, unique in its file (lower case, digits, _)")
     title: str = param(doc="one line: the criterion in words")
     clause: str = param(doc="the code and clause (or why there is none)")
     source: str = param(doc="where the value was read or from what it was recalled")
-    quantity: str = param(doc="the quantity it applies to (a name of tb_exudyn.scenario.limits.QUANTITIES)")
-    statistic: Statistic = param(doc="how the time history is reduced (tb_exudyn.scenario.limits.STATISTICS)")
-    limit: Limit = param(doc="the limit: a table with kind = fixed | speed_bands | grades | static_load")
+    quantity: str = param(doc="the quantity it applies to (a name of tb_exudyn.scenario.limits.QUANTITIES; a "
+                               "structural criterion: the quantity in words)")
+    statistic: _OptionalStatistic = param("", doc="how the time history is reduced (tb_exudyn.scenario.limits.STATISTICS); "
+                                                  "'': a structural criterion")
+    limit: Limit = param(doc="the limit: a table with kind = fixed | speed_bands | grades | static_load (structural: "
+                             "fixed | speed_bands | span_ratio | comfort_figure)")
+    load_model: str = param("", doc="the load model it applies to ('': the result's train)")
+    tracks: str = param("", doc="which tracks carry the load ('': the result's)")
+    read_at: str = param("", doc="where the quantity is read ('': the channels of its quantity)")
+    bound: Literal["", "upper", "lower"] = param("", doc="upper: value <= limit; lower: value >= limit ('': from the "
+                                                         "statistic, lower for 'min')")
+    unit: str = param("", doc="unit of the quantity and the limit ('': the quantity's, QUANTITIES)")
     window: float = param(0.0, unit="s", doc="window length of rms_window and window_max", check=NONNEGATIVE)
     averaging_length: float = param(0.0, unit="m", doc="sliding-mean length of sliding_mean_max_abs", check=NONNEGATIVE)
     band: tuple[float, ...] = param((), unit="Hz", doc="(f_low, f_high) the quantity is band-limited to first; empty: none",
@@ -336,27 +241,55 @@ class Criterion(Validated):
         return "limit_note", f"limit value read; its {self.unverified} not read [check], {verify}: {self.note}"
 
     @property
-    def unit(self) -> str:
-        """The unit of the quantity (and of the limit values)."""
-        return QUANTITIES[self.quantity].unit
+    def structural(self) -> bool:
+        """True for a criterion the check computes on the bridge (no statistic of a result)."""
+        return not self.statistic
 
     @property
     def lower_bound(self) -> bool:
-        """True when the limit is a lower bound (statistic 'min')."""
-        return self.statistic == "min"
+        """True when the limit is a lower bound (statistic 'min', or bound 'lower')."""
+        return self.statistic == "min" or self.bound == "lower"
 
     def limit_value(self, *, speed_kmh: float | None = None, static_axle_load: float | None = None,
-                    static_wheel_load: float | None = None) -> float:
-        """The limit for a train speed [km/h] and static loads [N] (those that the limit kind needs)."""
-        return self.limit.value_at(speed_kmh=speed_kmh, static_axle_load=static_axle_load,
-                                   static_wheel_load=static_wheel_load)
+                    static_wheel_load: float | None = None, span: float | None = None) -> float:
+        """The limit for a train speed [km/h], static loads [N] or a span [m] (those that the limit kind needs);
+        the comfort figure's depends on more (tb_exudyn.codes.comfort_deflection.comfort_limit)."""
+        lim = self.limit
+        if isinstance(lim, SpanRatioLimit):
+            return lim.value_at(span=span)
+        if isinstance(lim, ComfortFigureLimit):
+            raise SettingError("Criterion.limit_value", "id", self.id, "a criterion without the comfort figure "
+                               "(comfort_deflection.comfort_limit computes it)")
+        return lim.value_at(speed_kmh=speed_kmh, static_axle_load=static_axle_load, static_wheel_load=static_wheel_load)
 
     def _validate(self, ctx: Context) -> None:
         if not _ID.fullmatch(self.id):
             raise ctx.child("id").error(self.id, "lower-case letters, digits and _, starting with a letter", "bad identifier")
-        for key in ("title", "clause", "source"):
+        for key in ("title", "clause", "source") + (("quantity", "load_model", "read_at", "unit") if self.structural else ()):
             if not getattr(self, key).strip():
-                raise ctx.child(key).error(getattr(self, key), "a non-empty string", "empty")
+                raise ctx.child(key).error(getattr(self, key), "a non-empty string" + (
+                    " (a criterion without a statistic is structural)" if self.structural else ""), "empty")
+        allowed = STRUCTURAL_LIMITS if self.structural else RESPONSE_LIMITS
+        if self.limit.kind not in allowed:
+            raise ctx.child("limit").child("kind").error(self.limit.kind, " | ".join(allowed) + (
+                " (a structural criterion)" if self.structural else " (a criterion with a statistic)"), "wrong limit kind")
+        if self.check and not self.note.strip():
+            raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
+        if self.structural:
+            if not self.bound:
+                raise ctx.child("bound").error(self.bound, "upper | lower (a criterion without a statistic)", "missing")
+            self._validate_limit(ctx.child("limit"))
+            return
+        own = "lower" if self.statistic == "min" else "upper"
+        if self.bound not in ("", own):
+            raise ctx.child("bound").error(self.bound, f"'' or {own!r} (statistic {self.statistic!r})", "contradicts the statistic")
+        if self.quantity in QUANTITIES and self.unit not in ("", QUANTITIES[self.quantity].unit):
+            raise ctx.child("unit").error(self.unit, f"'' or {QUANTITIES[self.quantity].unit!r} (quantity {self.quantity!r})",
+                                          "not the quantity's unit")
+        self._validate_response(ctx)
+        object.__setattr__(self, "unit", QUANTITIES[self.quantity].unit)  # a response criterion's unit: its quantity's
+
+    def _validate_response(self, ctx: Context) -> None:
         if self.quantity not in QUANTITIES:
             raise ctx.child("quantity").error(self.quantity, " | ".join(QUANTITIES), "unknown quantity")
         index = self.quantity in INDEX_QUANTITIES
@@ -379,8 +312,6 @@ class Criterion(Validated):
                                                       "'sliding_mean_max_abs'", "missing averaging length")
         if self.band and (len(self.band) != 2 or not self.band[0] < self.band[1]):
             raise ctx.child("band").error(list(self.band), "[] or [f_low, f_high] in Hz with f_low < f_high", "bad band")
-        if self.check and not self.note.strip():
-            raise ctx.child("note").error(self.note, "a note saying what to check (check = true)", "empty")
         self._validate_limit(ctx.child("limit"))
 
     def _validate_limit(self, ctx: Context) -> None:
@@ -392,7 +323,7 @@ class Criterion(Validated):
         if self.lower_bound and isinstance(lim, GradedLimit):
             raise ctx.child("kind").error(lim.kind, "fixed | speed_bands | static_load with statistic 'min' (grades "
                                           "are upper ends, best first)", "grades with a lower bound")
-        if self.lower_bound or isinstance(lim, StaticLoadLimit):  # static_load: > 0 by its own checks
+        if self.lower_bound or isinstance(lim, (StaticLoadLimit, SpanRatioLimit, ComfortFigureLimit)):  # > 0 by their checks
             return
         key, values = ("value", (lim.value,)) if isinstance(lim, FixedLimit) else ("values", lim.values)
         for i, v in enumerate(values):
@@ -436,8 +367,17 @@ class LimitSet(Validated):
             seen.add(c.id)
 
 
-def limits_from_dict(data: dict, file: str | None = None) -> LimitSet:
-    """Build and validate a LimitSet from a plain dict (the TOML table); ScenarioError names file and key."""
+def limits_from_dict(data: dict, file: str | None = None, structural: bool = False) -> LimitSet:
+    """Build and validate a LimitSet from a plain dict (the TOML table); ScenarioError names file and key. A
+    limit file (models/limits) holds criteria on a result's channels, each with a statistic; ``structural``:
+    the check's criteria file (models/criteria), none with a statistic."""
+    tables = data.get("criteria") if isinstance(data, dict) else None
+    for i, c in enumerate(tables if isinstance(tables, list) else []):
+        if isinstance(c, dict) and bool(c.get("statistic")) == structural:
+            allowed = ("absent: the criteria of this file are computed on the bridge" if structural else
+                       " | ".join(get_args(Statistic)) + ": the criteria of a limit file are statistics of a result")
+            raise Context(file).child("criteria").child(i).child("statistic").error(
+                c.get("statistic", "(missing)"), allowed, "given" if structural else "missing")
     return convert(LimitSet, data, Context(file))
 
 
@@ -451,6 +391,6 @@ def load_limits(name_or_path: str | Path) -> LimitSet:
 
 
 __all__ = [
-    "Criterion", "FixedLimit", "GradedLimit", "INDEX_QUANTITIES", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
+    "ComfortFigureLimit", "Criterion", "FixedLimit", "RESPONSE_LIMITS", "STRUCTURAL_LIMITS", "SpanRatioLimit", "GradedLimit", "INDEX_QUANTITIES", "LIMIT_KINDS", "Limit", "LimitSet", "QUANTITIES", "Quantity", "STATISTICS",
     "SpeedBandLimit", "StaticLoadLimit", "channels_for", "limits_from_dict", "load_limits", "quantity",
 ]

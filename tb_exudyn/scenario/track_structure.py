@@ -176,15 +176,23 @@ def check_track_structure(structure: str, bridge, track_line_height: float, ctx:
                         "the track does not fit the bridge's track height")
 
 
-def refuse_unmodelled_track(scenario) -> None:  # noqa: ANN001
-    """A run of a scenario with a ``track.structure`` is refused (one ScenarioError naming the key) until the
-    engines model the track layer: its data is read, checked and shown, but a run would silently give the
-    wheel on the deck (docs/track.md says what exists: the track alone and a wheel on it, in numpy)."""
-    if scenario.track.structure:
-        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure,
-                            "empty; docs/track.md, EN 1991-2's spread: codes.load_distribution",
-                            "no run models the track layer yet")
+#: the vehicle kinds whose contacts the track layer carries: vertical contacts on the track centre line
+TRACK_VEHICLE_KINDS = ("sprung_mass", "moving_force")
+
+
+def refuse_unbuilt_track(scenario) -> None:  # noqa: ANN001
+    """What a run of a scenario with a ``track.structure`` cannot do yet, refused before any work (one
+    ScenarioError naming the key): a vehicle whose contacts the track layer does not carry (the wheelsets
+    of car15 and the articulated and creep cars: a lateral contact and a wheel on each rail; the track
+    carries vertical contacts, docs/track.md)."""
+    if not scenario.track.structure:
+        return
+    kinds = sorted({v.kind for v in scenario.train.vehicles} - set(TRACK_VEHICLE_KINDS))
+    if kinds:
+        raise ScenarioError(scenario.where, "train.vehicles", ", ".join(kinds),  # one line within 200 characters
+                            "kind " + " or ".join(TRACK_VEHICLE_KINDS) + ", or no track.structure",
+                            "the track layer carries vertical contacts only")
 
 
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",
-           "refuse_unmodelled_track", "track_structure_path"]
+           "TRACK_VEHICLE_KINDS", "refuse_unbuilt_track", "track_structure_path"]

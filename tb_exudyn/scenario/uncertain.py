@@ -276,7 +276,7 @@ def load_study(path_or_name: str | Path, uncertain_file: str | Path | None = Non
         return scenario, load_uncertain(uncertain_file, scenario)
     if table is None:
         raise ScenarioError(str(path), "uncertain", None, "an [uncertain] table in the scenario, or an uncertain "
-                            "file (--uncertain-file)", "no uncertain keys")
+                            "file (uncertain_file)", "no uncertain keys")
     return scenario, check_uncertain(scenario, table, str(path))
 
 

@@ -15,7 +15,7 @@ from .assembly import StructureError, located, validate_bridge
 from .fe import bridge_modes, solve_modes
 from .imported import imported_modal_bridge
 from ..scenario.model import ModalTable
-from ..scenario.track_structure import refuse_unmodelled_track
+from ..scenario.track_structure import refuse_unbuilt_track
 from .size import check_bridge_size
 
 
@@ -27,7 +27,7 @@ def check_scenario_size(scenario: Any) -> None:
     linearised system with the bridge's estimated modes
     (:func:`~tb_exudyn.execution.resources.check_system_size`). A small bridge (no count needed) is
     solved at once, so that a degenerate one (:class:`~.assembly.StructureError`) is refused here."""
-    refuse_unmodelled_track(scenario)
+    refuse_unbuilt_track(scenario)
     an = scenario.analysis
     if isinstance(scenario.bridge, ModalTable):  # its tables read and checked now (their size is the model's)
         try:

@@ -119,6 +119,10 @@ class ModalBridge(ModeSet):
         shapes are ``rail_shape_function``
     track : the track the train runs on (1, 2, ...): ``rail_shape_function`` is its shapes
         (:meth:`on_track`)
+    rail_extent : (x_start, x_end) [m] of the rail this body carries when it is longer than the bridge (the
+        track and the deck as one body, tb_exudyn.system.track_bridge); None: the bridge, 0 ... length
+    coupled_damping : (n, n) the body's damping when it is not modal (the track's pads and ballast); None:
+        diag(2 zeta omega)
     """
 
     frequencies: np.ndarray
@@ -135,6 +139,13 @@ class ModalBridge(ModeSet):
     node_masses: np.ndarray | None = field(default=None, repr=False)
     tracks: tuple[TrackShapes, ...] = ()
     track: int = 1
+    rail_extent: tuple[float, float] | None = None
+    coupled_damping: np.ndarray | None = field(default=None, repr=False)
+
+    def carries(self, x: np.ndarray) -> np.ndarray:
+        """Whether the body's rail is at x [m] (bool per x): on the bridge, or on the track's whole extent."""
+        lo, hi = (0.0, self.length) if self.rail_extent is None else self.rail_extent
+        return (x >= lo) & (x <= hi)
 
     @property
     def n_tracks(self) -> int:
@@ -173,6 +184,8 @@ class ModalBridge(ModeSet):
 
     @property
     def damping_matrix(self) -> np.ndarray:
+        if self.coupled_damping is not None:
+            return self.coupled_damping
         return np.diag(2.0 * self.damping_ratios * self.omega)
 
     def rail_shapes(self, x: np.ndarray) -> RailShapes:
@@ -189,7 +202,8 @@ class ModalBridge(ModeSet):
             self.station_names, self.station_shapes[:, :, :n], shapes,
             None if self.effective_masses is None else self.effective_masses[:n], self.description,
             self.node_positions, None if self.node_shapes is None else self.node_shapes[:, :, :n],
-            self.node_masses, tracks, self.track,
+            self.node_masses, tracks, self.track, self.rail_extent,
+            None if self.coupled_damping is None else self.coupled_damping[:n, :n],
         )
 
 

@@ -60,6 +60,9 @@ class Component:
         penalty rows, then general rows, :class:`~.coupling.RowMaps`), grouped by vehicle in the
         vehicles' order, in layout order within a vehicle
     kinds : indices into ``KINDS`` of the irregularity kinds that excite the component
+    coupled : whether the bridge block is coupled in M, K0 or D0 (a track's modes with the pads' and
+        the ballast's non-proportional damping, :func:`tb_exudyn.system.track_model.modal_track`);
+        False: diagonal, a modal bridge body's
     """
 
     coords: IntArray
@@ -68,6 +71,7 @@ class Component:
     vehicles: tuple[VehiclePart, ...]
     rows: IntArray
     kinds: tuple[int, ...]
+    coupled: bool = False
 
     @property
     def size(self) -> int:
@@ -251,8 +255,9 @@ def _scanned(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], .
 def find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     """The independent, excited components of the system (see the module docstring).
 
-    Raises NotImplementedError when a bridge coordinate is not diagonal in M, K0, D0 (a modal bridge
-    body always is). The last few results are kept by a digest of their inputs (the same inputs give
+    The bridge's block of M, K0, D0 may be coupled (a track's modes: :attr:`Component.coupled`);
+    NotImplementedError when a bridge coordinate is coupled to a vehicle's in them (no model makes
+    such a system). The last few results are kept by a digest of their inputs (the same inputs give
     the same components, which are immutable).
     """
     # what the search reads: M, K0, D0, the bridge and wheel indices, the times and the coupling object
@@ -282,8 +287,8 @@ def _find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     is_bridge[lin.bridge] = True
     offdiag = base.copy()
     np.fill_diagonal(offdiag, False)
-    if offdiag[lin.bridge].any():
-        raise NotImplementedError("bridge coordinates coupled to others in M, K0 or D0: not a modal bridge body")
+    if offdiag[lin.bridge][:, ~is_bridge].any():
+        raise NotImplementedError("bridge coordinates coupled to vehicle coordinates in M, K0 or D0")
     # vehicles: blocks of M, K0, D0 joined by their wheels' contact rows
     rm = lin.coupling.row_maps()
     veh_graph = base.copy()
@@ -335,7 +340,8 @@ def _find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
             vehicles.append(VehiclePart(start, local, tuple(blocks), r0, r1))
         out.append(Component(coords=np.concatenate(coords).astype(np.int64), n_bridge=int(bridge.size),
                              modes=modes.astype(np.int64), vehicles=tuple(vehicles),
-                             rows=rows.astype(np.int64), kinds=kinds))
+                             rows=rows.astype(np.int64), kinds=kinds,
+                             coupled=bool(offdiag[np.ix_(bridge, bridge)].any())))
     return out
 
 

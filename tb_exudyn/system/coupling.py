@@ -409,7 +409,7 @@ class WheelRailCoupling:
         """Contact shape rows S, dS (n_c, n_b), point-load shapes and the rail shapes at the axles
         (None while no axle is on the bridge); zero rows for axles off the bridge (rigid approach
         track), no evaluation at all while every axle is off it."""
-        if not np.any((x >= 0.0) & (x <= self.bridge.length)):
+        if not np.any(self.bridge.carries(x)):
             return self._zero_S, self._zero_S, self._zero_L, False, None
         rs = self.bridge.rail_shapes(x)  # zero rows off the bridge
         S = self._select @ np.concatenate((rs.y, rs.z, rs.rx))

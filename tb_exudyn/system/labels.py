@@ -27,6 +27,10 @@ _BODY_DERIVED = {"acc_z_wb": "Wb-weighted vertical acceleration", "acc_y_wd": "W
 _BRIDGE = re.compile(r"bridge\.(span|pier)(\d+)\.(\w+)\.(.+)")
 _CAR = re.compile(r"car(\d+)\.(.+)")
 _TRACK = re.compile(r"track(\d+)\.")
+#: the track's channels (tb_exudyn.system.track_bridge): track.<station>.<rail side>.<part>.<what>
+_TRACK_CHANNEL = re.compile(r"track\.span(\d+)\.(\w+)\.(left|right)\.(rail|sleeper|deck|pad|ballast)\.(\w+)")
+_TRACK_PART = {"rail": "rail above the sleeper", "sleeper": "sleeper", "deck": "deck under the sleeper",
+               "pad": "pad", "ballast": "ballast"}
 
 
 def _motion_label(what: str, components: dict[str, str]) -> str | None:
@@ -42,7 +46,8 @@ def channel_label(name: str) -> str:
     """A readable label of a channel name (``tb_exudyn.system.channels`` naming), e.g.
     ``car1.bogie1.acc_y`` -> "car 1, leading bogie, lateral acceleration",
     ``bridge.span2.mid.disp_z`` -> "span 2, mid-span, vertical displacement",
-    ``car1.axle3.left.force_z`` -> "car 1, axle 3, left wheel, vertical wheel-rail force"; the derived
+    ``car1.axle3.left.force_z`` -> "car 1, axle 3, left wheel, vertical wheel-rail force",
+    ``track.span1.mid.left.pad.force_z`` -> "track at span 1, mid-span, left rail, pad, vertical force"; the derived
     channels of :mod:`tb_exudyn.system.derived` too (``car1.axle2.left.derailment`` -> "car 1, axle 2,
     left wheel, derailment quotient Q/P"). A name of another form is returned as it is."""
     m = _BRIDGE.fullmatch(name)
@@ -56,6 +61,14 @@ def channel_label(name: str) -> str:
             on = f", track {track.group(1)}" if track else ""
             return f"{kind} {number}, {_STATION.get(station, station)}{on}, {motion}"
         return name
+    m = _TRACK_CHANNEL.fullmatch(name)
+    if m:  # the track at the sleeper nearest a span station
+        span, station, side, part, what = m.groups()
+        head = f"track at span {span}, {_STATION.get(station, station)}, {side} rail, {_TRACK_PART[part]}"
+        if what == "force_z" and part in ("pad", "ballast"):
+            return f"{head}, vertical force"
+        motion = _motion_label(what, {"z": "vertical"})
+        return f"{head}, {motion}" if motion else name
     m = _CAR.fullmatch(name)
     if not m:
         return name

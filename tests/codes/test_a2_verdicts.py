@@ -101,3 +101,15 @@ def test_comfort_takes_lm71_only_on_a_continuous_girder():
     assert v["vertical_deflection"].value == pytest.approx(phi2 * both.deflection[0].max(), rel=1e-12)
     assert v["comfort_deflection"].limit == pytest.approx(comfort_limit(32.0, 200.0, 3, continuous=True), rel=1e-12)
     assert v["deck_end_rotation_between_decks"].verdict == "not evaluated"
+
+
+def test_comfort_above_the_digitised_figure_says_why_and_what_instead():
+    """Figure A2.3 goes on to 350 km/h but only its curves up to 220 km/h are digitised (a third-party reading;
+    none found above): at a line speed of 250 km/h the comfort criterion is not evaluated (never clamped to the
+    220 km/h curve, whose L/delta is lower than a faster curve's, so unsafe), and the verdict says why and
+    names A2.4.4.3.3's dynamic analysis of the car-body acceleration as the way to check it."""
+    r = check("single_span_32m", 250.0, trains=["HSLM-A1"], cases=["nominal"])
+    v = {c.criterion: c for c in r.criteria}["comfort_deflection"]
+    assert math.isnan(v.value) and math.isnan(v.limit) and v.verdict == "not evaluated"
+    assert "250 km/h: Figure A2.3's curves above 220 km/h are not digitised" in v.caveats
+    assert "A2.4.4.3.3" in v.caveats

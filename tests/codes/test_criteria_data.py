@@ -48,10 +48,48 @@ def test_a_bad_value_names_the_file_and_key(tmp_path):
 
 
 def test_deck_limits_have_one_source():
-    """The moving-force rows' limit and the stochastic column's criterion read the same file's value."""
+    """The moving-force rows' limit is the value of the criterion the stochastic column reads (the check's
+    records name it): one criterion of one file, nothing to reconcile at run time."""
+    from tb_exudyn.codes.criteria import DECK_ACCELERATION_CRITERIA, DECK_LIMIT_SET, deck_criterion
+
     sets = {ls.name: ls for ls in default_limits()}
-    deck = sets[stoch.LIMIT_SET]
-    for track, crit in stoch.CRITERIA.items():
+    deck = sets[DECK_LIMIT_SET]
+    for track, crit in DECK_ACCELERATION_CRITERIA.items():
         assert code.deck_acceleration_limit(track) == deck.criterion(crit).limit_value()
-        stoch.check_limits(track, code.deck_acceleration_limit(track))  # the run-time reconciliation holds
+        assert deck_criterion(track) == f"{deck.name}/{crit}"
+    assert not hasattr(stoch, "check_limits") and not hasattr(stoch, "CRITERIA")
     assert code.deck_acceleration_limit("ballasted") == 3.5 and math.isclose(code.deck_acceleration_limit("direct"), 5.0)
+
+
+def test_one_criterion_type_for_limit_files_and_the_check(tmp_path):
+    """The A2.4.4 criteria and the limit files' criteria are one type (scenario.limits.Criterion): structural
+    (a bound, no statistic) or on a result's channels (a statistic). A file of the other form is refused
+    naming the criterion's statistic; a structural set is refused by the checks of a result."""
+    from tb_exudyn.results.checks import checks
+    from tb_exudyn.scenario.limits import Criterion, LimitSet, load_limits
+
+    a2 = load_criteria()
+    deck = load_limits("en1990_deck")
+    assert isinstance(a2, LimitSet) and all(isinstance(c, Criterion) for c in (*a2.criteria, *deck.criteria))
+    assert all(c.structural and c.bound for c in a2.criteria) and not any(c.structural for c in deck.criteria)
+    assert deck.criteria[0].unit == "m/s^2" and deck.criteria[0].bound == ""  # a response criterion's: its quantity's
+    bad = tmp_path / "a2.toml"
+    bad.write_text(criteria_path().read_text().replace('bound = "upper"\n', 'bound = "upper"\nstatistic = "max"\n', 1))
+    with pytest.raises(ScenarioError) as e:
+        load_criteria(bad)
+    assert e.value.key == "criteria[0].statistic" and "a2.toml" in str(e.value)
+    with pytest.raises(ScenarioError, match="criteria\\[0\\].statistic"):
+        load_limits(_without_statistic(tmp_path))
+    with pytest.raises(Exception, match="structural criteria"):
+        checks(None, a2)
+
+
+def _without_statistic(tmp_path):
+    from tb_exudyn.scenario.registry import models_dir
+
+    text = (models_dir() / "limits" / "en1990_deck.toml").read_text()
+    out = tmp_path / "deck.toml"
+    lines = text.splitlines()
+    first = next(i for i, ln in enumerate(lines) if ln.startswith("statistic"))
+    out.write_text("\n".join(lines[:first] + lines[first + 1:]) + "\n")
+    return out

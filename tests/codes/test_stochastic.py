@@ -193,12 +193,12 @@ def test_speeds_sharing_a_task_label_run_in_separate_sweeps(monkeypatch):
     250.0001 km/h (distinct rows of the check) must go to separate sweeps, each speed's values kept.
     The sweep is replaced by a recorder that refuses repeated labels as run_sweep does (the numbers are
     not the point here: the batching is)."""
-    import json
     import types
 
     import numpy as np
 
     from tb_exudyn.methods import sweep as real
+    from tb_exudyn.results.sweep import CriterionValues, checks_text
 
     calls = []
 
@@ -207,9 +207,8 @@ def test_speeds_sharing_a_task_label_run_in_separate_sweeps(monkeypatch):
         assert len(set(labels)) == len(labels), labels
         calls.append(list(speeds))
         crit = "en1990_deck/deck_acc_ballasted"
-        summaries = [{"checks": np.array(json.dumps({f"{crit}_probability": v * 1e-9, f"{crit}_estimate": v / 100,
-                                                     f"{crit}_channel": "bridge.span1.mid.acc_z_en1990",
-                                                     f"{crit}_verdict": "OK"})),
+        summaries = [{"checks": np.array(checks_text({crit: CriterionValues(
+                          math.nan, v * 1e-9, v / 100, 3.5, "m/s^2", "bridge.span1.mid.acc_z_en1990", "OK")})),
                       "channels": np.array(["bridge.span1.mid.acc_z_en1990"]), "max_abs_mean": np.array([1.0]),
                       "n_freq": np.array(7), "warnings": np.array([], dtype=str)} for v in speeds]
         return types.SimpleNamespace(speeds=tuple(speeds), summaries=tuple(summaries))

@@ -10,9 +10,10 @@ analysis in well under a second, the figure and the page drawn as always.
 - Ctrl-C: SIGINT sent to a child held in its analysis; and, in this process, SIGINT the command sends
   itself at an exact point (handled as a terminal's Ctrl-C is): in the analysis, while the page is drawn
   (after the figure), after the first temporary file is complete, and just after check.csv is put in
-  place. Before the renames: --out as it was (a new one gone, an old check untouched byte for byte) and
-  the message's hint (run the same command again) works; during the renames: every file in place,
-  whole, and the message says so.
+  place. Before the renames: no check file of the new check (an old check untouched byte for byte); before
+  any task finished --out as it was (a new one gone) and the message's hint (run the same command again)
+  works; after the tasks finished they wait in --out/checkpoint-check and the hint (--resume) works; during
+  the renames: every file in place, whole, and the message says so.
 - --out refused before the analysis (the integration never runs) and in under 2 s: a file, a FIFO, a path
   under a file, an unwritable folder, /proc.
 - Trains by name: a train given twice is one train; two different trains with one name are refused
@@ -44,6 +45,8 @@ from .execution_helpers import ROOT
 FILES = ("check.csv", "check.html", "check.png")
 #: the module (tb_exudyn.codes.check is also the name of its function, which the package exports)
 check_module = importlib.import_module("tb_exudyn.codes.check")
+#: the check's method on the driver, whose tasks integrate (this small check runs them in this process)
+method_module = importlib.import_module("tb_exudyn.methods.check")
 
 
 def argv(out: Path, *more: str) -> list[str]:
@@ -60,7 +63,7 @@ def env() -> dict[str, str]:
 #: line comes on its stdin
 CHILD = r"""
 import importlib, sys
-chk = importlib.import_module("tb_exudyn.codes.check")
+chk = importlib.import_module("tb_exudyn.methods.check")
 real = chk.moving_force_response
 
 def held(*a, **k):
@@ -110,11 +113,13 @@ def interrupt_at(point: str, monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(owner, name, hooked)
 
     if point == "analysis":
-        wrap(check_module, "moving_force_response", before=lambda *a: interrupt())
+        wrap(method_module, "moving_force_response", before=lambda *a: interrupt())
     elif point == "drawing":
         wrap(importlib.import_module("tb_exudyn.report.check"), "render_check_report", before=lambda *a: interrupt())
-    elif point == "temporary":  # atomic.write_atomic_group sets each complete temporary file's mode
-        wrap(os, "chmod", after=lambda path, *a: interrupt() if str(path).endswith(".tmp") else None)
+    elif point == "temporary":  # atomic.write_atomic_group sets each complete temporary file's mode (a check
+        # file's, not a checkpoint task file's)
+        wrap(os, "chmod", after=lambda path, *a: interrupt() if str(path).endswith(".tmp") and
+             os.path.basename(path).startswith(".check.") else None)
     else:
         for name in ("link", "replace"):
             wrap(os, name, after=lambda src, dst, *a: interrupt() if os.path.basename(dst) == "check.csv" else None)
@@ -151,7 +156,7 @@ def test_a_second_check_into_a_busy_out_is_refused_and_replaces_nothing(tmp_path
             assert main(argv(out, *more)) == 2
             err = capsys.readouterr().err
             assert len(err.strip().splitlines()) == 1 and "in use by another run" in err and "--out" in err, err
-            assert sorted(os.listdir(out)) == [".tb_exudyn.lock"]  # the first's lock, nothing else
+            assert sorted(os.listdir(out)) == [".tb_exudyn.lock", "checkpoint-check"]  # the first's, nothing else
         first.stdin.write("\n")
         first.stdin.flush()
         stdout, stderr = first.communicate(timeout=300)
@@ -197,10 +202,17 @@ def test_ctrl_c_leaves_all_or_nothing_and_the_hint_works(point, tmp_path, capsys
         assert main(argv(out)) == 130
     err = capsys.readouterr().err
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, err
-    if point != "renames":
+    if point == "analysis":  # no task finished: nothing kept
         assert "before the check's files were written" in err and "run the same command again" in err
         assert entries(tmp_path) == {}, "a new --out is removed again, with no temporary file"
         assert main(argv(out)) == 0  # the hint, as given
+        assert_whole(out)
+        return
+    if point != "renames":  # every task finished: kept in the checkpoint, no check file, no temporary file
+        assert "before the check's files were written" in err and "run the same command with --resume" in err, err
+        assert entries(tmp_path) and all(p == "out" or p.startswith("out/checkpoint-check") for p in entries(tmp_path))
+        assert main(argv(out)) == 2 and "--resume to continue it" in capsys.readouterr().err
+        assert main(argv(out, "--resume")) == 0  # the hint, as given
         assert_whole(out)
         return
     assert "written whole: check.csv, check.png, check.html" in err  # the renames finished first
@@ -221,8 +233,9 @@ def test_ctrl_c_over_an_earlier_check(point, tmp_path, capsys, monkeypatch):
         interrupt_at(point, patched)
         assert main(argv(out, "--overwrite")) == 130
     err = capsys.readouterr().err
-    if point == "temporary":
-        assert entries(out) == old and "is as it was" in err
+    if point == "temporary":  # the old files byte for byte; the new check's tasks wait in its checkpoint
+        assert {p: v for p, v in entries(out).items() if not p.startswith("checkpoint-check")} == old
+        assert "--resume" in err, err
     else:
         assert_whole(out, "3.5")
         assert "written whole" in err, err
@@ -276,7 +289,7 @@ def test_out_is_refused_before_the_analysis_in_under_2_s(kind, tmp_path, capsys,
     def analysis(*a, **k):
         raise AssertionError("the analysis ran")
 
-    monkeypatch.setattr(check_module, "moving_force_response", analysis)
+    monkeypatch.setattr(method_module, "moving_force_response", analysis)
     before = sorted(os.listdir(tmp_path))
     t0 = time.perf_counter()
     code = main(argv(target))

@@ -29,6 +29,7 @@ from tb_exudyn.report import (
 )
 from tb_exudyn.results import RandomResponse
 from tb_exudyn.results.checks import DEFAULT_TARGET_PROBABILITY, default_limits
+from tb_exudyn.results.kinds import DETERMINISTIC, PEM
 from tb_exudyn.results.checks_table import SMALLEST_SHOWN, Caveat, CheckRow, ChecksTable
 from tb_exudyn.scenario.limits import quantity
 from tb_exudyn.structure import simply_supported_modes
@@ -443,7 +444,7 @@ def _checks_table() -> ChecksTable:
                     statistic=c.statistic, limit=limit, limit_text="", estimate=estimate, estimate_text="",
                     peak_3sigma=estimate, probability=p, interval=None, probability_vanmarcke=None,
                     target=DEFAULT_TARGET_PROBABILITY, verdict="EXCEEDS" if exceeds else "OK", caveats=tuple(caveats)))
-    return ChecksTable(method="pem", scenario="quick", speed_kmh=250.0, target=DEFAULT_TARGET_PROBABILITY,
+    return ChecksTable(kind=PEM, scenario="quick", speed_kmh=250.0, target=DEFAULT_TARGET_PROBABILITY,
                        first_passage="poisson", window=(0.0, 2.1), rows=tuple(rows),
                        notes=("target probability per passage 2.74e-05",))
 
@@ -582,7 +583,7 @@ def test_first_screen_says_what_target_and_estimate_are():
     assert "is met (OK) when the probability that its limit is exceeded at least once while the train passes" in terms
     assert "the level exceeded with the target probability in one passage" in terms
     assert "not max |mean| + 3 sigma" in terms
-    det = ChecksTable(**{**_checks_table().__dict__, "method": "deterministic"})
+    det = ChecksTable(**{**_checks_table().__dict__, "kind": DETERMINISTIC})
     text = render_report([(Path("pem"), synthetic.pem_response())], checks=det)
     terms = text.split('id="verdict-terms">')[1].split("</p>")[0]
     assert "Target probability" not in terms and "the run's own statistic" in terms

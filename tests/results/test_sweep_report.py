@@ -10,13 +10,12 @@ speed shows as a missing string (exact string comparison; no tolerance is involv
 from __future__ import annotations
 
 import html
-import json
 import math
 
 import numpy as np
 
 from tb_exudyn.methods.sweep import KEY_QUANTITIES
-from tb_exudyn.results.sweep import Resonance, SweepResult
+from tb_exudyn.results.sweep import CriterionValues, Resonance, SweepResult, checks_text
 from tb_exudyn.report.sweep import SWEEP_REPORT, render_sweep_report, write_sweep_report
 from tb_exudyn.system.labels import format_number
 
@@ -30,7 +29,7 @@ def _summary(speed: float, force: float, grid_error: tuple[float, float], warnin
         "grid_error": np.array(grid_error),
         "max_abs_mean": np.array([0.1, force]), "max_sigma": np.array([0.2, 0.1 * force]),
         "max_design": np.array([0.7, 1.3 * force]), "band": np.array([0.5, 50.0]), "n_freq": np.array(120),
-        "seconds": np.array(1.5), "checks": np.array(json.dumps(checks)),
+        "seconds": np.array(1.5), "checks": np.array(checks_text(checks)),
         "warnings": np.array([f"{w} (at {speed:g} km/h)" for w in warnings], dtype=str),
     }
 
@@ -40,17 +39,13 @@ def _sweep() -> SweepResult:
     base = base.replace(description="beam <script>alert(1)</script> & co")
     quantities = tuple(q for q in KEY_QUANTITIES if q[0] in ("deck_acc_z", "wheel_force_z"))
     light = "lightly damped mode at 8.342 Hz <b>: sigma grows by about {} % on the bridge"
-    checks = [{"deck/acc_z_utilisation": 0.4, "deck/acc_z_probability": 1e-12, "deck/acc_z_verdict": "OK",
-               "deck/acc_z_estimate": 0.7, "deck/acc_z_limit": 1.75, "deck/acc_z_unit": "m/s^2",
-               "force/y_utilisation": math.nan, "force/y_probability": math.nan, "force/y_verdict": "NOT EVALUATED",
-               "force/y_unit": "N", "force/y_estimate": math.nan, "force/y_limit": 62e3,
-               "force/y_reason": "no such channel <yet>",
-               "checks_exceeding": 0.0},
-              {"deck/acc_z_utilisation": 1.25, "deck/acc_z_probability": 0.2, "deck/acc_z_verdict": "EXCEEDS",
-               "deck/acc_z_caveats": "lightly_damped_mode", "deck/acc_z_estimate": 2.1875, "deck/acc_z_limit": 1.75,
-               "deck/acc_z_unit": "m/s^2", "deck/acc_z_title": "deck acceleration", "force/y_utilisation": 0.5,
-               "force/y_probability": 1e-3, "force/y_verdict": "OK", "force/y_unit": "N", "force/y_estimate": 31e3,
-               "force/y_limit": 62e3, "checks_exceeding": 1.0}]
+    nan = math.nan
+    checks = [{"deck/acc_z": CriterionValues(0.4, 1e-12, 0.7, 1.75, "m/s^2", "", "OK"),
+               "force/y": CriterionValues(nan, nan, nan, 62e3, "N", "", "NOT EVALUATED",
+                                          reason="no such channel <yet>")},
+              {"deck/acc_z": CriterionValues(1.25, 0.2, 2.1875, 1.75, "m/s^2", "", "EXCEEDS", title="deck acceleration",
+                                             caveats="lightly_damped_mode"),
+               "force/y": CriterionValues(0.5, 1e-3, 31e3, 62e3, "N", "", "OK")}]
     summaries = (
         _summary(200.0, 60e3, (0.002, 0.004), [light.format(69)], checks[0]),
         _summary(300.0, 80e3, (0.03, math.nan), [light.format(50), "grid error 3 % on car1.axle1.left.force_z"],

@@ -54,3 +54,17 @@ def test_every_column_of_the_table_is_in_the_labelled_form():
         for key in set(flat) - set(row):  # a criterion column this speed has not: empty
             assert flat[key] == "" or (not isinstance(flat[key], str) and np.isnan(flat[key])), key
     assert ds.attrs["kind"] == "speed_sweep" and "resonances_json" in ds.attrs
+
+
+def test_a_criterions_values_are_the_schemas_criterion_variables():
+    """CriterionValues (a speed's checks, labelled) has one field per variable over ``criterion``, in the
+    schema's order: the table's ``<criterion>_<name>`` columns are composed from them in one place."""
+    import dataclasses
+
+    from tb_exudyn.results.sweep import SWEEP_SCHEMA, CriterionValues, checks_text, read_checks
+
+    assert [f.name for f in dataclasses.fields(CriterionValues)] == [
+        v.name for v in SWEEP_SCHEMA if v.dims == ("speed", "criterion")]
+    values = {"a/b": CriterionValues(0.5, math.nan, 1.0, 2.0, "m", "ch", "OK", reason="r")}
+    back = read_checks({"checks": np.array(checks_text(values))})
+    assert list(back) == ["a/b"] and back["a/b"].reason == "r" and math.isnan(back["a/b"].probability)

@@ -85,18 +85,20 @@ def test_bad_track_data_is_one_line_and_exit_2(tmp_path, capsys, changes, scenar
     assert str(path) in err or "track.structure" in err, err
 
 
-def test_a_run_with_a_track_structure_is_refused_until_the_engines_model_it(tmp_path, capsys):
-    """No engine models the track layer yet: a run must not give the wheel on the deck silently."""
+def test_a_car_whose_contacts_the_track_does_not_carry_is_refused(tmp_path, capsys):
+    """The track layer carries vertical contacts on the centre line (sprung masses, moving forces): a car15
+    (a wheel on each rail, a lateral contact) must not run with its wheels half on the deck (one line, exit 2,
+    also where the library builds; tests/builder/test_track_scenario.py runs the ones it carries)."""
     out = tmp_path / "out"
     assert main(["run", "quick", "--set", "track.structure=ballasted_uic60", "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "track.structure" in err and "no run models yet" in err, err
+    assert len(err.splitlines()) == 1 and "train.vehicles" in err and "vertical contacts only" in err, err
     assert not out.exists()
     from tb_exudyn.builder import build_model
     from tb_exudyn.scenario import ScenarioError
 
     sc = load_scenario("quick")
-    with pytest.raises(ScenarioError, match="track.structure"):
+    with pytest.raises(ScenarioError, match="train.vehicles"):
         build_model(sc.replace(track=sc.track.replace(structure="ballasted_uic60")))
 
 

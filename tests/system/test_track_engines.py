@@ -11,9 +11,8 @@ the PSD per unit irregularity PSD is the time average of |F / r|^2 over 10 whole
 References: (1) the roughness-excitation formula 1 / |alpha_w + alpha_H + alpha_r|^2 with the moving-load
 receptance (written in tests/system/test_track_wheel.py, a wavenumber integral); measured within 0.4 %
 (dense engine, the track's full damping). (2) The batched engine against the dense one on the same
-system: their contact forces within 1e-9 of the largest (measured 1e-13). The batched engine's components
-need a diagonal bridge block, so it runs the track with modal damping (the diagonal of Phi^T C Phi); with
-the full damping it refuses (NotImplementedError, not a wrong result).
+system: their contact forces within 1e-9 of the largest (measured 1e-13), with the track's full damping (a
+coupled bridge block: tests/engines/test_batched_track.py) and with modal damping (its diagonal only).
 Tolerance of (1): 2 %, as the wheel-on-track test (the discrete supports' bay average of alpha_r,
 amplified near P2) plus the modes above 3 kHz left out (0.2 % of the rail's receptance, formula of
 docs/track.md).
@@ -84,8 +83,8 @@ def test_dense_engine_with_the_track_against_the_moving_load_formula(setup):
     ref = 1.0 / np.abs(-1.0 / (M_W * (2 * np.pi * FREQS) ** 2) + 1.0 / K_H + alpha_r) ** 2
     err = psd / ref - 1.0
     assert np.abs(err).max() < 0.02, np.round(err, 4)
-    with pytest.raises(NotImplementedError):  # the batched engine refuses a coupled bridge block
-        _run(BatchedEngine, lin, source, steps)
+    got = _run(BatchedEngine, lin, source, steps)  # the track's damping as a coupled bridge block
+    assert np.abs(got - force).max() < 1e-9 * np.abs(force).max()
 
 
 def test_batched_against_dense_with_modal_track_damping(setup):

@@ -186,7 +186,8 @@ class BatchedEngine(Engine):
             "generalized_alpha": {"spectral_radius": ga.rho, "alpha_m": ga.alpha_m, "alpha_f": ga.alpha_f,
                                   "gamma": ga.gamma, "beta": ga.beta, "time_step_s": ga.h, "steps": self.n_steps},
             "components": [{"coordinates": c.size, "bridge_modes": c.n_bridge, "contacts": int(c.rows.size),
-                            "kinds": [("vertical", "alignment", "cross_level")[k] for k in c.kinds]}
+                            "kinds": [("vertical", "alignment", "cross_level")[k] for k in c.kinds],
+                            **({"coupled_bridge": True} if c.coupled else {})}  # a track's block: numpy step
                            for c in self.components],
             "coordinates": self.lin.n,
         }

@@ -103,7 +103,8 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
 
     coef = ga.update_coefficients()
     h = ga.h
-    if step == "compiled" and (harmonic or isinstance(source, StaticLoadColumns)) and runs:
+    # Numba is loaded only for runs the compiled step takes (not a coupled bridge block: run.compile)
+    if step == "compiled" and (harmonic or isinstance(source, StaticLoadColumns)) and any(not r.ops.coupled for r in runs):
         module = jit.load("tb_exudyn.engines.batched.compiled")
         for run in runs:
             run.compile(module, coef, h)

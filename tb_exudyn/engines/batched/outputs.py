@@ -32,9 +32,12 @@ class _Outputs:
         """``order``: the internal channel order, extended by this component's node channels (unless
         ``like``, another column chunk of the same component, already placed them)."""
         local = {int(gi): j for j, gi in enumerate(run.comp.coords)}
+        block = run.ops.bridge_block  # a coupled bridge block's state is in its basis (.coupled)
         self.orders = []
         for o in range(3):
             pairs = [(i, local[g]) for i, g, oo in cm.node if oo == o and g in local]
+            if block is not None and block.T is not None and any(j < run.nb for _, j in pairs):
+                raise NotImplementedError("a node channel on a coupled bridge block's coordinate")
             if like is None:
                 start = len(order)
                 order.extend(i for i, _ in pairs)
@@ -42,7 +45,8 @@ class _Outputs:
             else:
                 start, end = like.orders[o][:2]
             node_loc = np.array([j for _, j in pairs], dtype=np.int64)
-            items = [(bridge_rows[i], s[run.modes]) for i, s, oo in cm.bridge if oo == o and np.any(s[run.modes] != 0)]
+            items = [(bridge_rows[i], s[run.modes] if block is None else block.to_basis(s[run.modes]))
+                     for i, s, oo in cm.bridge if oo == o and np.any(s[run.modes] != 0)]
             brows = np.array([r for r, _ in items], dtype=np.int64)
             shapes = np.array([s for _, s in items]).reshape(len(items), run.nb)
             self.orders.append((start, end, node_loc, brows, shapes))

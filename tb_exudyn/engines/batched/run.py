@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 
 from ...system.components import Component
 from ..alpha import GeneralizedAlpha
+from .coupled import CoupledBridge
 from .inputs import _HarmonicInputs, _StaticInputs, run_inputs
 from ...jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
@@ -127,6 +128,12 @@ class _Operators:
         self.pk_c = in_precision(self.pk[:, None], self.dtype)
         self.pd_c = in_precision(self.pd[:, None], self.dtype)
         A0inv = np.zeros_like(A0)
+        self.coupled = comp.coupled  # the bridge block dense (a track's modes): its operators in .coupled
+        self.bridge_block: CoupledBridge | None = None
+        if self.coupled:
+            self.bridge_block = CoupledBridge(M, K0, D0, nb, bp, gp, self.dtype)
+            self.M = M.copy()  # its mass block in the block's basis (the first accelerations)
+            self.M[:nb, :nb] = self.bridge_block.mass
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
@@ -232,11 +239,16 @@ class _Operators:
         a0, a1 = int(used[0]), int(used[-1]) + 1  # rows evaluated: [a0, a1)
         # S^m[r] = sum_j shape_m[r, j] rail_j(x_a(r)): one (3 x 6) @ (6 x n_b) product per row and step
         S = np.matmul(self.shape_maps[a0:a1], rails[steps][:, self.axle[a0:a1]])  # (k, rows, 3, n_b)
+        if self.bridge_block is not None:  # the shapes in the coupled block's basis
+            S = self.bridge_block.to_basis(S)
         Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
         Cb = Sk + self.gp * Sd
-        Lq = Sk - Cb * self.pk
-        Lv = Sd - Cb * self.pd
-        SaS = Sa / self.a0b
+        if self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
+            Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb)
+        else:
+            Lq = Sk - Cb * self.pk
+            Lv = Sd - Cb * self.pd
+            SaS = Sa / self.a0b
         dt = self.dtype
         if self.compiled:  # the per-step contact matrices and their inverses in compiled code
             self.block = {"per_step": None, "a0": a0, "Lq": in_precision(Lq, dt), "Lv": in_precision(Lv, dt),
@@ -291,6 +303,9 @@ class _Run:
         self._advance: dict[tuple[int, int], list[Any]] = {}
         self._gemm = gemm_call(self.F, self.F, self.F)[0]  # the gemm of the run's precision
         self._bridge_views = (self.QP[:nb], self.VP[:nb], self.DL[:nb])
+        # a coupled bridge block: Delta_b = -P_k q~_b - P_d v~_b (.coupled.CoupledBridge.step_calls)
+        self.calls_bridge = (ops.bridge_block.step_calls(self.QP[:nb], self.VP[:nb], self.DL[:nb])
+                             if ops.bridge_block is not None and nb else None)
         # vehicles still at rest (no input yet, off the bridge: their state is exactly zero) are not
         # stepped; they are the trailing ones, so the active vehicles are a leading range
         self.n_active = 0
@@ -303,7 +318,11 @@ class _Run:
             Fc = force(g)[:, cols]  # (n, m) complex, local coordinates
             yc = np.zeros_like(Fc)
             yc[nb:] = ops.A0inv[nb:, nb:] @ Fc[nb:]
-            yc[:nb] = Fc[:nb] / ops.a0b[:, None]
+            if ops.bridge_block is not None:  # in the coupled block's basis
+                Fc[:nb] = ops.bridge_block.force(Fc[:nb])
+                yc[:nb] = ops.bridge_block.solve(Fc[:nb])
+            else:
+                yc[:nb] = Fc[:nb] / ops.a0b[:, None]
             self.constant_force = Fc
             self.force_delta = np.ascontiguousarray(yc).view(np.float64).astype(dt)  # added to Delta every step
             self.force_rows = (-(ops.Cw[:, nb:] @ yc[nb:])).astype(self.cdtype)  # wheel part of C y_c
@@ -341,6 +360,8 @@ class _Run:
         if self.nb and ops.shape_key in block0.rails:
             P = P.copy()
             P[:, : self.nb] = np.matmul(ops.shape_maps[:, :1], block0.rails[ops.shape_key][0][self.axle])[:, 0]
+            if ops.bridge_block is not None:
+                P[:, : self.nb] = ops.bridge_block.to_basis(P[:, : self.nb])
         rhs = -(P.T @ self.Gc.astype(np.complex128))
         if self.force_delta is not None:
             rhs += self.constant_force
@@ -365,7 +386,9 @@ class _Run:
         self._activate(k, block)
         step = None if ops.block is None else ops.block["per_step"][k]
         self.bridge_moving |= step is not None  # until the first axle arrives the bridge stays at rest
-        if nb and self.bridge_moving:
+        if nb and self.bridge_moving and self.calls_bridge is not None:
+            run_calls(self.calls_bridge)
+        elif nb and self.bridge_moving:
             np.multiply(QP[:nb], -ops.pk_c, out=DL[:nb])
             np.multiply(VP[:nb], ops.pd_c, out=self.tmp)
             DL[:nb] -= self.tmp
@@ -404,6 +427,8 @@ class _Run:
         wheels only, as the linear mean's always is: every axle on the approach at t = 0, so the
         bridge rows' C_b y_c of :meth:`solve` is zero; a force with a bridge part keeps the numpy step).
         Returns whether it applies."""
+        if self.ops.coupled:  # the compiled step's bridge is diagonal: a coupled one keeps the numpy step
+            return False
         harmonic = isinstance(self.input, _HarmonicInputs) and self.force_delta is None
         constant = (isinstance(self.input, _StaticInputs) and self.force_delta is not None
                     and not np.any(self.force_bridge))

@@ -45,7 +45,7 @@ def pem_memory(s: PemSizing, engine: Any) -> MemoryEstimate:
     pool = s.workers > 0
     n_f = ("analysis.n_freq", s.n_freq)
     remedy = ("a smaller analysis.n_freq, fewer analysis.channels or a larger analysis.output_step"
-              + (", fewer PSD maps (--psd-channels, psd_channels), or keep_psd=False" if s.keep_psd else ""))
+              + (", fewer PSD maps (psd_channels), or keep_psd=False" if s.keep_psd else ""))
     n_task = n_ch if s.psd_task_rows is None else s.psd_task_rows
     task_map = 4 * n_task * s.task_freqs * n_t if s.keep_psd else 0
     task_var = 8 * n_t * s.n_types * n_ch

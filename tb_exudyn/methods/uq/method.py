@@ -32,7 +32,7 @@ from ...scenario.io import as_scenario
 from ...scenario.uncertain import UncertainKey, apply_values, check_uncertain
 from .. import pem, warm_up
 from ..common import fingerprint_identity
-from ..sweep import check_columns, key_patterns
+from ..sweep import check_values, key_patterns
 from ..driver import RunPlan, drive
 from . import pce
 from .summary import expand, keys_json, loo_warnings, node_summary
@@ -77,7 +77,7 @@ class UqWorker:
             warnings.simplefilter("always")
             result = pem.run(nt.scenario, nt.engine, execution, options=nt.options, keep_psd=False)
         pem_end = _time.perf_counter()
-        summary = node_summary(result, check_columns)
+        summary = node_summary(result, check_values)
         # when and where the node ran (the timeline; not a number of the result): the wall clock at its
         # start [s since the epoch], the worker's process id, its PEM and its summary (the checks) [s]
         summary["timeline"] = np.array([start, os.getpid(), pem_end - clock, _time.perf_counter() - pem_end])

@@ -16,16 +16,16 @@ from . import pce
 BAND_SAMPLES = 1024
 
 
-def node_summary(result: RandomResponse, check_columns: Any) -> dict[str, np.ndarray]:
+def node_summary(result: RandomResponse, check_values: Any) -> dict[str, np.ndarray]:
     """One node's PEM result as plain arrays (checkpointable): sigma(t), the mean, the channels, and the
-    code checks' probability and estimate per criterion (``check_columns``: the sweep's hook)."""
-    checks = check_columns(result)
-    crit = sorted(k[: -len("_probability")] for k in checks if k.endswith("_probability"))
+    code checks' probability and estimate per criterion (``check_values``: the sweep's hook)."""
+    checks = check_values(result)
+    crit = sorted(checks)
     return {"std": np.asarray(result.std, dtype=float), "mean": np.asarray(result.mean, dtype=float),
             "time": np.asarray(result.time, dtype=float), "channels": np.array(result.channels, dtype=str),
             "units": np.array(result.units, dtype=str), "criteria": np.array(crit, dtype=str).reshape(-1),
-            "probability": np.array([checks[f"{c}_probability"] for c in crit], dtype=float),
-            "estimate": np.array([checks[f"{c}_estimate"] for c in crit], dtype=float),
+            "probability": np.array([checks[c].probability for c in crit], dtype=float),
+            "estimate": np.array([checks[c].estimate for c in crit], dtype=float),
             "seconds": np.array(float(result.provenance.get("seconds", math.nan)))}
 
 

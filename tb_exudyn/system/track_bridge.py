@@ -1,0 +1,291 @@
+"""The scenario's track between wheel and deck: both rails on discrete supports over the whole stretch the
+wheels travel, on the deck where it is and on the subgrade off it, and the deck's modes, reduced to one modal
+body that the wheel-rail coupling (tb_exudyn.system.coupling) reads as its "bridge". Pure numpy / scipy.
+
+The DOFs before reduction (:func:`track_and_deck`):
+
+- two rails (left at +b, right at -b from the track centre line, b = the half gauge), each the rail of
+  :func:`~.track_model.track_model` built with the subgrade chain (pad, sleeper, ballast, ballast mass,
+  subgrade to the ground; slab: pad, slab, mortar, base mass, the base's support), supports at
+  x0 + (i + 1/2) a;
+- the deck's mass-normalised modal coordinates q_d.
+
+A support on the deck (0 <= x_s <= deck length) loses its lowest mass and the spring below it: its ballast
+(mortar) spring ends on the deck's rail level under that rail, w = (z_d +- b rx_d)(x_s) q_d (the deck's
+rail-level shapes on the track centre line; the ballast (base) on the deck is the deck's mass, as
+:func:`~.track_model.track_on_deck`). The rails and sleepers (slabs) on the deck move with the track, so
+their mass is taken out of the deck's: M_dd = I - sum_s (m_sleeper + mu a) p_s^T p_s over the supports on
+the deck, p_s the rail-level row under each rail (the shipped bridges' added mass holds the track; a
+bridge whose mass does not would lose that share, about 2 % of a concrete box girder's).
+
+The whole (K, M, C) is reduced to its undamped modes up to ``max_frequency`` (mass-normalised), its damping
+Phi^T C Phi kept whole (``ModalBridge.coupled_damping``: the pads' and the ballast's dampers are not
+proportional). The body's rail shapes (the contact rows) are the rails' Hermite rows times the modes:
+z = (z_L + z_R) / 2 and rx = (z_L - z_R) / (2 b), so that z + e rx is the left rail at e = +b and the
+right at e = -b (a contact on the centre line, e = 0, loads both rails by halves); y the deck's lateral
+rail-level shapes (no lateral rail: a lateral contact stands on the deck's track line as without the
+track). Its station shapes are the deck's (the deck channels as without the track), followed by the rows
+of :class:`TrackPoint` (the track's channels). Vertical only: the rails' lateral bending and torsion are
+not modelled.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..scenario.errors import ScenarioError
+from ..scenario.track_structure import TrackStructure, load_track_structure
+from ..structure.modal import ModalBridge, RailShapes, TrackShapes
+from .channels import Channel
+from .derived import DerivedChannel, station_positions
+from .track_model import hermite, hermite_slope, track_model
+
+#: the track's modes kept [Hz]: the rail's receptance left out above f_c is about 1 / (3 pi EI k_c^3)
+#: (k_c the bending wavenumber at f_c): 0.8 % at 2 kHz (docs/track.md, 3b)
+TRACK_MODE_MAX_FREQUENCY = 2000.0
+#: Hermite elements per bay (a node at each support and at mid-bay)
+ELEMENTS_PER_BAY = 2
+#: bays of rail beyond the first and the last wheel position of the run (a free rail end 6 m away at
+#: 0.6 m: the deflection under a load decays as exp(-beta x), beta = 1.2-1.3 /m on ballast: 1e-3 at 6 m)
+MARGIN_BAYS = 10
+#: most DOFs the dense eigen-solution takes (about 1 GB of work arrays at 6000)
+MAX_TRACK_DOFS = 6000
+
+
+@dataclass(frozen=True)
+class TrackPoint:
+    """A track channel's place: the left rail's support nearest a deck station ``station`` (x [m] from the
+    bridge start), its rows over the body's modes: ``rail`` (the rail above the support), ``sleeper`` (the
+    first mass), ``deck`` (the deck's rail level under it); the pad (k_p, c_p) between rail and sleeper and
+    the ballast (k_b, c_b) between sleeper and deck."""
+
+    station: str
+    x: float
+    rail: np.ndarray = field(repr=False)
+    sleeper: np.ndarray = field(repr=False)
+    deck: np.ndarray = field(repr=False)
+    pad: tuple[float, float]
+    ballast: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class TrackBridge:
+    """The track and the deck as one modal body: ``bridge`` (what the coupling reads; its
+    ``coupled_damping`` the full Phi^T C Phi), ``points`` the track channels' places, ``n_dof`` the DOFs
+    reduced, ``x_range`` the rails' extent [m] (x = 0 at the bridge's start)."""
+
+    bridge: ModalBridge
+    points: tuple[TrackPoint, ...]
+    n_dof: int
+    x_range: tuple[float, float]
+
+
+def track_extent(axle_start: np.ndarray, speed: float, duration: float, spacing: float) -> tuple[float, int]:
+    """(x0, n_supports): the rails of a run reach MARGIN_BAYS bays beyond every wheel position of the run."""
+    x_first = float(np.min(axle_start))
+    x_last = float(np.max(axle_start)) + speed * duration
+    x0 = x_first - MARGIN_BAYS * spacing
+    n = int(math.ceil((x_last + MARGIN_BAYS * spacing - x0) / spacing))
+    return x0, n
+
+
+def track_dofs(structure: TrackStructure, n_supports: int, n_deck_supports: int) -> int:
+    """DOFs of the unreduced track and deck (two rails; the deck's modes not counted)."""
+    n_rail = 2 * (n_supports * ELEMENTS_PER_BAY + 1)
+    n_mass = len(structure.chain("subgrade")) - 1
+    return 2 * (n_rail + n_supports * n_mass - n_deck_supports)
+
+
+def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN001 - a Scenario
+    """(structure, x0, n_supports) of a scenario's track (``track.structure``): the rails reach
+    MARGIN_BAYS bays beyond every wheel position of the run. ScenarioError (key ``track.lead_in``) when
+    the unreduced track would have more than MAX_TRACK_DOFS DOFs: checked before any work."""
+    sc = scenario
+    structure = load_track_structure(sc.track.structure, sc.source_file)
+    axle_start = -sc.track.lead_in - np.asarray(sc.train.axle_positions, dtype=float)
+    x0, n = track_extent(axle_start, sc.speed, sc.duration, structure.spacing)
+    on = int(np.sum((x0 + (np.arange(n) + 0.5) * structure.spacing >= 0.0)
+                    & (x0 + (np.arange(n) + 0.5) * structure.spacing <= sc.bridge.length)))
+    dofs = track_dofs(structure, n, on)
+    if dofs > MAX_TRACK_DOFS:
+        most = MAX_TRACK_DOFS * n * structure.spacing / dofs
+        raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,
+                            f"a run whose rails (lead-in, bridge, train, run-out and {MARGIN_BAYS} sleeper bays at "
+                            f"each end) are at most about {most:.0f} m long with track.structure",
+                            f"the track under the run is {n * structure.spacing:.0f} m long: {dofs} DOFs before its "
+                            f"modal reduction, more than {MAX_TRACK_DOFS}")
+    return structure, x0, n
+
+
+def scenario_track(scenario, deck: ModalBridge) -> TrackBridge:  # noqa: ANN001 - a Scenario
+    """The scenario's track (``track.structure``) under its whole run, on the deck ``deck`` (the bridge's
+    modes on the train's track), as one modal body; the track channels at the deck's span stations."""
+    structure, x0, n = scenario_extent(scenario)
+    stations = {k: x for k, x in station_positions(deck.station_names, getattr(scenario.bridge, "spans", (deck.length,))).items()
+                if k in deck.station_names}
+    return track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, stations=stations)
+
+
+def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_supports: int, half_gauge: float,
+                   max_frequency: float = TRACK_MODE_MAX_FREQUENCY,
+                   stations: dict[str, float] | None = None) -> TrackBridge:
+    """Both rails of ``structure`` on ``n_supports`` supports from x0 (module docstring), on ``deck`` (x = 0
+    at its start) where it is, reduced to the modes up to ``max_frequency``; ``stations`` (name -> x on
+    the deck) the places of the track channels."""
+    from scipy.linalg import eigh
+
+    one = track_model(structure, n_supports, ELEMENTS_PER_BAY, ground="subgrade")
+    b = float(half_gauge)
+    xs = one.support_x + x0
+    on = (xs >= 0.0) & (xs <= deck.length)
+    n_t, n_d = one.n_dof, deck.n_modes
+    rs = deck.rail_shapes(xs[on]) if np.any(on) else None
+    # the deck's rows under each rail at the supports on it (left: z + b rx, right: z - b rx)
+    p_side = [np.zeros((xs.size, n_d)), np.zeros((xs.size, n_d))]
+    if rs is not None:
+        p_side[0][on], p_side[1][on] = rs.z + b * rs.rx, rs.z - b * rs.rx
+    lowest = one.support_dofs[:, -1]
+    chain = one.chain
+    k_low, c_low, m_low = chain[-1][0], chain[-1][1], chain[-2][2]
+    blocks_k, blocks_m, blocks_c = [], [], []
+    for _ in range(2):  # the support on the deck: no lowest mass, no spring below it
+        drop = sp.csr_matrix((np.ones(int(on.sum())), (lowest[on], lowest[on])), shape=(n_t, n_t))
+        blocks_k.append(one.K - k_low * drop)
+        blocks_c.append(one.C - c_low * drop)
+        blocks_m.append(one.M - m_low * drop)
+    sleeper_mass = chain[0][2] + structure.rail.mass_per_length * structure.spacing
+    dm = sum(sleeper_mass * (p[on].T @ p[on]) for p in p_side) if np.any(on) else np.zeros((n_d, n_d))
+    om, zeta = deck.omega, deck.damping_ratios
+    K = sp.block_diag((*blocks_k, sp.diags(om**2)), format="csr")
+    M = sp.block_diag((*blocks_m, sp.csr_matrix(np.eye(n_d) - dm)), format="csr")
+    C = sp.block_diag((*blocks_c, sp.diags(2 * zeta * om)), format="csr")
+    # the transformation to the kept DOFs: the lowest mass of a support on the deck is the deck under it
+    n_full = 2 * n_t + n_d
+    removed = np.concatenate([side * n_t + lowest[on] for side in range(2)])
+    kept = np.setdiff1d(np.arange(n_full), removed)
+    T = sp.lil_matrix((n_full, kept.size))
+    T[kept, np.arange(kept.size)] = 1.0
+    deck_cols = np.searchsorted(kept, 2 * n_t + np.arange(n_d))
+    for side in range(2):
+        for s in np.flatnonzero(on):
+            T[side * n_t + lowest[s], deck_cols] = p_side[side][s]
+    T = T.tocsr()
+    Kr, Mr, Cr = (T.T @ A @ T for A in (K, M, C))
+    lam, phi = eigh(Kr.toarray(), Mr.toarray(), subset_by_value=(-np.inf, (2 * np.pi * max_frequency) ** 2))
+    lam = np.maximum(lam, 0.0)
+    freq = np.sqrt(lam) / (2 * np.pi)
+    full = T @ phi  # (n_full, n): every DOF's share of each mode
+    damping = phi.T @ (Cr @ phi)
+    damping = 0.5 * (damping + damping.T)
+    ratios = np.diag(damping) / (2 * np.maximum(2 * np.pi * freq, 1e-300))
+    phi_d = full[2 * n_t:]
+    rails = (full[:one.n_rail], full[n_t:n_t + one.n_rail])
+    shapes = _RailFunction(rails, phi_d, deck, x0, one.h, n_supports * ELEMENTS_PER_BAY, b)
+    points = _points(stations or {}, xs, on, one, full, p_side[0], phi_d, structure)
+    zero = np.zeros(freq.size)
+    extra = np.array([[zero, row, zero] for p in points for row in (p.rail, p.sleeper, p.deck)]).reshape(-1, 3, freq.size)
+    station_shapes = np.concatenate((np.einsum("sij,jn->sin", deck.station_shapes, phi_d), extra), axis=0)
+    tracks = tuple(TrackShapes(t.offset, t.height, _through(t.shapes, phi_d)) for t in deck.tracks)
+    deck_share = np.einsum("in,ij,jn->n", phi_d, np.eye(n_d), phi_d)
+    types = tuple(deck.mode_types[int(np.argmax(np.abs(phi_d[:, j])))] if deck_share[j] > 0.5 else "track"
+                  for j in range(freq.size))
+    body = ModalBridge(
+        frequencies=freq, damping_ratios=ratios, length=deck.length, mode_types=types,
+        station_names=deck.station_names, station_shapes=station_shapes, rail_shape_function=shapes,
+        description=(f"{deck.description}; under the track {structure.name} ({n_supports} supports per rail from "
+                     f"x = {x0:.4g} m, {int(on.sum())} on the deck): {freq.size} modes of the track and the deck "
+                     f"up to {max_frequency:g} Hz"),
+        tracks=tracks, track=deck.track, rail_extent=(x0, x0 + n_supports * structure.spacing),
+        coupled_damping=damping)
+    return TrackBridge(bridge=body, points=points, n_dof=kept.size, x_range=(x0, x0 + n_supports * structure.spacing))
+
+
+#: a track point's rows, in this order after the deck's stations (channels ``track.<station>.left.<part>``)
+POINT_PARTS = ("rail", "sleeper", "deck")
+
+
+def track_channels(track: TrackBridge, n_deck_stations: int) -> list[Channel]:
+    """The track's channels: at each span station, the left rail above the nearest support on the deck, its
+    sleeper (slab) and the deck's rail level under it, displacement, velocity and acceleration
+    (``track.span1.mid.left.sleeper.acc_z``); rows of the body's station shapes after the deck's."""
+    out: list[Channel] = []
+    for i, p in enumerate(track.points):
+        for j, part in enumerate(POINT_PARTS):
+            row = n_deck_stations + len(POINT_PARTS) * i + j
+            for order, (quantity, unit) in enumerate((("disp", "m"), ("vel", "m/s"), ("acc", "m/s^2"))):
+                out.append(Channel(f"track.{p.station}.left.{part}.{quantity}_z", unit, "bridge", row, 1, order))
+    return out
+
+
+def track_forces(track: TrackBridge) -> list[DerivedChannel]:
+    """The pad's and the ballast's (mortar's) force at each track point [N], compression positive (the
+    force_z convention): pad k_p (w_sleeper - w_rail) + c_p (its rate), ballast k_b (w_deck - w_sleeper) + c_b
+    (its rate); linear derived channels of the track channels."""
+    out = []
+    for p in track.points:
+        base = f"track.{p.station}.left"
+        for name, (k, c), upper, lower in (("pad", p.pad, "rail", "sleeper"), ("ballast", p.ballast, "sleeper", "deck")):
+            terms = ((f"{base}.{lower}.disp_z", k), (f"{base}.{upper}.disp_z", -k),
+                     (f"{base}.{lower}.vel_z", c), (f"{base}.{upper}.vel_z", -c))
+            out.append(DerivedChannel(f"{base}.{name}.force_z", "N", "linear", terms,
+                                      description=f"{name} force under the left rail at x = {p.x:.4g} m, compression "
+                                                  f"positive: {k:.3g} N/m and {c:.3g} N s/m"))
+    return out
+
+
+class _RailFunction:
+    """x -> RailShapes of the two rails (module docstring); picklable (no closure)."""
+
+    def __init__(self, rails, phi_d, deck, x0, h, n_el, b) -> None:  # noqa: ANN001
+        self.rails, self.phi_d, self.deck, self.x0, self.h, self.n_el, self.b = rails, phi_d, deck, x0, h, n_el, b
+
+    def __call__(self, x: np.ndarray) -> RailShapes:
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        u = x - self.x0
+        length = self.n_el * self.h
+        inside = (u >= 0.0) & (u <= length)
+        uc = np.clip(u, 0.0, length)
+        e = np.minimum((uc / self.h).astype(int), self.n_el - 1)
+        xi = uc / self.h - e
+        dofs = 2 * e[:, None] + np.arange(4)[None, :]
+        H, dH = hermite(xi, self.h), hermite_slope(xi, self.h)
+        zl, zr = (np.einsum("xk,xkn->xn", H, r[dofs]) * inside[:, None] for r in self.rails)
+        dzl, dzr = (np.einsum("xk,xkn->xn", dH, r[dofs]) * inside[:, None] for r in self.rails)
+        d = self.deck.rail_shapes(x)
+        return RailShapes(d.y @ self.phi_d, 0.5 * (zl + zr), (zl - zr) / (2 * self.b), d.dy @ self.phi_d,
+                          0.5 * (dzl + dzr), (dzl - dzr) / (2 * self.b))
+
+
+class _through:  # noqa: N801 - a function object
+    """The deck's shapes (of its modes) through the body's modes: shapes(x) @ phi_d."""
+
+    def __init__(self, shapes, phi_d) -> None:  # noqa: ANN001
+        self.shapes, self.phi_d = shapes, phi_d
+
+    def __call__(self, x: np.ndarray) -> RailShapes:
+        s = self.shapes(x)
+        return RailShapes(*(a @ self.phi_d for a in (s.y, s.z, s.rx, s.dy, s.dz, s.drx)))
+
+
+def _points(stations: dict[str, float], xs: np.ndarray, on: np.ndarray, one, full: np.ndarray,  # noqa: ANN001
+            p_left: np.ndarray, phi_d: np.ndarray, structure: TrackStructure) -> tuple[TrackPoint, ...]:
+    out = []
+    if not np.any(on):
+        return ()
+    candidates = np.flatnonzero(on)
+    rail_node = 2 * (np.arange(xs.size) * ELEMENTS_PER_BAY + ELEMENTS_PER_BAY // 2)
+    pad, low = one.chain[0], one.chain[1]
+    for name, x in stations.items():
+        s = int(candidates[np.argmin(np.abs(xs[candidates] - x))])
+        out.append(TrackPoint(station=name, x=float(xs[s]), rail=full[rail_node[s]],
+                              sleeper=full[one.support_dofs[s, 0]], deck=p_left[s] @ phi_d,
+                              pad=(pad[0], pad[1]), ballast=(low[0], low[1])))
+    return tuple(out)
+
+
+__all__ = ["POINT_PARTS", "track_channels", "track_forces", "scenario_extent", "scenario_track", "MARGIN_BAYS", "MAX_TRACK_DOFS", "TRACK_MODE_MAX_FREQUENCY", "TrackBridge", "TrackPoint",
+           "track_and_deck", "track_dofs", "track_extent"]
