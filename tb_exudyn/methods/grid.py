@@ -235,10 +235,9 @@ def check_grid_against_spectra(grid: FrequencyGrid, scenario: Scenario, spectra:
     if not mask.any():
         raise ScenarioError(
             scenario.where, "analysis.freq_min", scenario.analysis.freq_min,
-            f"a band that overlaps the track's wavelengths {scenario.track.wavelength_min:g}-"
-            f"{scenario.track.wavelength_max:g} m at {scenario.speed:.4g} m/s, i.e. "
-            f"{scenario.speed / scenario.track.wavelength_max:.4g}-{scenario.speed / scenario.track.wavelength_min:.4g} Hz",
-            "no PEM frequency inside the wavelength band",
+            f"a band overlapping the track's {scenario.speed / scenario.track.wavelength_max:.4g}-"
+            f"{scenario.speed / scenario.track.wavelength_min:.4g} Hz (its wavelengths at {scenario.speed:.4g} m/s)",
+            "no PEM frequency in the wavelength band",
         )
     omega = grid.omega_spatial[mask]
     for name, spectrum in spectra.items():
