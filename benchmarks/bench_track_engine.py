@@ -16,10 +16,14 @@ Usage::
 
     python benchmarks/bench_track_engine.py [--repeat 3] [--columns 8 64] [--supports 40 80 160]
     python benchmarks/bench_track_engine.py --fe-supports 160 640
+    python benchmarks/bench_track_engine.py --scenario [--repeat 3]
 
 The second form compares, per step, the coupled block's two dense products over the track's modes with the
 track in its finite-element coordinates (K q~ + C v~ and the solve by A0's sparse LU, factorised once), 128
-real columns, median of 5 (docs/track.md, section 3d).
+real columns, median of 5 (docs/track.md, section 3d). The third runs PEM of a scenario (the Yang & Yau
+sprung mass at 180 km/h over a 10 m span, 6 m of approach: tests/engines/test_batched_track.py's) with and
+without track.structure on the batched engine, with 2 and 8 frequencies, one worker: the time per
+frequency is the difference over the 6 frequencies (the set-up, the modes and Exudyn's mean cancel).
 
 Prints, per number of supports (a longer track: more modes, the deck and the wheels as before), number
 of columns and case, the median wall and CPU time over ``repeat`` runs, the CPU time per column and the
@@ -134,6 +138,42 @@ def fe_step(n_supports: int, width: int = 128) -> None:
     print(line + f" (per step, {width} real columns, CPU)")
 
 
+def scenario_times(repeat: int) -> None:
+    """PEM of the test's track scenario and of the same without its track (module docstring)."""
+    import os
+    import resource
+    import warnings
+
+    from tb_exudyn import load_scenario, run_pem
+
+    sc = load_scenario("yang_yau_sprung_mass")
+    sc = sc.replace(bridge=sc.bridge.replace(track_height=1.0, spans=(10.0,)),
+                    track=sc.track.replace(lead_in=6.0, taper_length=3.0, run_out=0.0)).replace(speed_kmh=180.0)
+
+    def cpu() -> float:
+        r = resource.getrusage(resource.RUSAGE_SELF)
+        c = resource.getrusage(resource.RUSAGE_CHILDREN)
+        return r.ru_utime + r.ru_stime + c.ru_utime + c.ru_stime
+
+    for structure in ("", "ballasted_uic60"):
+        med = {}
+        for n in (2, 8):
+            s_n = sc.replace(track=sc.track.replace(structure=structure), analysis=sc.analysis.replace(n_freq=n))
+            wall, used = [], []
+            for _ in range(repeat):
+                t0, c0 = time.perf_counter(), cpu()
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    run_pem(s_n, engine="batched", workers=1, progress=False)
+                wall.append(time.perf_counter() - t0)
+                used.append(cpu() - c0)
+            med[n] = (statistics.median(wall), statistics.median(used))
+        per = [(med[8][i] - med[2][i]) / 6 for i in range(2)]
+        print(f"track {structure or 'none':16s} PEM 2 freqs wall {med[2][0]:6.2f} s cpu {med[2][1]:6.2f} s; "
+              f"8 freqs wall {med[8][0]:6.2f} s cpu {med[8][1]:6.2f} s; per frequency wall {per[0]:.3f} s "
+              f"cpu {per[1]:.3f} s (load {os.getloadavg()[0]:.1f})")
+
+
 def columns(m: int) -> HarmonicColumns:
     freqs = np.linspace(2.0, 100.0, m)
     return HarmonicColumns(kinds=np.zeros(m, int), omega=2 * np.pi * freqs / V, amplitude=np.ones(m),
@@ -148,7 +188,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--supports", type=int, nargs="+", default=[40])
     parser.add_argument("--dense-columns", type=int, default=8, help="run the dense engine up to this many columns")
     parser.add_argument("--fe-supports", type=int, nargs="*", default=[], help="only the per-step comparison")
+    parser.add_argument("--scenario", action="store_true", help="only PEM of a scenario with and without the track")
     args = parser.parse_args(argv)
+    if args.scenario:
+        scenario_times(args.repeat)
+        return 0
     if args.fe_supports:
         with single_threaded_blas():
             for n_supports in args.fe_supports:

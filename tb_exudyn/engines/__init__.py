@@ -23,7 +23,7 @@ from ..scenario.model import LINEAR_ROW_KINDS
 DEFAULT_ENGINE = "batched"
 #: the engines that run a scenario with a track layer (``track.structure``, docs/track.md); the Exudyn engine's
 #: per-column runs of it are not built (its deterministic run and a linear engine's Exudyn mean are)
-TRACK_ENGINES = ("dense",)
+TRACK_ENGINES = ("dense", "batched")
 #: name -> (module, class) of every engine
 ENGINES: dict[str, tuple[str, str]] = {
     "exudyn": ("tb_exudyn.engines.exudyn", "ExudynEngine"),

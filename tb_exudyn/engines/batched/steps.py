@@ -35,7 +35,7 @@ class StepBlock:
     n0 : the first step's number
     t : (T,) times [s]
     x : (T, n_axles) axle positions [m]
-    on : (T, n_axles) whether each axle is on the bridge
+    on : (T, n_axles) whether each axle is on the bridge (on the body's rail: ``bridge.carries``)
     w, dw : (T, n_axles) the approach taper and its slope along x [1/m]
     steady : (T,) w = 1 and w' = 0 at every axle;  zero : (T,) w = w' = 0 at every axle
     rails : per set of modes (a key of :func:`step_block`'s ``shapes``), (T, n_axles, 6, n_modes):
@@ -85,7 +85,7 @@ def step_block(coupling: Any, n0: int, n1: int, h: float, shapes: dict[Any, Call
     of ``shapes`` (key -> callable x -> RailShapes, :func:`mode_shapes`)."""
     t = np.arange(n0, n1) * h
     x = np.stack([coupling.positions(float(tk)) for tk in t])  # the coupling's one convention for x(t)
-    on = (x >= 0.0) & (x <= coupling.bridge.length)
+    on = coupling.bridge.carries(x)  # the bridge, or the track's whole extent (ModalBridge.rail_extent)
     w, dw = taper(x, float(coupling.axle_start[0]), coupling.taper_length)
     rails: dict[Any, FloatArray] = {}
     if on.any():
