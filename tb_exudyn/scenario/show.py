@@ -69,7 +69,7 @@ def track_structure_rows(scenario: Scenario) -> list[tuple[str, str, str, str]]:
         + (f", {getattr(ts, p).mass:g} kg" if getattr(ts, p).mass else "") for p in parts)
     return [("(derived) track structure", f"{ts.kind}, {ts.spacing:g} m, {ts.depth:.3g} m deep", "",
              f"'{ts.name}': support spacing, rail head to deck; per rail and support: {chain}. Both rails on "
-             "these supports under the whole run, the subgrade off the bridge; runs on the dense engine with "
+             "these supports under the whole run, the subgrade off the bridge; runs on the linear engines (batched, dense) with "
              "sprung masses and moving forces (docs/track.md)")]
 
 

@@ -189,10 +189,9 @@ def refuse_unbuilt_track(scenario) -> None:  # noqa: ANN001
         return
     kinds = sorted({v.kind for v in scenario.train.vehicles} - set(TRACK_VEHICLE_KINDS))
     if kinds:
-        raise ScenarioError(scenario.where, "train.vehicles", ", ".join(kinds),
-                            "vehicles of kind " + " or ".join(TRACK_VEHICLE_KINDS) + " with track.structure "
-                            "(or no track.structure)", "the track layer carries vertical contacts only: the "
-                            "lateral and creep contacts on the rails are not built yet")
+        raise ScenarioError(scenario.where, "train.vehicles", ", ".join(kinds),  # one line within 200 characters
+                            "kind " + " or ".join(TRACK_VEHICLE_KINDS) + ", or no track.structure",
+                            "the track layer carries vertical contacts only")
 
 
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",
