@@ -200,7 +200,7 @@ def _check_replaceable(folder: Path) -> None:
     if extras:
         raise OutputFolderError(
             f"result folder {str(folder)!r} holds {extras[0]!r}{f' and {len(extras) - 1} more' if len(extras) > 1 else ''}, "
-            f"which is not part of a tb_exudyn result: not replacing the folder (move it away or save elsewhere)")
+            f"not part of a tb_exudyn result: not replaced (move it away or save elsewhere)")
 
 
 def _write_file(path: Path, write: Callable[[BinaryIO], object]) -> None:

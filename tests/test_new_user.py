@@ -156,3 +156,30 @@ def test_uq_fits_a_screen(tmp_path, capsys):
     assert len(lines) <= RESULT_LINES, len(lines)
     assert any(ln.startswith("car1.body.acc_z [m/s^2]") for ln in lines), lines
     assert (tmp_path / "u" / "uq.html").is_file()
+
+
+@pytest.mark.parametrize("argv", [
+    ["--set", "track.lead_in=0.5"],  # the approach: the longest of the scenario's checks
+    ["--set", "analysis.n_freq=30", "--freq-spacing", "adaptive"],  # too few frequencies for the modes
+    ["--set", "track.structure=ballasted_uic60"],  # a car whose contacts the track layer does not carry
+])
+def test_a_new_users_errors_are_one_line_within_the_width(tmp_path, capsys, argv):
+    """Errors a new user provokes on a shipped scenario: one line, exit 2, at most 200 characters (the
+    shipped file named by its name, not its installed path), before any work."""
+    assert main(["run", "quick", *argv, "--no-figures", "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("tb-exudyn: error: shipped scenario quick.toml: key "), err
+    assert len(err[0]) <= LINE_MAX, (len(err[0]), err[0])
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.slow
+def test_modes_at_several_positions_fit_a_screen(capsys):
+    """`modes --position` with three positions: one table with a column per position (the issue's 60
+    lines); every position's vehicle modes shown, the bridge's lowest mode per direction at each."""
+    lines = _printed(capsys, ["modes", "li_zhu_2011", "--position", "0", "50", "100"])
+    assert len(lines) <= RESULT_LINES, len(lines)
+    head = next(ln for ln in lines if ln.startswith("f_n [Hz] of"))
+    assert head.split()[-9:] == ["x", "=", "0", "m", "x", "=", "50", "m", "x", "=", "100", "m"][-9:]
+    vertical = next(ln for ln in lines if ln.startswith("bridge vertical, lowest mode")).split()[-3:]
+    assert len(vertical) == 3 and all(4.0 < float(f) < 6.0 for f in vertical)  # f1 of the 32 m spans, loaded

@@ -127,9 +127,9 @@ def scenario_checks(scenario: Scenario, contact_frequencies: list[float], vehicl
     if t_in < MIN_LEAD_IN_STEPS * dt:
         raise ScenarioError(
             scenario.where, "track.lead_in", scenario.track.lead_in,
-            f">= {v / min(vehicle_frequencies or [1.0]):.3g} m (one period of the slowest vehicle mode at this "
-            f"speed); at the very least {MIN_LEAD_IN_STEPS * dt * v:.3g} m ({MIN_LEAD_IN_STEPS} time steps)",
-            f"the train reaches the bridge {t_in:.3g} s after the start: no approach track to start on and settle",
+            f">= {v / min(vehicle_frequencies or [1.0]):.3g} m (the slowest vehicle mode's period; at least "
+            f"{MIN_LEAD_IN_STEPS * dt * v:.3g} m)",
+            f"no approach track to settle (bridge at {t_in:.3g} s)",
         )
     if scenario.track.irregularities and scenario.track.taper_length > scenario.track.lead_in:
         out.append(

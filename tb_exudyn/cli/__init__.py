@@ -108,9 +108,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"tb-exudyn: error: {exc}", file=sys.stderr)
         return EXIT_USER_ERROR
     except MemoryError as exc:  # the memory estimate's margin was not enough: the size, not a bug
-        print(f"tb-exudyn: error: command {args.command!r}: out of memory ({exc or 'an allocation failed'}): the run's "
-              "estimate did not foresee it (allowed: a run this machine can hold: fewer --workers, a smaller "
-              "analysis.n_freq or fewer analysis.channels, or --psd-channels key; finished tasks are kept for --resume)",
+        print(f"tb-exudyn: error: command {args.command!r}: out of memory ({exc or 'an allocation failed'}) "
+              "(allowed: fewer --workers, a smaller analysis.n_freq or --psd-channels key; finished tasks kept: --resume)",
               file=sys.stderr)
         return EXIT_USER_ERROR
     except KeyboardInterrupt:  # a command without --resume has nothing to resume (check: cli_check says what is left)

@@ -12,8 +12,10 @@ message (``overwrite=True``, ``another out folder``) are respelled as the flags 
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 from ..errors import SettingError, UserError
+from ..scenario.registry import models_dir
 
 #: the caller's name the command passes to the library (``where``)
 WHERE = "command line"
@@ -95,7 +97,25 @@ def as_flags(exc: UserError) -> UserError:
     arguments respelled as flags. Other errors (a file's) are kept."""
     if exc.where == WHERE and exc.key in FLAGS:
         return exc.restated(WHERE, FLAGS[exc.key], text=respelled)
+    shipped = shipped_name(exc.where)
+    if shipped is not None and exc.key is not None:  # a shipped model by its name: the line stays within 200
+        exc = exc.restated(shipped, exc.key)  # characters (an installed package's path is 60-90 of them)
     return exc.restated(exc.where or "", exc.key or "", text=respelled) if _MENTION.search(str(exc)) else exc
+
+
+def shipped_name(where: str | None) -> str | None:
+    """``shipped scenario quick.toml`` for the file of a model shipped with the package (the user names it
+    by its name; its path says nothing they can edit), else None."""
+    if not where or not where.endswith(".toml"):
+        return None
+    try:
+        rel = Path(where).resolve().relative_to(models_dir().resolve())
+    except (ValueError, OSError):
+        return None
+    if len(rel.parts) != 2:
+        return None
+    kind = {"scenarios": "scenario", "bridges": "bridge", "vehicles": "vehicle", "trains": "train"}.get(rel.parts[0])
+    return f"shipped {kind} {rel.name}" if kind else None
 
 
 def notice_as_flags(text: str) -> str:

@@ -105,8 +105,8 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     if args.linearization is not None and args.engine == "exudyn" and args.method != "det":
         if args.method == "mc" or args.linearization != "rest":
             raise SettingError("command line", "--linearization", args.linearization,
-                               "--linearization with --engine batched (the Exudyn engine: PEM about rest, Monte Carlo "
-                               "on the full model)", "not with --engine exudyn")
+                               "with --engine batched (the Exudyn engine: PEM about rest, Monte Carlo on the full "
+                               "model)", "not with --engine exudyn")
     return args
 
 

@@ -264,6 +264,70 @@ def modes_text(table: Any) -> list[str]:
     return lines
 
 
+_AT = re.compile(r"first axle at x = \S+ m \(t = ([^)]*)\), (\d+ of \d+) axles on the bridge")
+
+
+def _span(fs: list[float]) -> str:
+    lo, hi = f"{min(fs):.4g}", f"{max(fs):.4g}"
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
+def positions_text(tables: list[Any], positions: list[float]) -> list[str]:
+    """``modes`` at several train positions as one table of f_n [Hz], a column per position, within a
+    screen (one table per position took about 50 lines each): a row per group of the first position's
+    vehicle modes (as :func:`modes_text` groups them), each position's vehicle modes matched to them by
+    rank (the k-th lowest), a range where a group's modes split (a car on the bridge, its twin not);
+    the wheelsets' contact modes by direction; the bridge's lowest mode per direction."""
+    first = tables[0]
+    head, _, rest = first.description.partition(":")
+    lines = [f"{head}: the first axle at {len(tables)} positions; {rest.rpartition(';')[2].strip()}"]
+    where = []
+    for x, t in zip(positions, tables):
+        m = _AT.search(t.description)
+        where.append(f"x = {x:g} m" + (f" ({m[2]} axles on, t = {m[1]})" if m else ""))
+    lines += textwrap.wrap("on the bridge: " + "; ".join(where), LINE_WIDTH, subsequent_indent="  ")
+
+    def vehicle_f(t: Any) -> list[float]:
+        return sorted(float(t.frequency[i]) for i in range(len(t)) if t.kind[i] == "vehicle")
+
+    groups: dict[tuple, list] = {}  # (f, vehicle) -> [cars, motions, ranks] of the first position
+    order = sorted((i for i in range(len(first)) if first.kind[i] == "vehicle"), key=lambda i: first.frequency[i])
+    for rank, i in enumerate(order):
+        m = _CAR.match(first.label[i])
+        g = groups.setdefault((f"{first.frequency[i]:.4g}", m.group(2) if m else ""), [[], [], []])
+        if m and m.group(1) not in g[0]:
+            g[0].append(m.group(1))
+        motion = first.label[i][m.end():].removeprefix(", ") if m else first.label[i]
+        if motion not in g[1]:
+            g[1].append(motion)
+        g[2].append(rank)
+    rows: list[tuple[str, list[str]]] = []
+    vf = [vehicle_f(t) for t in tables]
+    for (_, vehicle), (cars, motions, ranks) in groups.items():
+        who = f"car{'s' if len(cars) > 1 else ''} {', '.join(cars)} ({vehicle}): " if cars else ""
+        rows.append((who + "; ".join(motions), [_span([f[r] for r in ranks if r < len(f)] or [math.nan]) for f in vf]))
+    for kind, label, pick in (("contact", "every wheelset on its contact springs, {}", None),
+                              ("bridge", "bridge {}, lowest mode", min)):
+        found: dict[str, list[list[float]]] = {}
+        for j, t in enumerate(tables):
+            for i in range(len(t)):
+                if t.kind[i] != kind:
+                    continue
+                what = (t.label[i].removeprefix("bridge, ").split(" ", 1)[0] if kind == "bridge"  # its first
+                        else t.label[i].rsplit(", ", 1)[-1])  # direction (a mixed label: "torsion 18 + pier")
+                found.setdefault(what, [[] for _ in tables])[j].append(float(t.frequency[i]))
+        for what, per in found.items():
+            rows.append((label.format(what), [(f"{pick(fs):.4g}" if pick else _span(fs)) if fs else "-" for fs in per]))
+    names = [f"x = {x:g} m" for x in positions]
+    wl = max(len(r[0]) for r in rows)
+    wc = [max(len(n), *(len(r[1][j]) for r in rows)) for j, n in enumerate(names)]
+    lines.append(f"{'f_n [Hz] of':<{wl}} " + " ".join(f"{n:>{w}}" for n, w in zip(names, wc)))
+    lines += [f"{label:<{wl}} " + " ".join(f"{c:>{w}}" for c, w in zip(cells, wc)) for label, cells in rows]
+    lines.append("(f_n undamped |lambda| / 2 pi; vehicle modes matched to the first position's by rank; "
+                 "one --position: damping, decay and every bridge mode)")
+    return lines
+
+
 def command_model(args: argparse.Namespace) -> tuple[str, object]:
     """(kind, model) of MODEL (model_kind: a scenario, bridge, vehicle or train); --set only for a scenario."""
     kind = model_kind(args.scenario)
@@ -298,7 +362,14 @@ def scenario_modes(args: argparse.Namespace, scenario: Any, methods: Any) -> lis
     rigid track, the bridge alone), in :func:`modes_text`'s few lines, and the damping guard."""
     out: list[str] = []
     model = methods.build_model(scenario, warn=False)
-    for position in args.position or [None]:
+    if args.position and len(args.position) > 1:  # one table, a column per position: within a screen
+        tables = []
+        for position in args.position:
+            table = methods.system_modes(scenario, position, model=model)
+            shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
+            tables.append(shown.in_band(*args.band) if args.band is not None else shown)
+        out += [*positions_text(tables, list(args.position)), ""]
+    for position in [] if args.position and len(args.position) > 1 else args.position or [None]:
         table = methods.system_modes(scenario, position, model=model)
         shown = table if args.all else table.select([k != "decoupled" for k in table.kind])
         if args.band is not None:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -22,7 +22,8 @@ from ..results.checks_table import format_value
 from ..scenario.model import Continuous
 from .comfort_deflection import comfort_limit
 from .criteria import CriterionVerdict, DECK_ACCELERATION_CRITERIA, DECK_LIMIT_SET, load_criteria
-from .deformation import LM71, NOSING_FORCE, dynamic_factor, first_lateral_frequency, static_deformations
+from .deformation import (LM71, NOSING_FORCE, StaticDeformations, dynamic_factor, first_lateral_frequency,
+                          static_deformations)
 
 
 #: the classified-load factors of EN 1991-2 6.3.2(3) [recalled, check]
@@ -83,12 +84,16 @@ def _largest(per_track: Sequence[np.ndarray], limits: Sequence[float] | None = N
 
 def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, modal, rows: Sequence[CheckRecord],  # noqa: ANN001
                 responses: Sequence, cases: Sequence[str], train_names: Sequence[str], limit: float,
-                alpha: float = 1.0, alpha_given: bool = False) -> tuple[CriterionVerdict, ...]:
+                alpha: float = 1.0, alpha_given: bool = False,
+                static: Mapping[tuple[str, ...], StaticDeformations] | None = None) -> tuple[CriterionVerdict, ...]:
     """Every criterion's verdict (see the module docstring). ``modal``: the nominal case's ModalBridge;
-    ``responses``: the MovingForceResponse of each (case, train) in that order."""
+    ``responses``: the MovingForceResponse of each (case, train) in that order; ``static``: the static
+    deformations already computed (:func:`static_deformations` by its vertical load models' names: () the
+    default set, ('LM71',) LM71 alone; the check's tasks), the others computed here."""
     crits = load_criteria()
     phi, phi_basis = dynamic_factor(bridge, maintenance)
-    sd = static_deformations(bridge)
+    static = dict(static or {})
+    sd = static[()] if () in static else static_deformations(bridge)
     spans = np.array(sd.spans)
     a_note = f"alpha = {alpha:g}" + ("" if alpha_given else " (not given: the national annex's classified-load factor)")
     load = f"{' and '.join(sd.loads)} x alpha {alpha:g} x {phi_basis.split(' (')[0]}"
@@ -144,7 +149,8 @@ def a2_verdicts(bridge, line_speed_kmh: float, track: str, maintenance: str, mod
     c = crits.criterion("comfort_deflection")
     n_spans, cont = spans.size, isinstance(bridge, Continuous)
     lims = [comfort_limit(s, line_speed_kmh, n_spans, cont) for s in spans]
-    comfort_sd = sd if sd.loads == (LM71.name,) else static_deformations(bridge, (LM71,))  # LM71 only (A2.4.4.3.2)
+    comfort_sd = sd if sd.loads == (LM71.name,) else static.get((LM71.name,)) or static_deformations(bridge, (LM71,))
+    # (LM71 only: A2.4.4.3.2)
     comfort_load = f"LM71 x {phi_basis.split(' (')[0]} (alpha = 1), one track"
     if all(math.isfinite(x) for x in lims):
         t, i, v = _largest(comfort_sd.deflection, lims)

@@ -246,7 +246,8 @@ def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) ->
 
 
 def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceResponse],
-              stochastic: dict[str, list[tuple[float, dict[str, Any]]]], stats: dict[str, Any], t0: float) -> CheckResult:
+              stochastic: dict[str, list[tuple[float, dict[str, Any]]]], stats: dict[str, Any], t0: float,
+              static: dict | None = None) -> CheckResult:
     """The CheckResult of the check's tasks (tb_exudyn.methods.check): the rows of every (case, train) in that
     order, the stochastic values in the nominal case's rows, the A2.4.4 verdicts, the interaction runs."""
     rows, ordered = [], []
@@ -265,7 +266,8 @@ def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceRes
     inter = vbi.check_rows(setup.bridge, setup.interaction_trains, rows, setup.zeta_vehicles, cutoff,
                            setup.ref_case) if setup.interaction_trains else ()
     verdicts = a2_verdicts(setup.bridge, setup.line_speed_kmh, setup.track, setup.maintenance, mb, rows, ordered,
-                           setup.cases, [t.name for t in setup.trains], setup.limit, setup.alpha, setup.alpha_given)
+                           setup.cases, [t.name for t in setup.trains], setup.limit, setup.alpha, setup.alpha_given,
+                           static=static)
     bridge = setup.bridge
     return CheckResult(
         criteria=verdicts, bridge=bridge.name, bridge_file="" if setup.label == bridge.name else setup.label,
@@ -381,6 +383,7 @@ def check(
     Raises SettingError naming ``where`` and the argument for any value outside what is allowed, before any
     work and before ``out`` is touched.
     """
+    started = time.perf_counter()
     execution_args = dict(executor=executor, out=out, resume=resume, progress=progress, where=where,
                           overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     Execution(workers=workers, **execution_args)  # its arguments checked first (nothing is touched)
@@ -392,7 +395,7 @@ def check(
     if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
         workers = 1
     method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
-        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES)
+        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
     return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers, **execution_args))
 
 

@@ -314,8 +314,8 @@ class Checkpoint:
             return read_task_file(path, self._expected(task.key, task.data), load=True)
         except Unusable as exc:
             raise CheckpointError(
-                f"checkpoint file {str(path)!r} changed while this run used it ({exc}): make sure no other program "
-                "writes into the output folder, then run again with resume") from None
+                f"checkpoint file {str(path)!r} changed while this run used it ({exc}): with no other program "
+                "writing there, run again with resume") from None
 
     def save(self, task: Any, result: Mapping[str, Any]) -> None:
         """Write a task's file (replacing a damaged one; a folder in its place is left, with a notice)."""

@@ -9,6 +9,9 @@ output folder and ``resume``. The tasks, in reduction order:
 - one :class:`StochasticTask` per train given as vehicle models and speed of its stochastic rows: the
   speed's whole PEM, as a speed sweep's :class:`~tb_exudyn.methods.sweep.SpeedTask` (its summary); the
   heaviest tasks, first, so that the pool's last tasks are short ones;
+- one :class:`StaticTask` per set of static load models (LM71, SW/0 on a continuous girder; LM71 alone for
+  the comfort criterion there): :func:`~tb_exudyn.codes.deformation.static_deformations` (EN 1990 A2.4.4's
+  deformation criteria);
 - one :class:`MovingForceTask` per mass case and train: :func:`~tb_exudyn.codes.moving_force.moving_force_response`
   at every speed of the train's series on that case's modes (sent with the task: every worker integrates
   on the modes the plan computed), its :class:`~tb_exudyn.codes.moving_force.MovingForceResponse` as
@@ -34,6 +37,7 @@ from typing import Any, Callable
 import numpy as np
 
 from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
+from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
 from ..codes.stochastic import CHANNELS
 from ..codes.trains import ForceTrain
@@ -43,6 +47,7 @@ from ..execution import Execution, RunFiles, Task
 from ..execution.threads import single_threaded_blas
 from ..files import write_output
 from ..results.sweep import grouped_warnings
+from ..scenario.model import Continuous
 from ..scenario.speed_rule import capped
 from .common import fingerprint_identity
 from .driver import RunPlan
@@ -64,6 +69,15 @@ class MovingForceTask:
     force_train: ForceTrain = field(repr=False, compare=False)
     modal: Any = field(repr=False, compare=False)
     used: tuple[int, ...] = field(repr=False, compare=False, default=())
+
+
+@dataclass(frozen=True)
+class StaticTask:
+    """The static load models on the bridge (EN 1990 A2.4.4.2.2-4, A2.4.4.3.2): LM71 (and SW/0 on a continuous
+    girder), or ``loads`` alone (('LM71',): the comfort criterion's). Its repr (the bridge's data) is its digest."""
+
+    bridge: Any
+    loads: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -102,6 +116,32 @@ def response_of(arrays: dict[str, np.ndarray]) -> MovingForceResponse:
     return MovingForceResponse(**kw)
 
 
+def static_arrays(sd: StaticDeformations) -> dict[str, np.ndarray]:
+    """Static deformations as plain arrays (checkpointable): each per-track field as '<field>.<track>'."""
+    out: dict[str, np.ndarray] = {"spans": np.array(sd.spans, dtype=float), "loads": np.array(sd.loads, dtype=str)}
+    for f in dataclasses.fields(StaticDeformations):
+        if f.name not in out:
+            out.update({f"{f.name}.{t}": np.asarray(v, dtype=float) for t, v in enumerate(getattr(sd, f.name))})
+    return out
+
+
+def static_of(arrays: dict[str, np.ndarray]) -> StaticDeformations:
+    """The static deformations of :func:`static_arrays`' arrays."""
+    kw: dict[str, Any] = {"spans": tuple(float(x) for x in arrays["spans"]),
+                          "loads": tuple(str(x) for x in arrays["loads"])}
+    for f in dataclasses.fields(StaticDeformations):
+        if f.name not in kw:
+            per = [arrays[f"{f.name}.{t}"] for t in range(sum(1 for k in arrays if k.startswith(f.name + ".")))]
+            kw[f.name] = tuple(float(a) if a.ndim == 0 else np.array(a) for a in per)
+    return StaticDeformations(**kw)
+
+
+def static_task(task: StaticTask) -> dict[str, np.ndarray]:
+    loads = tuple(m for m in (LM71, SW0) if m.name in task.loads) or None
+    with single_threaded_blas():
+        return static_arrays(static_deformations(task.bridge, loads))
+
+
 def moving_force_task(task: MovingForceTask) -> dict[str, np.ndarray]:
     """A moving-force task's response (one thread of BLAS, as in any worker: the same bits everywhere)."""
     with single_threaded_blas():
@@ -122,6 +162,8 @@ class CheckWorker:
         data = task.data
         if isinstance(data, MovingForceTask):
             return moving_force_task(data)
+        if isinstance(data, StaticTask):
+            return static_task(data)
         try:
             return sweep.SpeedWorker().work(None, Task(task.key, data.speed))
         except UserError as exc:
@@ -135,6 +177,8 @@ class CheckState:
     responses: dict[tuple[str, str], MovingForceResponse]
     stochastic: dict[str, list[tuple[float, dict[str, np.ndarray]]]]
     t0: float
+    #: the static deformations by their load models' names (() the default set)
+    static: dict[tuple[str, ...], StaticDeformations] = field(default_factory=dict)
     #: each stochastic train's speeds whose band the speed rule capped (as a sweep's provenance says)
     capped: dict[str, list[float]] = field(default_factory=dict)
 
@@ -168,6 +212,13 @@ def _moving_force_tasks(setup: CheckSetup) -> list[Task]:
     return tasks
 
 
+def _static_tasks(setup: CheckSetup) -> list[Task]:
+    """The static load models: the default set, and LM71 alone where the default adds SW/0 (a continuous
+    girder: the comfort criterion loads LM71 only)."""
+    sets = [()] + ([(LM71.name,)] if isinstance(setup.bridge, Continuous) else [])
+    return [Task(f"static-{i}", StaticTask(setup.bridge, loads)) for i, loads in enumerate(sets)]
+
+
 def _identity(setup: CheckSetup) -> dict[str, Any]:
     """The checkpoint's fingerprint: the bridge, the trains, the settings that change a number and the
     stochastic rows' scenarios (with the package versions and tb_exudyn's source)."""
@@ -193,13 +244,15 @@ class CheckMethod:
     assemble: Callable[..., Any] = field(repr=False)
     render: Callable[[Any], dict[str, bytes]] = field(repr=False)
     group: tuple[str, ...] = ()
+    #: when the check began (time.perf_counter(); 0: at this plan), for the result's seconds
+    started: float = field(default=0.0, repr=False)
 
     def plan(self, execution: Execution) -> RunPlan:
-        t0 = _time.perf_counter()
+        t0 = self.started or _time.perf_counter()
         stochastic, cls = _stochastic_tasks(self.setup)
         if cls is not None:
             warm_up.start(cls, None, execution.announce)  # a first run's compile, not in every worker
-        tasks = stochastic + _moving_force_tasks(self.setup)
+        tasks = stochastic + _moving_force_tasks(self.setup) + _static_tasks(self.setup)
         state = CheckState(responses={}, stochastic={t.name: [] for t in self.setup.stochastic_trains}, t0=t0)
         return RunPlan(files=RunFiles("check", CHECKPOINT, group=self.group), tasks=tasks,
                        identity=_identity(self.setup), state=state,
@@ -209,6 +262,8 @@ class CheckMethod:
         data = task.data
         if isinstance(data, MovingForceTask):
             state.responses[(data.case, data.train)] = response_of(result)
+        elif isinstance(data, StaticTask):
+            state.static[data.loads] = static_of(result)
         else:
             state.stochastic[data.train].append((data.speed_kmh, result))
             if capped(self.setup.bases[data.train], data.speed.scenario):
@@ -221,7 +276,7 @@ class CheckMethod:
                                    base=self.setup.bases[train])
             for category, message in grouped_warnings(view):
                 warnings.warn(message, category, stacklevel=3)
-        return self.assemble(self.setup, state.responses, state.stochastic, stats, state.t0)
+        return self.assemble(self.setup, state.responses, state.stochastic, stats, state.t0, state.static)
 
     def save(self, result: Any, out: Path) -> None:
         files = self.render(result)
@@ -230,5 +285,5 @@ class CheckMethod:
                      where=self.setup.where, key="out", remove=stale)
 
 
-__all__ = ["CHECKPOINT", "CheckMethod", "CheckState", "CheckWorker", "MovingForceTask", "StochasticTask",
-           "response_arrays", "response_of"]
+__all__ = ["CHECKPOINT", "CheckMethod", "CheckState", "CheckWorker", "MovingForceTask", "StaticTask", "StochasticTask",
+           "response_arrays", "response_of", "static_arrays", "static_of"]

@@ -176,10 +176,9 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
         if not sc.duration / dt > MAX_STEPS:
             raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
                                "allows", f"at {label} km/h: {exc}") from None
-        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds whose crossing takes at most "
-                           f"{MAX_STEPS:.0e} steps of analysis.time_step = {dt:g} s: here from "
-                           f"{distance / (dt * MAX_STEPS) / KMH:.3g} km/h", f"at {label} km/h the crossing of "
-                           f"{distance:.4g} m takes {sc.duration:.4g} s, {sc.duration / dt:.4g} steps") from None
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"here from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
+                           f"(a crossing of at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
+                           f"crossing of {distance:.4g} m takes {sc.duration / dt:.4g} steps") from None
     return sc
 
 

@@ -142,8 +142,8 @@ def _check_mechanism(model: FEModel, lam: np.ndarray, vec_full: np.ndarray) -> N
                else f"a section stiff enough for its mass in {DOF_NAMES[j]} (every mode >= {MECHANISM_FREQUENCY:g} Hz)")
     raise StructureError(
         f"bridge '{model.name}'", key, value, allowed,
-        f"the structure is a mechanism or unsupported ({int(zero.sum())} mode(s) below {MECHANISM_FREQUENCY:g} Hz, "
-        f"the lowest at {f0:.2g} Hz): it moves freely mainly as {what} in {DOF_NAMES[j]}",
+        f"a mechanism or unsupported: {int(zero.sum())} mode(s) below {MECHANISM_FREQUENCY:g} Hz (lowest "
+        f"{f0:.2g} Hz), mainly {what} in {DOF_NAMES[j]}",
     )
 
 

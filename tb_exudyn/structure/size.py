@@ -175,10 +175,9 @@ def check_bridge_size(bridge: SimpleBeam | Frame, max_frequency: float, max_mode
     fit = int((-b + math.sqrt(b * b + 4.0 * a * limit)) / (2.0 * a)) if a > 0 else int(limit // b)
     raise BridgeSizeError(
         f"bridge '{bridge.name}'", "spans", list(bridge.spans),
-        f"a model within the memory: about {fit} such spans at most, or fewer elements_per_span, or fewer modes "
-        "(a lower analysis.mode_max_frequency or an analysis.max_modes)",
-        f"{len(bridge.spans)} spans: the model needs about {format_bytes(size.bytes)} ({size.n_dof} DOFs, "
-        f"{size.n_elements} elements, about {size.n_modes} modes below {max_frequency:g} Hz), more than {text}")
+        f"about {fit} such spans at most, fewer elements_per_span, a lower analysis.mode_max_frequency or max_modes",
+        f"needs about {format_bytes(size.bytes)} ({size.n_dof} DOFs, {size.n_modes} modes below "
+        f"{max_frequency:g} Hz), more than {text}")
 
 
 __all__ = ["BridgeSize", "BridgeSizeError", "bridge_size", "check_bridge_size", "estimate_modes"]

@@ -88,6 +88,6 @@ def test_modes_command(capsys):
     assert "4 lightly damped modes at 8.342 Hz" in out and "4 lightly damped modes at 12.42 Hz" in out
     assert main(["modes", "quick", "--position", "0", "20"]) == 0
     out = capsys.readouterr().out
-    assert "first axle at x = 0 m" in out and "first axle at x = 20 m" in out
+    assert "the first axle at 2 positions" in out and "x = 0 m (" in out and "x = 20 m (" in out  # a column each
     assert main(["modes", "quick", "--band", "30", "10"]) == 2
     assert "--band" in capsys.readouterr().err

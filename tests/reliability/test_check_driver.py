@@ -2,15 +2,16 @@
 pool, a checkpoint and --resume, and its table does not depend on how the tasks ran.
 
 Problem: single_span_32m (ballasted: three mass cases) under HSLM-A1 and HSLM-A2 at a line speed of 200
-km/h: six tasks (mass case x train), 15-43 speeds each, a few tenths of a second each. Reference: the same
+km/h: six moving-force tasks (mass case x train), 15-43 speeds each, a few tenths of a second each, and the
+static load models' task (LM71 for the deformation criteria). Reference: the same
 command run once, uninterrupted, in this process (``--workers 1``); the tasks are reduced in task order
 and each runs on one BLAS thread on the modes the plan computed, so every other way of running them must
 give check.csv to the bit (compared as bytes: no tolerance).
 
 - ``--workers 2`` (a local pool of two spawned processes);
-- Ctrl-C (SIGINT, as a terminal sends it) when the fourth task starts, then the same command with
+- Ctrl-C (SIGINT, as a terminal sends it) when the fourth moving-force task starts, then the same command with
   ``--resume``: three tasks read from the checkpoint, three run;
-- SIGKILL of a child process when its fourth task starts (no handler runs: the checkpoint is what a kill
+- SIGKILL of a child process when its fourth moving-force task starts (no handler runs: the checkpoint is what a kill
   leaves), then ``--resume`` in this process.
 """
 
@@ -30,7 +31,7 @@ from tb_exudyn.cli import main
 from .execution_helpers import ROOT
 
 method_module = importlib.import_module("tb_exudyn.methods.check")
-TASKS = 6  # three mass cases x two trains
+TASKS = 7  # three mass cases x two trains, and the static load models (LM71) last
 
 
 def argv(out: Path, *more: str) -> list[str]:
@@ -107,7 +108,7 @@ def test_a_kill_half_way_and_resume_give_the_same_table(reference, tmp_path, cap
 
 
 def test_a_dask_executor_gives_the_same_table(reference, tmp_path):
-    """The same six tasks on a local Dask cluster of two worker processes (``check(executor=...)``, the
+    """The same seven tasks on a local Dask cluster of two worker processes (``check(executor=...)``, the
     executor README names), against the command's one-worker check.csv."""
     distributed = pytest.importorskip("distributed", reason="the 'dask' extra is not installed")
     import warnings
@@ -135,3 +136,24 @@ def test_without_a_worker_count_a_small_check_runs_here_and_a_large_one_in_a_poo
     assert check("single_span_32m", 120.0, trains=["HSLM-A1"]).run["executor"] == "in-process"
     assert chk._work(plan_check("single_span_32m", 120.0, trains=["HSLM-A1"])) < chk.IN_PROCESS_WORK
     assert chk._work(plan_check("li_zhu_2011_bridge", 250.0, trains=["hslm_a"])) > 4 * chk.IN_PROCESS_WORK
+
+
+def test_static_deformations_travel_whole_and_a_continuous_girder_gets_lm71_alone_too():
+    """The static task's result as arrays (its checkpoint file) gives back every field to the bit; on a
+    continuous girder the default load models add SW/0, so the comfort criterion's LM71 alone (A2.4.4.3.2) is a
+    task of its own."""
+    import numpy as np
+
+    from tb_exudyn.codes.check_plan import plan_check
+    from tb_exudyn.codes.deformation import static_deformations
+    from tb_exudyn.scenario.io import load_bridge
+
+    sd = static_deformations(load_bridge("single_span_32m").replace(elements_per_span=16))
+    back = method_module.static_of(method_module.static_arrays(sd))
+    for name in sd.__dataclass_fields__:
+        a, b = getattr(sd, name), getattr(back, name)
+        assert len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b)), name
+    loads = [t.data.loads for t in method_module._static_tasks(plan_check("continuous_3x32m", 200.0, trains=["HSLM-A1"]))]
+    assert loads == [(), ("LM71",)]
+    assert [t.data.loads for t in method_module._static_tasks(plan_check("single_span_32m", 200.0, trains=["HSLM-A1"]))] \
+        == [()]
