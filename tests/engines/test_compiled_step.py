@@ -118,6 +118,24 @@ def test_compiled_step_in_float32_is_as_close_to_float64_as_the_numpy_step():
     assert err_compiled < 1e-3
 
 
+
+def test_the_float32_compiled_step_casts_no_unset_value():
+    """Problem: the compiled step in float32 on the reference study (as above). The contact inverses are
+    formed in float64 into one buffer and cast to float32; a buffer made with np.empty left its unused
+    tail unset, and the cast of that garbage overflowed: "RuntimeWarning: overflow encountered in cast"
+    on the main job's terminal (its grid-error columns run in float32), twice. Reference: no warning
+    of numpy's about a cast or an overflow (a warning is deterministic: no tolerance)."""
+    from tb_exudyn.engines.batched import BatchedOptions
+    from tb_exudyn.methods import run_pem
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        run_pem(_li_zhu_3(), workers=1, progress=False, engine="batched",
+                options=BatchedOptions(step="compiled", precision="float32"))
+    numeric = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)
+               and ("overflow" in str(w.message) or "cast" in str(w.message))]
+    assert not numeric, numeric
+
 def test_compiled_step_equals_numpy_step_on_two_components():
     """Problem: one ICE motor car on the girder axis (scenario quick, track offset 0, 2 frequencies):
     two components (vertical in-plane; lateral and cross-level out-of-plane), each with its own

@@ -207,7 +207,7 @@ class _Operators:
             self._kinv = (*blas_scratch(np.dtype(np.float64)), np.ascontiguousarray(self.row_vehicle),
                           np.array([[v.r0, v.r1] for v in self.vehicles], dtype=np.int64).reshape(-1, 2))
         n_r = self.rows.size
-        hbuf = np.empty(steps.size * n_r * n_r, dtype=np.float64)  # float64 in every precision: one
+        hbuf = np.zeros(steps.size * n_r * n_r, dtype=np.float64)  # float64 in every precision: one
         tiny = float(np.finfo(self.dtype).tiny) if self.dtype != np.float64 else 0.0  # compiled kernel
         try:
             self._kernels.contact_inverses(*self._kinv, steps, np.ascontiguousarray(on), self.H0,
@@ -215,7 +215,9 @@ class _Operators:
                                            st, hbuf, hoff, tiny)
         except np.linalg.LinAlgError:
             raise np.linalg.LinAlgError("singular contact matrix in the batched engine") from None
-        hbuf = hbuf.astype(self.dtype, copy=False)  # rounded to nearest as the kernel's store did
+        # rounded to nearest as the kernel's store did (zeros where no inverse is stored: an unset float64
+        # of np.empty would overflow float32 in the cast and say so on the terminal)
+        hbuf = hbuf.astype(self.dtype, copy=False)
         blk = self.block
         self.kblock = (st, blk["Lq"], blk["Lv"], blk["SaS"], hbuf, hoff, a0)
 
