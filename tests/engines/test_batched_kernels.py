@@ -32,6 +32,7 @@ from tb_exudyn.system.coupling import VERTICAL, WheelRailCoupling
 from tb_exudyn.system.linear import LinearSystem
 
 from ..system.test_creep_coupling import WHEEL_COORDS, _bridge, _rows
+from ..recording import KeepAll as _Keep
 
 B = 0.75
 NODE = 7
@@ -103,21 +104,6 @@ def _profiles() -> ProfileColumns:
                     for w, a in ((0.4, 2e-3), (1.3, 5e-4), (2.9, 1e-4)))
              for k in ("vertical", "alignment", "cross_level")}
     return ProfileColumns(grids, -10.0, 0.25, "angle", B)
-
-
-class _Keep:
-    """Keeps the outputs of every output time (channels in ``outputs.names`` order)."""
-
-    def __init__(self, n_t: int) -> None:
-        self.n_t, self.Y = n_t, None
-
-    def record(self, i: int, Y: np.ndarray, ext: np.ndarray) -> None:
-        if self.Y is None:
-            self.Y = np.zeros((Y.shape[0], Y.shape[1], self.n_t), dtype=complex)
-        self.Y[:, :, i] = Y[ext]
-
-    def result(self) -> dict:
-        return {"Y": self.Y}
 
 
 def _both(with_creep: bool, source, options=None, dense_options=None):

@@ -36,24 +36,10 @@ from tb_exudyn.system.components import find_components
 from tb_exudyn.system.conventions import run_steps
 from tb_exudyn.system.track_model import modal_track, track_model, track_on_deck
 from tb_exudyn.system.track_wheel import wheel_on_modal_track
+from ..recording import KeepAll as _Keep
 
 M_W, K_H, V, STARTS = 1000.0, 1.4e9, 120.0 / 3.6, (3.0, 0.5, -2.0)
 FREQS = np.array([5.0, 20.0, 40.0, 60.0, 100.0])
-
-
-class _Keep:
-    """Every output at every output time."""
-
-    def __init__(self, n_t: int) -> None:
-        self.n_t, self.Y = n_t, None
-
-    def record(self, i: int, Y: np.ndarray, ext: np.ndarray) -> None:
-        if self.Y is None:
-            self.Y = np.zeros((Y.shape[0], Y.shape[1], self.n_t), dtype=complex)
-        self.Y[:, :, i] = Y[ext]
-
-    def result(self) -> dict:
-        return {"Y": self.Y}
 
 
 @pytest.fixture(scope="module")

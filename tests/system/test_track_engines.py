@@ -33,22 +33,10 @@ from tb_exudyn.system.track_model import modal_track, track_model
 from tb_exudyn.system.track_wheel import wheel_on_modal_track
 
 from .test_track_wheel import moving_receptance
+from ..recording import KeepAll as _Keep
 
 M_W, K_H, V, X0, BAYS, STEPS_PER_BAY = 1000.0, 1.4e9, 120.0 / 3.6, 4.0, 10, 96
 FREQS = np.array([5.0, 20.0, 40.0, 60.0, 100.0])
-
-
-class _Keep:
-    def __init__(self, n_t: int) -> None:
-        self.n_t, self.Y = n_t, None
-
-    def record(self, i: int, Y: np.ndarray, ext: np.ndarray) -> None:
-        if self.Y is None:
-            self.Y = np.zeros((Y.shape[0], Y.shape[1], self.n_t), dtype=complex)
-        self.Y[:, :, i] = Y[ext]
-
-    def result(self) -> dict:
-        return {"Y": self.Y}
 
 
 @pytest.fixture(scope="module")
