@@ -15,12 +15,12 @@ cli/uq.py as they are): :data:`ALLOWED`. Each must still hold a flag (a stale en
 from __future__ import annotations
 
 import argparse
-import ast
 import re
 
 from tb_exudyn.cli import build_parser
 
 from .import_graph import ROOT, modules
+from .test_layout import code_strings
 
 #: module -> why it may name flags (the remaining places; removing one means its text says the library's names)
 ALLOWED = {
@@ -50,16 +50,7 @@ def flags_in_code(source: str, flags: set[str]) -> list[tuple[int, str]]:
     docstrings excepted; a flag is matched whole (``--out`` is not in ``--output``)."""
     pattern = re.compile(r"(?<![\w-])(" + "|".join(re.escape(f) for f in sorted(flags, key=len, reverse=True))
                          + r")(?![\w-])")
-    tree = ast.parse(source)
-    docstrings = set()
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
-            first = node.body[0]
-            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) and isinstance(first.value.value, str):
-                docstrings.add(id(first.value))
-    return sorted({(node.lineno, m) for node in ast.walk(tree) if isinstance(node, ast.Constant)
-                   and isinstance(node.value, str) and id(node) not in docstrings
-                   for m in pattern.findall(node.value)})
+    return sorted({(node.lineno, m) for node in code_strings(source) for m in pattern.findall(node.value)})
 
 
 def test_the_finder_finds_flags_in_code_not_in_docstrings():

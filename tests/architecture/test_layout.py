@@ -94,12 +94,9 @@ def test_no_module_over_600_lines():
 CALLER = "command line"
 
 
-def caller_literals(source: str) -> list[int]:
-    """Lines of the code strings of ``source`` that spell :data:`CALLER`: string literals and the
-    literal parts of f-strings, docstrings excepted. A docstring that says what the command line does
-    with a function is documentation, not a branch on the caller; a string in code is a label the
-    module writes (``where="command line"``) or compares (``where == "command line"``): the library then
-    knows its caller. Comments are not in the syntax tree."""
+def code_strings(source: str) -> list[ast.Constant]:
+    """The code strings of ``source``: its string literals and the literal parts of f-strings, docstrings
+    excepted (comments are not in the syntax tree)."""
     tree = ast.parse(source)
     docstrings = set()
     for node in ast.walk(tree):
@@ -107,8 +104,16 @@ def caller_literals(source: str) -> list[int]:
             first = node.body[0]
             if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) and isinstance(first.value.value, str):
                 docstrings.add(id(first.value))
-    return sorted({node.lineno for node in ast.walk(tree) if isinstance(node, ast.Constant)
-                   and isinstance(node.value, str) and id(node) not in docstrings and CALLER in node.value})
+    return [node for node in ast.walk(tree) if isinstance(node, ast.Constant) and isinstance(node.value, str)
+            and id(node) not in docstrings]
+
+
+def caller_literals(source: str) -> list[int]:
+    """Lines of the code strings of ``source`` that spell :data:`CALLER`. A docstring that says what the
+    command line does with a function is documentation, not a branch on the caller; a string in code is a
+    label the module writes (``where="command line"``) or compares (``where == "command line"``): the
+    library then knows its caller."""
+    return sorted({node.lineno for node in code_strings(source) if CALLER in node.value})
 
 
 def test_the_caller_literal_finder_finds_them():
