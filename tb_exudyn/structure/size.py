@@ -176,7 +176,7 @@ def check_bridge_size(bridge: SimpleBeam | Frame, max_frequency: float, max_mode
     raise BridgeSizeError(
         f"bridge '{bridge.name}'", "spans", list(bridge.spans),
         f"about {fit} such spans at most, fewer elements_per_span, a lower analysis.mode_max_frequency or max_modes",
-        f"needs about {format_bytes(size.bytes)} ({size.n_dof} DOFs, {size.n_modes} modes below "
+        f"{len(bridge.spans)} spans need about {format_bytes(size.bytes)} ({size.n_dof} DOFs, {size.n_modes} modes below "
         f"{max_frequency:g} Hz), more than {text}")
 
 
