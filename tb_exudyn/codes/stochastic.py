@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from ..errors import ScenarioError, SettingError
+from ..errors import ScenarioError, SettingError, one_of
 from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
 from ..results.sweep import read_checks
@@ -82,7 +82,7 @@ def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str
         text = str(scenario)
         known = model_files("scenarios")
         if not text.strip() or (text not in known and not text.endswith(".toml") and not Path(text).exists()):
-            raise SettingError(where, key, text, f"one of {', '.join(known)} or a path to a scenario .toml file",
+            raise SettingError(where, key, text, one_of(known, text, tail=" or a scenario .toml file"),
                                "unknown scenario")
         sc = load_scenario(text)  # a bad file: its ScenarioError names the file and the key
     else:

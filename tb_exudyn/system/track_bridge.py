@@ -128,10 +128,9 @@ def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN
     if dofs > MAX_TRACK_DOFS:
         most = MAX_TRACK_DOFS * n * structure.spacing / dofs
         raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,
-                            f"a run whose rails (lead-in, bridge, train, run-out and {MARGIN_BAYS} sleeper bays at "
-                            f"each end) are at most about {most:.0f} m long with track.structure",
-                            f"the track under the run is {n * structure.spacing:.0f} m long: {dofs} DOFs before its "
-                            f"modal reduction, more than {MAX_TRACK_DOFS}")
+                            f"rails (lead-in, bridge, train, run-out, {MARGIN_BAYS} bays each end) of at most "
+                            f"{most:.0f} m",
+                            f"{n * structure.spacing:.0f} m of track: {dofs} DOFs before reduction, over {MAX_TRACK_DOFS}")
     return structure, x0, n
 
 
