@@ -105,3 +105,32 @@ def test_a_symlinked_result_folder_cannot_lead_outside(tmp_path, pem):
     with pytest.raises(ResultsError, match="symbolic link"):
         plot_folder(tmp_path / "out")
     assert not (outside / "figures").exists()
+
+
+def test_a_pages_figure_is_drawn_once_with_savefigs_pixels(pem):
+    """figure_pngs draws a figure once on Agg and encodes both PNGs from its pixels in memory (the
+    page's palette copy no longer decodes the file). Reference: matplotlib's own
+    ``savefig(format="png")`` of the same figure, and compact_png of those bytes (the page's copy as
+    it was made before). Exact: the same Agg drawing gives the same pixels, and the palette copy is
+    the same median cut of the same RGB pixels; only the file's zlib level and colour type (RGB
+    when opaque) may differ."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from tb_exudyn.plotting import plot_psd_map
+    from tb_exudyn.plotting.files import compact_png, figure_pngs
+
+    for make in (lambda: plot_bounds(pem, "car1.body.acc_y"), lambda: plot_psd_map(pem, "car1.body.acc_y")):
+        png, page = figure_pngs(make())
+        buf = io.BytesIO()
+        make().savefig(buf, format="png", dpi=100)
+
+        def pixels(data, mode):
+            with Image.open(io.BytesIO(data)) as im:
+                return np.asarray(im.convert(mode))
+
+        assert np.array_equal(pixels(png, "RGBA"), pixels(buf.getvalue(), "RGBA"))
+        assert np.array_equal(pixels(page, "RGB"), pixels(compact_png(buf.getvalue()), "RGB"))
+        assert len(page) < len(png) / 2  # the page's copy is the small one
