@@ -134,3 +134,33 @@ def test_a_pages_figure_is_drawn_once_with_savefigs_pixels(pem):
         assert np.array_equal(pixels(png, "RGBA"), pixels(buf.getvalue(), "RGBA"))
         assert np.array_equal(pixels(page, "RGB"), pixels(compact_png(buf.getvalue()), "RGB"))
         assert len(page) < len(png) / 2  # the page's copy is the small one
+
+
+def test_a_page_drawn_on_a_pool_started_ahead_shows_every_figure_it_drew(tmp_path, pem):
+    """``tb-exudyn run``'s path (issue 49): figure processes started before the analysis
+    (execution.standby), given the figures of the channels known without the checks first, then the
+    page. Every figure file drawn is embedded once, no figure is drawn that the page does not show,
+    and the page's pictures are the bytes of the page drawn in one process (the same drawing:
+    the reference is write_report without a pool)."""
+    import re
+
+    from tb_exudyn.cli.run import FIGURE_MODULES
+    from tb_exudyn.execution.standby import standby_pool
+    from tb_exudyn.plotting.data import pattern_channels
+    from tb_exudyn.plotting.files import PageDrawing, figure_jobs
+
+    for name in ("pool", "serial"):
+        pem.save(tmp_path / name / "pem")
+    out = tmp_path / "pool"
+    with standby_pool(1, FIGURE_MODULES) as pool:
+        drawing = PageDrawing(pool)
+        early = figure_jobs(out, [(out / "pem", pem)], pattern_channels(pem))
+        drawing.submit(early)
+        drawing.submit(early)  # a job is drawn once
+        write_report(out, drawing=drawing)
+    write_report(tmp_path / "serial", workers=1)
+    pages = [re.findall(r'src="data:image/png;base64,([^"]+)"', (tmp_path / n / "report.html").read_text())
+             for n in ("pool", "serial")]
+    files = sorted((out / "pem" / "figures").glob("*.png"))
+    assert 0 < len(early) <= len(files) == len(pages[0]) == len(set(pages[0]))
+    assert pages[0] == pages[1]
