@@ -33,6 +33,9 @@ DEFAULT_OUT = "tb_exudyn_out"
 TABLE_FILE = "channels.txt"
 #: what the figure processes import while the analysis runs (its set-up is one process: a core is free)
 FIGURE_MODULES = ("tb_exudyn.plotting.files", "matplotlib.backends.backend_agg", "PIL.PngImagePlugin")
+#: figure processes started before the analysis (the others start with the figures): the set-up
+#: leaves one core free, and each idle one holds about 100 MB while the analysis runs
+FIGURE_PROCESSES_AHEAD = 1
 
 
 def figure_processes() -> int:
@@ -68,7 +71,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     """The analysis, its table, figures and report. The figure processes start first (their imports
     fall in the analysis' set-up) and draw the result's figures as soon as it is saved, while this
     process computes the checks and prints the table (issue 49)."""
-    with standby_pool(0 if args.no_figures else figure_processes(), FIGURE_MODULES) as pool:
+    with standby_pool(0 if args.no_figures else figure_processes(), FIGURE_MODULES, FIGURE_PROCESSES_AHEAD) as pool:
         return _analyse(args, scenario, out, pool)
 
 

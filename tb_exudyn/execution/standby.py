@@ -32,9 +32,12 @@ def _ready() -> int:
 
 
 @contextmanager
-def standby_pool(workers: int, modules: Sequence[str]) -> Iterator[ProcessPoolExecutor | None]:
-    """A pool of ``workers`` spawned processes, started now, each importing ``modules`` (names) as it
-    starts; None when ``workers`` < 1. On leaving the block the pool ends: after its work when the
+def standby_pool(workers: int, modules: Sequence[str], started: int | None = None,
+                 ) -> Iterator[ProcessPoolExecutor | None]:
+    """A pool of ``workers`` spawned processes, each importing ``modules`` (names) as it starts;
+    ``started`` of them (default all) start now, the others when work comes and none is idle (so that
+    a machine of many cores does not hold many idle processes, about 100 MB each, while the caller
+    computes); None when ``workers`` < 1. On leaving the block the pool ends: after its work when the
     block ended normally, at once (what waits cancelled, the processes terminated) on an exception
     or Ctrl-C."""
     if workers < 1:
@@ -43,8 +46,8 @@ def standby_pool(workers: int, modules: Sequence[str]) -> Iterator[ProcessPoolEx
     with _sigint_blocked(), single_threaded_workers():
         pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
                                    initializer=_standby_start, initargs=(os.getpid(), tuple(modules)))
-        for _ in range(workers):  # a process is started per task submitted while none is idle
-            pool.submit(_ready)
+        for _ in range(workers if started is None else min(started, workers)):
+            pool.submit(_ready)  # a process is started per task submitted while none is idle
     try:
         yield pool
     except BaseException:
