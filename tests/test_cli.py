@@ -62,8 +62,9 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
                               channels=("bridge.span1.mid.*", "car1.body.acc_z"))
     path = save_scenario(sc, tmp_path / "tiny.toml")
     out = tmp_path / "out"
-    assert main(["run", str(path), "--method", "det", "--out", str(out), "--no-figures"]) == 0
+    assert main(["run", str(path), "--method", "det", "--out", str(out), "--no-progress"]) == 0
     assert load_results(out / "det").scenario == sc
+    assert list((out / "det" / "figures").glob("*.history.png")) and (out / "report.html").exists()
     assert main(["run", str(path), "--engine", "exudyn", "--out", str(out), "--workers", "1", "--no-progress"]) == 0
     text = capsys.readouterr().out
     assert "key channels" in text and "channels.txt in the output folder" in text and str(out.resolve()) in text and "report.html" in text
