@@ -127,8 +127,9 @@ class CheckResult:
         return [r for r in self.rows if r.get("p_exceed") is not None]
 
     def stochastic_scenario(self, train: str, speed_kmh: float):  # noqa: ANN201
-        """The scenario of ``train``'s stochastic row at ``speed_kmh``: ``run_pem`` of it, or ``tb-exudyn
-        run`` of its TOML (``scenario_to_toml``), gives the row's numbers."""
+        """The scenario of ``train``'s stochastic row at ``speed_kmh``: ``run_pem`` of it with
+        ``stochastic.engine_options("batched")`` gives the row's numbers (``tb-exudyn run`` of its TOML,
+        ``scenario_to_toml``: within float32's error, docs/en1991.md)."""
         if train not in self.stochastic_scenarios:
             raise SettingError("CheckResult.stochastic_scenario", "train", train,
                                ", ".join(self.stochastic_scenarios) or "none: the check has no stochastic rows")

@@ -24,8 +24,9 @@ the check's track (:func:`tb_exudyn.codes.criteria.deck_criterion`: the criterio
 whose value is the moving-force rows' limit too, :func:`~tb_exudyn.codes.criteria.deck_acceleration_limit`) at its
 deciding location: ``p_exceed``, the probability of exceeding
 the limit at least once in one passage (Rice's rate, Poisson's first passage), and ``level_at_target``,
-the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem``
-(or ``tb-exudyn run``) of :func:`scenario_at` at that speed, to round-off.
+the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem`` of
+:func:`scenario_at` at that speed with :func:`engine_options` (the columns in float32: :data:`PRECISION`), to
+round-off; ``tb-exudyn run`` of it (float64) within float32's error (sigma within 1e-5 of its largest value).
 """
 
 from __future__ import annotations
@@ -55,9 +56,24 @@ DEFAULT_SCENARIO = "li_zhu_2011"
 CHANNELS: tuple[str, ...] = ("bridge.span*.acc_z*",)
 #: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
 MODE_MARGIN = 1.05
+#: the precision of the PEM runs' columns (the batched engine's ``BatchedOptions.precision``): float32, as its grid
+#: error's midpoint columns already are. On ice_mttm over li_zhu_2011_bridge (144 and 300 km/h) a speed's CPU
+#: time falls by 14-26 % and every channel's max sigma stays within 7e-7 of the largest sigma of the float64 run,
+#: the level at the target within 1e-7 relative (the engine's stated error: 1e-5 of a channel's largest sigma,
+#: docs/speed.md section 1); tests/codes/test_stochastic.py compares the row with the float64 run
+PRECISION = "float32"
 #: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
 #: StochasticValues
 COLUMNS: tuple[str, ...] = tuple(v.name for v in CHECK_RECORD if v.attribute.startswith("stochastic."))
+
+
+def engine_options(engine: str) -> Any:
+    """The options of the PEM runs on ``engine``: the batched engine's in :data:`PRECISION` (None: another
+    engine's defaults). ``run_pem(scenario_at(...), options=engine_options("batched"))`` gives a row's numbers."""
+    if engine != "batched":
+        return None
+    # the engines: imported on first use (as _sweep)
+    return importlib.import_module("tb_exudyn.engines.batched").BatchedOptions(precision=PRECISION)
 
 
 def _sweep() -> Any:
@@ -128,8 +144,9 @@ def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_rati
 def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> Scenario:
     """The scenario of the row at ``speed_kmh``: what :func:`run_sweep` runs there (its grid and approach
     rules, the channels :data:`CHANNELS`); ``n_freq``: the count the run used (an adaptive grid is raised
-    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it (or
-    ``tb-exudyn run`` of its TOML, ``scenario_to_toml``) gives the row's numbers."""
+    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it with
+    :func:`engine_options` gives the row's numbers (``tb-exudyn run`` of its TOML, ``scenario_to_toml``: within
+    float32's error)."""
     sc = _sweep().sweep_scenario(base, float(speed_kmh), CHANNELS)
     if n_freq is not None and int(n_freq) != sc.analysis.n_freq:
         sc = sc.replace(analysis=sc.analysis.replace(n_freq=int(n_freq)))
@@ -158,6 +175,7 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     :data:`CHANNELS`; nothing written) and per speed the columns: p_exceed and level_at_target of the
     track's deck criterion at its deciding location, that location, the largest |mean| there (the
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
+    engine = importlib.import_module("tb_exudyn.engines").DEFAULT_ENGINE  # on first use (as _sweep)
     t0 = time.perf_counter()
     methods = _sweep()
     # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
@@ -171,7 +189,7 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     done: list[tuple[float, dict[str, Any]]] = []
     for batch in batches:
         sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
-                                  progress=progress)
+                                  progress=progress, options=engine_options(engine))
         done += list(zip(sweep.speeds, sweep.summaries))
     return stochastic_run(base, done, track, name, time.perf_counter() - t0)
 
@@ -202,6 +220,6 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
                          seconds=seconds)
 
 
-__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "MODE_MARGIN", "StochasticRun",
-           "base_scenario", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "MODE_MARGIN", "PRECISION", "StochasticRun",
+           "base_scenario", "eligible", "engine_options", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
            "stochastic_run"]

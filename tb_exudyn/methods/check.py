@@ -39,7 +39,7 @@ import numpy as np
 from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
 from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
-from ..codes.stochastic import CHANNELS
+from ..codes.stochastic import CHANNELS, engine_options
 from ..codes.trains import ForceTrain
 from ..engines import DEFAULT_ENGINE
 from ..errors import UserError
@@ -186,12 +186,12 @@ class CheckState:
 def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any]:
     """The stochastic rows' tasks (each speed's scenario checked, as a sweep's plan checks them) and the
     engine class (None without them)."""
-    tasks, cls = [], None
+    tasks, cls, options = [], None, engine_options(DEFAULT_ENGINE)
     for t, train in enumerate(setup.stochastic_trains):
         speeds = setup.run_speeds[train.name]
-        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS)
+        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS, options)
         for v, sc in zip(speeds, scenarios):
-            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, None, None, False, sweep.SWEEP_SLICES)
+            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES)
             tasks.append(Task(f"pem-{t:02d}-{v:.6f}", StochasticTask(train.name, float(v), st, setup.stochastic_prefix(
                 train.name))))
     return tasks, cls
@@ -224,7 +224,7 @@ def _identity(setup: CheckSetup) -> dict[str, Any]:
     stochastic rows' scenarios (with the package versions and tb_exudyn's source)."""
     return fingerprint_identity(
         repr(setup.bridge), method="en1991_check", engine="moving_force" + ("+" + DEFAULT_ENGINE if setup.bases else ""),
-        engine_options={},
+        engine_options={"stochastic": repr(engine_options(DEFAULT_ENGINE))} if setup.bases else {},
         method_options={"setup": repr(setup), "trains": [repr(t) for t in setup.trains],
                         "series": {k: list(v) for k, v in setup.series.items()},
                         "stochastic": {k: repr(v) for k, v in setup.bases.items()},
@@ -251,7 +251,7 @@ class CheckMethod:
         t0 = self.started or _time.perf_counter()
         stochastic, cls = _stochastic_tasks(self.setup)
         if cls is not None:
-            warm_up.start(cls, None, execution.announce)  # a first run's compile, not in every worker
+            warm_up.start(cls, engine_options(DEFAULT_ENGINE), execution.announce)  # a first run's compile, not in every worker
         tasks = stochastic + _moving_force_tasks(self.setup) + _static_tasks(self.setup)
         state = CheckState(responses={}, stochastic={t.name: [] for t in self.setup.stochastic_trains}, t0=t0)
         return RunPlan(files=RunFiles("check", CHECKPOINT, group=self.group), tasks=tasks,

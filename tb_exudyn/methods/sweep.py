@@ -331,10 +331,10 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
 
 
 def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
-                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
-    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
-    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
-    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+                    channels: Sequence[str] | None = None, options: Any = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them (``options``: the
+    engine's): for a method whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, options, None)
     return cls, scenarios
 
 
