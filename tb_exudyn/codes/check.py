@@ -243,7 +243,8 @@ def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) ->
     return (f"PEM of {', '.join(source.track.irregularities)} (track and analysis of {source.name}) on the vehicle "
             f"models of {', '.join(t.name for t in setup.stochastic_trains)}, nominal case, damping "
             f"{100 * setup.zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target "
-            f"probability {DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(setup.track)}")
+            f"probability {DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(setup.track)}"
+            + "".join(f"; {r.train}: {r.grid_error}" for r in runs if r.grid_error))
 
 
 def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceResponse],

@@ -39,6 +39,7 @@ from pathlib import Path
 from typing import Any, Sequence
 
 from ..errors import ScenarioError, SettingError
+from ..results.caveats import can_turn
 from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
 from ..results.sweep import read_checks
@@ -62,6 +63,18 @@ MODE_MARGIN = 1.05
 #: the level at the target within 1e-7 relative (the engine's stated error: 1e-5 of a channel's largest sigma,
 #: docs/speed.md section 1); tests/codes/test_stochastic.py compares the row with the float64 run
 PRECISION = "float32"
+#: the frequency grid's error (PEM's grid-error sweep: about a fifth of a speed's work) is estimated at every
+#: GRID_ERROR_EVERY-th speed of a train, its last speed included (:func:`grid_error_sampled`: the column's
+#: measure of its grid), and at every other speed whose row a grid error of GRID_ERROR_TURN of sigma could turn
+#: (:func:`grid_error_needed`: its PEM is run again with the estimate). The grid error enters a row only as a
+#: caveat that could turn its verdict (``results.caveats.can_turn``: the relative error at least the margin
+#: between the level and the limit), so a row whose margin exceeds GRID_ERROR_TURN is the same with and without
+#: the estimate as long as the grid's error stays below GRID_ERROR_TURN there; the sampled speeds measure it
+#: (li_zhu_2011's 200 linear frequencies, ice_mttm at 30 speeds: at most 0.4 % on the deck channels, 2.6 % on
+#: any channel), and :func:`stochastic_run` warns when they reach half of GRID_ERROR_TURN (the error varies
+#: from speed to speed as the modes' peaks move across the grid's cells: a factor 2 of room)
+GRID_ERROR_EVERY = 5
+GRID_ERROR_TURN = 0.5
 #: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
 #: StochasticValues
 COLUMNS: tuple[str, ...] = tuple(v.name for v in CHECK_RECORD if v.attribute.startswith("stochastic."))
@@ -74,6 +87,21 @@ def engine_options(engine: str) -> Any:
         return None
     # the engines: imported on first use (as _sweep)
     return importlib.import_module("tb_exudyn.engines.batched").BatchedOptions(precision=PRECISION)
+
+
+def grid_error_sampled(i: int, n: int) -> bool:
+    """Whether the ``i``-th of a train's ``n`` speeds estimates its grid error whatever its margin
+    (:data:`GRID_ERROR_EVERY`; the last speed too)."""
+    return i % GRID_ERROR_EVERY == 0 or i == n - 1
+
+
+def grid_error_needed(summary: Any, criterion: str) -> bool:
+    """Whether a grid error of :data:`GRID_ERROR_TURN` could turn the criterion's verdict in a speed's summary
+    (run without the estimate): its level within that fraction of the limit, or not finite."""
+    found = read_checks(summary).get(criterion)
+    if found is None:
+        return True
+    return can_turn(found.estimate, found.limit, GRID_ERROR_TURN) is not False
 
 
 def _sweep() -> Any:
@@ -163,6 +191,8 @@ class StochasticRun:
     values: dict[float, StochasticValues] = field(repr=False)
     warnings: tuple[str, ...] = ()
     seconds: float = 0.0
+    #: what the speeds' grid-error estimates measured ("" when none was made)
+    grid_error: str = ""
 
 
 def speed_key(speed_kmh: float) -> float:
@@ -202,6 +232,7 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
     crit = deck_criterion(track)
     values: dict[float, StochasticValues] = {}
     messages: list[str] = []
+    estimated: list[tuple[float, float]] = []  # (speed, the deciding channel's grid error) where estimated
     for v, s in done:
         found = read_checks(s).get(crit)
         if found is None:  # the channels are the model's (its limit file was read before the work)
@@ -209,6 +240,9 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
                                f"no {crit} row at {v:g} km/h")
         names = [str(c) for c in s["channels"]]
         mean = float(s["max_abs_mean"][names.index(found.channel)]) if found.channel in names else math.nan
+        ge = s.get("grid_error")
+        if ge is not None and found.channel in names and math.isfinite(float(ge[names.index(found.channel)])):
+            estimated.append((float(v), float(ge[names.index(found.channel)])))
         values[speed_key(v)] = StochasticValues(
             p_exceed=found.probability, level_at_target=found.estimate, location=found.channel, mean_acc=mean,
             verdict=found.verdict + (f" ({found.reason})" if found.reason else ""), caveats=found.caveats,
@@ -216,10 +250,27 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
         messages += [str(m) for m in s.get("warnings", ())]
     if seconds is None:
         seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))
-    return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
-                         seconds=seconds)
+    grid, note = _grid_error_note(estimated, len(done))
+    return StochasticRun(train=name or base.name, base=base, values=values,
+                         warnings=tuple(dict.fromkeys(messages + ([note] if note else []))), seconds=seconds,
+                         grid_error=grid)
 
 
-__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "MODE_MARGIN", "PRECISION", "StochasticRun",
-           "base_scenario", "eligible", "engine_options", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+def _grid_error_note(estimated: Sequence[tuple[float, float]], n: int) -> tuple[str, str]:
+    """(what the rows' grid-error estimates measured, a warning when they reach GRID_ERROR_TURN / 2: the speeds
+    without an estimate were judged against GRID_ERROR_TURN)."""
+    if not estimated:
+        return "", ""
+    v, top = max(estimated, key=lambda e: abs(e[1]))
+    text = (f"grid error of the deciding channel estimated at {len(estimated)} of {n} speeds: at most "
+            f"{100 * abs(top):.2g} % (at {v:g} km/h)")
+    if len(estimated) == n or abs(top) < GRID_ERROR_TURN / 2:
+        return text, ""
+    return text, (f"the frequency grid's error reaches {100 * abs(top):.2g} % at {v:g} km/h, more than half of the "
+                  f"{100 * GRID_ERROR_TURN:g} % the speeds without an estimate were judged against (their rows may "
+                  f"miss a grid-error caveat): refine the grid (analysis.n_freq, analysis.freq_spacing = 'adaptive')")
+
+
+__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "GRID_ERROR_EVERY", "GRID_ERROR_TURN", "MODE_MARGIN", "PRECISION",
+           "StochasticRun", "base_scenario", "eligible", "engine_options", "grid_error_needed", "grid_error_sampled", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
            "stochastic_run"]

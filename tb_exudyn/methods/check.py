@@ -39,7 +39,8 @@ import numpy as np
 from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
 from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
-from ..codes.stochastic import CHANNELS, engine_options
+from ..codes.criteria import deck_criterion
+from ..codes.stochastic import CHANNELS, engine_options, grid_error_needed, grid_error_sampled
 from ..codes.trains import ForceTrain
 from ..engines import DEFAULT_ENGINE
 from ..errors import UserError
@@ -89,6 +90,9 @@ class StochasticTask:
     speed: sweep.SpeedTask
     #: how an error of its PEM (e.g. a run this machine cannot hold) says which option's runs
     prefix: str = field(repr=False, default="")
+    #: the deck criterion whose verdict decides whether a speed not sampled estimates its grid error
+    #: (``speed.grid_error`` False: only where :func:`~tb_exudyn.codes.stochastic.grid_error_needed`)
+    criterion: str = ""
 
 
 def response_arrays(resp: MovingForceResponse) -> dict[str, np.ndarray]:
@@ -165,7 +169,10 @@ class CheckWorker:
         if isinstance(data, StaticTask):
             return static_task(data)
         try:
-            return sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            summary = sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            if data.speed.grid_error is False and grid_error_needed(summary, data.criterion):
+                summary = sweep.SpeedWorker().work(None, Task(task.key, dataclasses.replace(data.speed, grid_error=None)))
+            return summary
         except UserError as exc:
             raise prefixed(exc, data.prefix) from None
 
@@ -190,10 +197,11 @@ def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any]:
     for t, train in enumerate(setup.stochastic_trains):
         speeds = setup.run_speeds[train.name]
         cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS, options)
-        for v, sc in zip(speeds, scenarios):
-            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES)
+        for i, (v, sc) in enumerate(zip(speeds, scenarios)):
+            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES,
+                                 grid_error=None if grid_error_sampled(i, len(speeds)) else False)
             tasks.append(Task(f"pem-{t:02d}-{v:.6f}", StochasticTask(train.name, float(v), st, setup.stochastic_prefix(
-                train.name))))
+                train.name), deck_criterion(setup.track))))
     return tasks, cls
 
 

@@ -226,6 +226,9 @@ class SpeedTask:
     keep_psd: bool = False
     overwrite: bool = field(default=False, repr=False)
     keep_checkpoint: bool = field(default=False, repr=False)
+    #: PEM's ``grid_error`` (None: the engine's default; False: not estimated, as the EN 1991-2 check's speeds
+    #: whose verdict it cannot turn)
+    grid_error: bool | None = None
 
 
 #: the column slices of a speed's PEM in a sweep: one. A speed is one worker's task, so slices there
@@ -250,7 +253,7 @@ class SpeedWorker:
         with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
             warnings.simplefilter("always")
             result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
-                             least_count=st.scenario.analysis.freq_spacing == "adaptive")
+                             least_count=st.scenario.analysis.freq_spacing == "adaptive", grid_error=st.grid_error)
         summary = speed_summary(result)
         seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
                               f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)

@@ -147,6 +147,48 @@ def test_the_scenario_is_the_checks_bridge_the_trains_vehicles_and_the_named_tra
     assert "HSLM-A1" not in result.stochastic_scenarios
 
 
+def test_a_speed_not_sampled_estimates_its_grid_error_only_where_it_could_turn_the_row(result, row, pem, monkeypatch,
+                                                                                     tmp_path):
+    """The check estimates the grid error at every GRID_ERROR_EVERY-th speed; another speed runs its PEM without
+    the estimate and again with it when a grid error of GRID_ERROR_TURN could turn its row. Here the row's margin
+    (limit 3.5 m/s^2 against a level of about 0.9) is far above 50 %: the speed as a non-sampled task gives the
+    same row to the bit (sigma and mean do not depend on the estimate, which only adds a caveat) and no grid error
+    (NaN). With GRID_ERROR_TURN raised to 1e9 every row could turn: the worker runs the speed again with the
+    estimate, whose grid error equals run_pem's (same path: SAME_PATH) and whose sigma is the first run's bitwise."""
+    import dataclasses
+    import numpy as np
+    from tb_exudyn.codes.check_plan import plan_check
+    from tb_exudyn.execution import Task
+    from tb_exudyn.methods import check as method
+    from tb_exudyn.methods import sweep
+
+    path = tmp_path / "one_car.toml"
+    path.write_text(f'name = "{TRAIN}"\ndescription = "one ICE motor car"\n[[cars]]\nvehicle = "ice_motor"\n')
+    setup = plan_check("single_span_32m", 250.0, trains=[str(path)], cases=["nominal"], stochastic=True,
+                       stochastic_speeds=[SPEED], stochastic_scenario="quick")
+    (task,), _ = method._stochastic_tasks(setup)
+    assert task.data.speed.grid_error is None  # the only speed is sampled (the first and the last)
+    task = Task(task.key, dataclasses.replace(task.data, speed=dataclasses.replace(task.data.speed, grid_error=False)))
+    runs = []
+    real = sweep.SpeedWorker.work
+    monkeypatch.setattr(sweep.SpeedWorker, "work", lambda self, m, t: runs.append(real(self, m, t)) or runs[-1])
+    plain = method.CheckWorker().work(None, task)
+    assert len(runs) == 1 and np.isnan(plain["grid_error"]).all()
+    one = stoch.stochastic_run(result.stochastic_scenarios[TRAIN], [(SPEED, plain)], "ballasted", TRAIN).values
+    (values,) = one.values()
+    assert (values.p_exceed, values.level_at_target, values.location) == (
+        row["p_exceed"], row["level_at_target"], row["stochastic_location"])
+
+    monkeypatch.setattr(stoch, "GRID_ERROR_TURN", 1e9)
+    full = method.CheckWorker().work(None, task)
+    assert len(runs) == 3 and np.array_equal(runs[1]["max_sigma"], full["max_sigma"])
+    assert np.array_equal(plain["max_sigma"], full["max_sigma"]) and np.array_equal(plain["max_abs_mean"], full["max_abs_mean"])
+    names = [str(c) for c in full["channels"]]
+    i = names.index(row["stochastic_location"])
+    assert full["grid_error"][i] == pytest.approx(sweep.grid_errors(pem)[pem.index(row["stochastic_location"])],
+                                                  rel=SAME_PATH, abs=1e-12)
+
+
 def test_the_pem_warnings_are_in_the_result(result, pem):
     """The damping guard's warning on the bridge's first mode (1 % damping: decay time 3.1 s, longer than
     the 2.1 s run) is in the result's warnings, naming the speed."""
