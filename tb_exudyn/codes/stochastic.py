@@ -74,7 +74,7 @@ PRECISION = "float32"
 #: any channel), and :func:`stochastic_run` warns when they reach half of GRID_ERROR_TURN (the error varies
 #: from speed to speed as the modes' peaks move across the grid's cells: a factor 2 of room)
 GRID_ERROR_EVERY = 5
-GRID_ERROR_TURN = 0.5
+GRID_ERROR_TURN = 0.25
 #: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
 #: StochasticValues
 COLUMNS: tuple[str, ...] = tuple(v.name for v in CHECK_RECORD if v.attribute.startswith("stochastic."))

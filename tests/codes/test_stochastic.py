@@ -151,7 +151,7 @@ def test_a_speed_not_sampled_estimates_its_grid_error_only_where_it_could_turn_t
                                                                                      tmp_path):
     """The check estimates the grid error at every GRID_ERROR_EVERY-th speed; another speed runs its PEM without
     the estimate and again with it when a grid error of GRID_ERROR_TURN could turn its row. Here the row's margin
-    (limit 3.5 m/s^2 against a level of about 0.9) is far above 50 %: the speed as a non-sampled task gives the
+    (limit 3.5 m/s^2 against a level of about 0.9) is far above 25 %: the speed as a non-sampled task gives the
     same row to the bit (sigma and mean do not depend on the estimate, which only adds a caveat) and no grid error
     (NaN). With GRID_ERROR_TURN raised to 1e9 every row could turn: the worker runs the speed again with the
     estimate, whose grid error equals run_pem's (same path: SAME_PATH) and whose sigma is the first run's bitwise."""
