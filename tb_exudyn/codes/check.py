@@ -28,6 +28,7 @@ import numpy as np
 from ..atomic import write_text_atomic
 from ..errors import SettingError
 from ..execution import Execution
+from ..execution.threads import single_threaded_blas
 from ..results.check_records import CheckRecord, check_dataset, record_columns, records_csv
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge  # noqa: F401 - the check's bridges (tests read them here)
@@ -389,16 +390,21 @@ def check(
     execution_args = dict(executor=executor, out=out, resume=resume, progress=progress, where=where,
                           overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     Execution(workers=workers, **execution_args)  # its arguments checked first (nothing is touched)
-    setup = plan_check(bridge, line_speed_kmh, trains=trains, track=track, construction=construction,
-                       additional_damping=additional_damping, damping_ratio=damping_ratio, maintenance=maintenance,
-                       speed_step_kmh=speed_step_kmh, cases=cases, where=where, stochastic=stochastic,
-                       stochastic_speeds=stochastic_speeds, stochastic_scenario=stochastic_scenario,
-                       interaction=interaction, alpha=alpha)
-    if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
-        workers = 1
-    method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
-        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
-    return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers, **execution_args))
+    # one BLAS thread here too, as in every worker: the plan's eigenproblems (the mass cases' modes, the PEM
+    # model's) are small, and a multi-threaded OpenBLAS let its threads spin on them: li_zhu_2011_bridge with
+    # ice_mttm's stochastic column planned in 16 CPU-s instead of 0.8 (2 cores, measured under load 15)
+    with single_threaded_blas():
+        setup = plan_check(bridge, line_speed_kmh, trains=trains, track=track, construction=construction,
+                           additional_damping=additional_damping, damping_ratio=damping_ratio, maintenance=maintenance,
+                           speed_step_kmh=speed_step_kmh, cases=cases, where=where, stochastic=stochastic,
+                           stochastic_speeds=stochastic_speeds, stochastic_scenario=stochastic_scenario,
+                           interaction=interaction, alpha=alpha)
+        if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
+            workers = 1
+        method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
+            setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
+        return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers,
+                                                                                           **execution_args))
 
 
 __all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
