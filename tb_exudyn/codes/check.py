@@ -49,8 +49,10 @@ CHECK_CSV = "check.csv"
 CHECK_FIGURE = "check.png"
 #: the check's HTML page (tb_exudyn.report.check)
 CHECK_PAGE = "check.html"
+#: the check's typed records as NetCDF (``CheckResult.to_xarray()``; ``tb-exudyn check --netcdf``)
+CHECK_DATA = "check.nc"
 #: every file a check writes into its output folder, in the order they are written
-CHECK_FILES = (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE)
+CHECK_FILES = (CHECK_CSV, CHECK_DATA, CHECK_FIGURE, CHECK_PAGE)
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 
@@ -407,5 +409,5 @@ def check(
                                                                                            **execution_args))
 
 
-__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
+__all__ = ["CHECK_CSV", "CHECK_DATA", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
            "table_files"]
