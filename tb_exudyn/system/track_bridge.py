@@ -165,12 +165,10 @@ def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN
     dofs = track_dofs(structure, n, on, scenario_lateral(sc))
     if dofs > MAX_TRACK_DOFS:
         most = MAX_TRACK_DOFS * n * structure.spacing / dofs
-        raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,
-                            f"a run whose rails (lead-in, bridge, train, run-out and {MARGIN_BAYS} sleeper bays at "
-                            f"each end) are at most about {most:.0f} m long with track.structure (or shorter rails: "
-                            f"track.structure_approach)",
-                            f"the track under the run is {n * structure.spacing:.0f} m long: {dofs} DOFs before its "
-                            f"modal reduction, more than {MAX_TRACK_DOFS}")
+        raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,  # one line within 200 characters
+                            f"rails up to about {most:.0f} m, or a track.structure_approach",
+                            f"{n * structure.spacing:.0f} m of rails under the run: {dofs} DOFs, more than "
+                            f"{MAX_TRACK_DOFS}")
     return structure, x0, n
 
 
