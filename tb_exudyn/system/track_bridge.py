@@ -178,10 +178,29 @@ def scenario_track(scenario, deck: ModalBridge) -> TrackBridge:  # noqa: ANN001 
     structure, x0, n = scenario_extent(scenario)
     stations = {k: x for k, x in station_positions(deck.station_names, getattr(scenario.bridge, "spans", (deck.length,))).items()
                 if k in deck.station_names}
-    return track_and_deck(structure, deck, x0, n, scenario.track.half_gauge,
-                          max_frequency=scenario.analysis.track_mode_max_frequency,
-                          stations=stations, lateral=scenario_lateral(scenario),
-                          cut=scenario.track.structure_approach > 0.0)
+    args = (structure, x0, n, scenario.track.half_gauge, scenario.analysis.track_mode_max_frequency,
+            tuple(stations.items()), scenario_lateral(scenario), scenario.track.structure_approach > 0.0)
+    key = (args, _deck_key(deck, x0 + (np.arange(n) + 0.5) * structure.spacing))
+    last = _LAST.get("track")
+    if last is not None and last[0] == key:  # the same track on the same deck: its modes solved once per process
+        return last[1]
+    track = track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, max_frequency=args[4],
+                           stations=stations, lateral=args[6], cut=args[7])
+    _LAST["track"] = (key, track)
+    return track
+
+
+#: the last track solved in this process (a run builds its model several times: the analysis, the engine, the
+#: mean; the track's eigen-solution is most of a build: 45 s of CPU for li_zhu_2011's 5178 DOFs)
+_LAST: dict = {}
+
+
+def _deck_key(deck: ModalBridge, xs: np.ndarray) -> tuple:
+    """What the track takes of a deck: its modes, damping, stations and rail-level shapes at the supports."""
+    rs = deck.rail_shapes(xs)
+    arrays = (deck.frequencies, deck.damping_ratios, deck.station_shapes, rs.y, rs.z, rs.rx)
+    return (deck.description, deck.length, deck.track, deck.station_names, deck.mode_types) + tuple(
+        (np.asarray(a).shape, np.asarray(a).tobytes()) for a in arrays)
 
 
 @dataclass(frozen=True)
