@@ -224,6 +224,9 @@ class SpeedTask:
     keep_psd: bool = False
     overwrite: bool = field(default=False, repr=False)
     keep_checkpoint: bool = field(default=False, repr=False)
+    #: PEM's ``grid_error`` (None: the engine's default; False: not estimated, as the EN 1991-2 check's speeds
+    #: whose verdict it cannot turn)
+    grid_error: bool | None = None
 
 
 #: the column slices of a speed's PEM in a sweep: one. A speed is one worker's task, so slices there
@@ -248,7 +251,7 @@ class SpeedWorker:
         with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
             warnings.simplefilter("always")
             result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
-                             least_count=st.scenario.analysis.freq_spacing == "adaptive")
+                             least_count=st.scenario.analysis.freq_spacing == "adaptive", grid_error=st.grid_error)
         summary = speed_summary(result)
         seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
                               f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)
@@ -328,10 +331,10 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
 
 
 def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
-                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
-    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
-    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
-    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+                    channels: Sequence[str] | None = None, options: Any = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them (``options``: the
+    engine's): for a method whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, options, None)
     return cls, scenarios
 
 
