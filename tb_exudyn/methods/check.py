@@ -6,9 +6,14 @@ method with :func:`~tb_exudyn.methods.driver.drive`, so that the check's work go
 does: in this process, a local process pool (``workers``) or an executor (Dask), with a checkpoint in the
 output folder and ``resume``. The tasks, in reduction order:
 
+- one :class:`InteractionTask` per train of the interaction runs (``interaction=True``): its moving forces in
+  the reference mass case again (the speed of their largest mid-span peak) and its Exudyn run with
+  interaction there (:func:`tb_exudyn.codes.interaction.check_comparison`); the longest tasks, first;
 - one :class:`StochasticTask` per train given as vehicle models and speed of its stochastic rows: the
-  speed's whole PEM, as a speed sweep's :class:`~tb_exudyn.methods.sweep.SpeedTask` (its summary); the
-  heaviest tasks, first, so that the pool's last tasks are short ones;
+  speed's whole PEM, as a speed sweep's :class:`~tb_exudyn.methods.sweep.SpeedTask` (its summary; the columns
+  in float32 and the grid error estimated at every GRID_ERROR_EVERY-th speed, elsewhere only where it could
+  turn the row: :mod:`tb_exudyn.codes.stochastic`); the heaviest tasks, first, so that the pool's last tasks
+  are short ones;
 - one :class:`StaticTask` per set of static load models (LM71, SW/0 on a continuous girder; LM71 alone for
   the comfort criterion there): :func:`~tb_exudyn.codes.deformation.static_deformations` (EN 1990 A2.4.4's
   deformation criteria);
