@@ -252,7 +252,7 @@ def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) ->
 
 def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceResponse],
               stochastic: dict[str, list[tuple[float, dict[str, Any]]]], stats: dict[str, Any], t0: float,
-              static: dict | None = None) -> CheckResult:
+              static: dict | None = None, interaction: dict | None = None) -> CheckResult:
     """The CheckResult of the check's tasks (tb_exudyn.methods.check): the rows of every (case, train) in that
     order, the stochastic values in the nominal case's rows, the A2.4.4 verdicts, the interaction runs."""
     rows, ordered = [], []
@@ -268,8 +268,8 @@ def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceRes
     messages = [m for run in runs for m in run.warnings]
     m = setup.modes[setup.ref_case]
     mb, used, cutoff = m.modal, m.used, m.cutoff
-    inter = vbi.check_rows(setup.bridge, setup.interaction_trains, rows, setup.zeta_vehicles, cutoff,
-                           setup.ref_case) if setup.interaction_trains else ()
+    inter = tuple(vbi.comparison_of((interaction or {})[t.name], setup.bridge, t, setup.zeta_vehicles, cutoff,
+                                    setup.ref_case) for t in setup.interaction_trains)  # the driver's tasks
     verdicts = a2_verdicts(setup.bridge, setup.line_speed_kmh, setup.track, setup.maintenance, mb, rows, ordered,
                            setup.cases, [t.name for t in setup.trains], setup.limit, setup.alpha, setup.alpha_given,
                            static=static)
@@ -370,7 +370,8 @@ def check(
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
     interaction : per train given as vehicle models, its vehicle-bridge interaction run beside its moving forces
-        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_rows`; one Exudyn run per train)
+        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_comparison`; one Exudyn run per train, a
+        task of the check's method: :class:`tb_exudyn.methods.check.InteractionTask`)
     workers, executor, progress : how the check's tasks run (:class:`tb_exudyn.execution.Execution`: one task
         per mass case and train, one per stochastic speed; :mod:`tb_exudyn.methods.check`); workers None: all
         cores, or this process for a check whose integrations are small (:data:`IN_PROCESS_WORK`). The

@@ -271,3 +271,32 @@ def test_speeds_sharing_a_task_label_run_in_separate_sweeps(monkeypatch):
     run = stoch.run_stochastic(load_scenario("quick"), [250.0, 250.0001, 260.0], "ballasted")
     assert calls == [[250.0, 260.0], [250.0001]]
     assert {k: v.level_at_target for k, v in run.values.items()} == {250.0: 2.5, 250.0001: 2.500001, 260.0: 2.6}
+
+
+def test_the_column_states_its_grid_error_estimates_and_warns_when_they_come_near_the_turn():
+    """stochastic_run on three speeds' summaries (made here: the deck criterion at its channel, a grid error on
+    two, NaN on the third, which ran without the estimate): the column states the largest estimate and where
+    (2 of 3 speeds); at 0.2 of sigma (>= GRID_ERROR_TURN / 2 = 0.125) it warns that the speed without an
+    estimate may miss a caveat, at 0.01 it does not; with every speed estimated no warning whatever the value
+    (each row carries its own caveat then)."""
+    import numpy as np
+
+    from tb_exudyn.results.sweep import CriterionValues, checks_text
+
+    channel = "bridge.span1.mid.acc_z_en1990"
+
+    def summary(v, ge):
+        crit = {"en1990_deck/deck_acc_ballasted": CriterionValues(math.nan, 1e-9, 1.0, 3.5, "m/s^2", channel, "OK")}
+        return {"checks": np.array(checks_text(crit)), "channels": np.array([channel]), "max_abs_mean": np.array([0.1]),
+                "n_freq": np.array(7), "warnings": np.array([], dtype=str), "grid_error": np.array([ge]),
+                "seconds": np.array(1.0)}
+
+    base = load_scenario("quick")
+    run = stoch.stochastic_run(base, [(250.0, summary(250.0, 0.01)), (260.0, summary(260.0, math.nan)),
+                                      (270.0, summary(270.0, 0.2))], "ballasted")
+    assert run.grid_error == "grid error of the deciding channel estimated at 2 of 3 speeds: at most 20 % (at 270 km/h)"
+    assert any("reaches 20 % at 270 km/h" in w and "25 %" in w for w in run.warnings)
+    quiet = stoch.stochastic_run(base, [(250.0, summary(250.0, 0.01)), (260.0, summary(260.0, math.nan))], "ballasted")
+    assert quiet.grid_error.endswith("at most 1 % (at 250 km/h)") and not quiet.warnings
+    every = stoch.stochastic_run(base, [(250.0, summary(250.0, 0.3))], "ballasted")
+    assert "1 of 1 speeds" in every.grid_error and not every.warnings

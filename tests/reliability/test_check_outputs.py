@@ -386,3 +386,18 @@ def test_netcdf_writes_the_typed_records_with_the_group_and_a_check_without_it_r
     assert [float(r["max_deck_acc_z"]) for r in rows] == [float(v) for v in ds["max_deck_acc_z"].values]
     assert main(argv(out, "--no-figures", "--overwrite")) == 0
     assert sorted(p.name for p in out.iterdir()) == ["check.csv", "check.html"]
+
+
+def test_netcdf_without_its_packages_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
+    """--netcdf with h5netcdf missing (find_spec made to say so): exit 2, one line naming --netcdf and the extra to
+    install, before the analysis (the integration never runs) and with --out not made."""
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "h5netcdf" else real(name, *a))
+    monkeypatch.setattr(method_module, "moving_force_response", lambda *a, **k: pytest.fail("the analysis ran"))
+    out = tmp_path / "out"
+    assert main(argv(out, "--netcdf")) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--netcdf" in err and 'pip install "tb_exudyn[netcdf]"' in err, err
+    assert not out.exists()
