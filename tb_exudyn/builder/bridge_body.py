@@ -4,10 +4,12 @@ Two forms of the same equations:
 
 - ``variant="generic"`` (default): one ``NodeGenericODE2`` with the n modal coordinates and an
   ``ObjectGenericODE2`` with M = I, K = diag(omega^2), D = diag(2 zeta omega) as sparse matrices.
-  This is the fixed-frame form of a reduced floating-frame (FFRF) body; it is several times faster
+  With a track (``ModalBridge.coupled_damping``: the pads' and the ballast's dampers) D is that full
+  matrix. This is the fixed-frame form of a reduced floating-frame (FFRF) body; it is several times faster
   than ``ObjectFFRFreducedOrder`` because it has no reference-frame terms.
 - ``variant="ffrf"``: an ``ObjectFFRFreducedOrder`` with a rigid-body reference node fixed to the
-  ground (six coordinate constraints) and the same modal node and matrices; its mesh is the
+  ground (six coordinate constraints) and the same modal node and matrices (the damping, too, the full
+  matrix where the bridge has one: ``ModalBridge.coupled_damping``); its mesh is the
   finite-element nodes with their translational mode shapes (visualisation, cross-checks). It
   needs a ModalBridge from the finite-element model (``node_positions``, ``node_shapes``,
   ``node_masses``). The reference-frame inertia terms (mass, inertia, mPsiTildePsi, ...) are
@@ -168,7 +170,7 @@ def _add_ffrf(mbs: exu.MainSystem, bridge: ModalBridge, name: str, show: bool) -
     obj = mbs.AddObject(ei.ObjectFFRFreducedOrder(
         name=name, nodeNumbers=[ref, node],
         massMatrixReduced=_diagonal(np.ones(n)), stiffnessMatrixReduced=_diagonal(om**2),
-        dampingMatrixReduced=_diagonal(2.0 * bridge.damping_ratios * om),
+        dampingMatrixReduced=_damping(bridge),
         modeBasis=t.mode_basis, referencePositions=t.reference_positions,
         mass=t.mass, inertia=t.inertia, centerOfMass=t.center_of_mass,
         mPsiTildePsi=t.m_psi_tilde_psi, mPsiTildePsiTilde=t.m_psi_tilde_psi_tilde,

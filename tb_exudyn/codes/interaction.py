@@ -194,8 +194,8 @@ def check_trains(trains: Sequence[ForceTrain], asked: Any, err: Callable[..., Ex
         return []
     chosen = [t for t in trains if t.vehicles]
     if not chosen:
-        raise err("interaction", [t.name for t in trains], "trains given as vehicle models among the trains (ice_mttm, "
-                  "ave_s103 or a train .toml file of vehicles): HSLM trains are moving forces",
+        raise err("interaction", [t.name for t in trains], "a train of vehicle models (ice_mttm, ave_s103, a train "
+                  ".toml of vehicles): HSLM trains are moving forces",
                   "no train for the interaction rows")
     return chosen
 

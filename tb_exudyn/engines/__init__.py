@@ -15,15 +15,12 @@ from __future__ import annotations
 import importlib
 from typing import Any
 
-from ..errors import CapabilityError, SettingError
+from ..errors import SettingError
 from ..scenario.model import LINEAR_ROW_KINDS
 
 #: the engine a method runs on when none is given (``run_pem``, ``run_monte_carlo``, ``simulate``, the
 #: sweep, the command line's ``--engine``); the deterministic run is always Exudyn's
 DEFAULT_ENGINE = "batched"
-#: the engines that run a scenario with a track layer (``track.structure``, docs/track.md); the Exudyn engine's
-#: per-column runs of it are not built (its deterministic run and a linear engine's Exudyn mean are)
-TRACK_ENGINES = ("dense", "batched")
 #: name -> (module, class) of every engine
 ENGINES: dict[str, tuple[str, str]] = {
     "exudyn": ("tb_exudyn.engines.exudyn", "ExudynEngine"),
@@ -47,9 +44,6 @@ def check_engine(name: str, scenario: Any, options: Any = None, *, linearized: b
     ``linearized``: the method runs the engine's linear form where it has one (PEM); a Monte Carlo
     on a full-model engine linearises nothing, so ``analysis.linearization`` does not apply there."""
     cls = engine_class(name, where)
-    if getattr(scenario.track, "structure", "") and name not in TRACK_ENGINES:
-        raise CapabilityError(f"engine {name!r}", "engine", name, " or ".join(map(repr, TRACK_ENGINES))
-                              + " with track.structure", f"the {name} engine does not model the track layer yet")
     if linearized or not cls.full_model:
         others = [(n, engine_class(n)) for n in ENGINES if n != name]
         lin = scenario.analysis.linearization
@@ -66,4 +60,4 @@ def make_engine(name: str, scenario: Any, options: Any = None, wheel_forces: boo
     return cls(scenario, options, wheel_forces) if system is None else cls(scenario, options, wheel_forces, system)
 
 
-__all__ = ["DEFAULT_ENGINE", "ENGINES", "TRACK_ENGINES", "check_engine", "engine_class", "make_engine"]
+__all__ = ["DEFAULT_ENGINE", "ENGINES", "check_engine", "engine_class", "make_engine"]

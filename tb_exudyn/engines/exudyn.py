@@ -6,6 +6,12 @@ working amplitude ``analysis.pem_amplitude`` (Exudyn's Newton was seen to stop e
 pseudo-amplitude: y~ = (y_cos + i y_sin) a_k / A. A sampled profile (Monte Carlo) is one run of the
 full model with gravity from static equilibrium on the sampled track: the sample itself, mean included
 (``full_model``). The runs reuse the built model: only the excitation and the initial state change.
+
+A scenario with a track layer (``track.structure``, docs/track.md) runs unchanged: the builder's bridge
+body is then the track and the deck as one modal body (:mod:`tb_exudyn.system.track_bridge`), an
+ObjectGenericODE2 with M = I, K = diag(omega^2) and the track's full damping matrix Phi^T C Phi
+(:mod:`tb_exudyn.builder.bridge_body`), and the one contact object reads the rails' mode shapes at the
+wheels through the same coupling the linear engines linearise.
 """
 
 from __future__ import annotations

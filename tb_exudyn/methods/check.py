@@ -39,7 +39,8 @@ import numpy as np
 from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
 from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
-from ..codes.stochastic import CHANNELS
+from ..codes.criteria import deck_criterion
+from ..codes.stochastic import CHANNELS, engine_options, grid_error_needed, grid_error_sampled
 from ..codes.trains import ForceTrain
 from ..engines import DEFAULT_ENGINE
 from ..errors import UserError
@@ -89,6 +90,9 @@ class StochasticTask:
     speed: sweep.SpeedTask
     #: how an error of its PEM (e.g. a run this machine cannot hold) says which option's runs
     prefix: str = field(repr=False, default="")
+    #: the deck criterion whose verdict decides whether a speed not sampled estimates its grid error
+    #: (``speed.grid_error`` False: only where :func:`~tb_exudyn.codes.stochastic.grid_error_needed`)
+    criterion: str = ""
 
 
 def response_arrays(resp: MovingForceResponse) -> dict[str, np.ndarray]:
@@ -165,7 +169,10 @@ class CheckWorker:
         if isinstance(data, StaticTask):
             return static_task(data)
         try:
-            return sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            summary = sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            if data.speed.grid_error is False and grid_error_needed(summary, data.criterion):
+                summary = sweep.SpeedWorker().work(None, Task(task.key, dataclasses.replace(data.speed, grid_error=None)))
+            return summary
         except UserError as exc:
             raise prefixed(exc, data.prefix) from None
 
@@ -186,14 +193,15 @@ class CheckState:
 def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any]:
     """The stochastic rows' tasks (each speed's scenario checked, as a sweep's plan checks them) and the
     engine class (None without them)."""
-    tasks, cls = [], None
+    tasks, cls, options = [], None, engine_options(DEFAULT_ENGINE)
     for t, train in enumerate(setup.stochastic_trains):
         speeds = setup.run_speeds[train.name]
-        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS)
-        for v, sc in zip(speeds, scenarios):
-            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, None, None, False, sweep.SWEEP_SLICES)
+        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS, options)
+        for i, (v, sc) in enumerate(zip(speeds, scenarios)):
+            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES,
+                                 grid_error=None if grid_error_sampled(i, len(speeds)) else False)
             tasks.append(Task(f"pem-{t:02d}-{v:.6f}", StochasticTask(train.name, float(v), st, setup.stochastic_prefix(
-                train.name))))
+                train.name), deck_criterion(setup.track))))
     return tasks, cls
 
 
@@ -224,7 +232,7 @@ def _identity(setup: CheckSetup) -> dict[str, Any]:
     stochastic rows' scenarios (with the package versions and tb_exudyn's source)."""
     return fingerprint_identity(
         repr(setup.bridge), method="en1991_check", engine="moving_force" + ("+" + DEFAULT_ENGINE if setup.bases else ""),
-        engine_options={},
+        engine_options={"stochastic": repr(engine_options(DEFAULT_ENGINE))} if setup.bases else {},
         method_options={"setup": repr(setup), "trains": [repr(t) for t in setup.trains],
                         "series": {k: list(v) for k, v in setup.series.items()},
                         "stochastic": {k: repr(v) for k, v in setup.bases.items()},
@@ -251,7 +259,7 @@ class CheckMethod:
         t0 = self.started or _time.perf_counter()
         stochastic, cls = _stochastic_tasks(self.setup)
         if cls is not None:
-            warm_up.start(cls, None, execution.announce)  # a first run's compile, not in every worker
+            warm_up.start(cls, engine_options(DEFAULT_ENGINE), execution.announce)  # a first run's compile, not in every worker
         tasks = stochastic + _moving_force_tasks(self.setup) + _static_tasks(self.setup)
         state = CheckState(responses={}, stochastic={t.name: [] for t in self.setup.stochastic_trains}, t0=t0)
         return RunPlan(files=RunFiles("check", CHECKPOINT, group=self.group), tasks=tasks,

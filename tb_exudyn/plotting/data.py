@@ -164,6 +164,14 @@ def default_channels(result: Result) -> list[str]:
     return keep or list(names)
 
 
+def pattern_channels(result: Result) -> list[str]:
+    """The channels of :func:`default_channels` known without the result's code checks (those of
+    :func:`default_patterns`), in stored order: a run draws their figures while it computes the checks."""
+    names = channel_names(result)
+    pats = [p for _, group in default_patterns(names) for p in group]
+    return [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
+
+
 #: The default figure channels of the reference study's layout (kept for callers of the old name;
 #: :func:`default_patterns` adapts the bridge's middle span to the bridge at hand).
 KEY_CHANNELS: tuple[str, ...] = tuple(p for _, g in default_patterns(["bridge.span2.mid.acc_z", "bridge.span1.mid.acc_z",

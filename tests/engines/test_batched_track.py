@@ -19,15 +19,21 @@ K0 (or inverts it once) and solves the contacts by Woodbury, where the dense eng
 matrix at every step. Tolerance: the issue's 1e-9 of each channel's largest sigma (sigma(t)^2 the sum of
 |Y|^2 over the columns), far above the round-off (measured 1.5e-13 in the eigenbasis, 2.6e-14 without)
 and far below any modelling difference (the modal damping's diagonal alone moves the force by 18 %).
+
+The tests at the end run a scenario naming a track structure through the methods (PEM, Monte Carlo) on
+the batched, the dense and the Exudyn engine (the reference: the track and the deck one ObjectGenericODE2
+with the full damping matrix), each run once and shared (``_pem``, ``_monte_carlo``).
 """
 
 from __future__ import annotations
+
+import functools
 
 import numpy as np
 import pytest
 
 from tb_exudyn.engines.batched import BatchedEngine, BatchedOptions
-from tb_exudyn.engines.dense import DenseEngine
+from tb_exudyn.engines.dense import DenseEngine, DenseOptions
 from tb_exudyn.scenario.track_structure import load_track_structure
 from tb_exudyn.structure import simply_supported_modes
 from tb_exudyn.system.channels import Channel, output_map
@@ -169,46 +175,147 @@ def _track_scenario():  # noqa: ANN202
                                                                        "bridge.span1.mid.*"))).replace(speed_kmh=180.0)
 
 
-def _agree(got, ref) -> float:  # noqa: ANN001
-    """The largest difference of sigma(t) over the channels a random input reaches, relative to the channel's
-    largest sigma (the others, zero or round-off of 1e-16 on both, below 1e-12); the means as well."""
-    assert got.channel_names == ref.channel_names and len(ref.channel_names) > 10
-    assert any(n.startswith("track.") for n in ref.channel_names)
-    scale = ref.std.max(axis=1)
-    live = scale > 1e-12
-    assert live.sum() > 10 and np.all(got.std[~live] < 1e-12)
-    # both means Exudyn's deterministic run (the same up to its own round-off)
-    mean = np.abs(ref.mean).max(axis=1)
-    assert np.all(np.abs(got.mean - ref.mean).max(axis=1)[live] <= 1e-9 * mean[live])
-    return float((np.abs(got.std - ref.std)[live].max(axis=1) / scale[live]).max())
+#: PEM's grid on the scenario: 24 and 48 Hz (linear, the band's ends included), in the band where the track and
+#: the point contact differ (20-50 Hz, below the P2 resonance near 50 Hz); the spectrum's band (wavelengths
+#: 1-120 m) ends at 50 Hz at 180 km/h
+PEM_BAND = {"freq_min": 24.0, "freq_max": 48.0, "n_freq": 2}
 
 
-def test_monte_carlo_of_a_scenario_with_a_track_on_both_linear_engines():
-    """The scenario below, Monte Carlo with 2 samples (the same seed: the same profiles) on both engines:
-    sigma over the samples within 1e-9 of each channel's largest (measured 1.2e-13 with 4 samples)."""
+@functools.lru_cache(maxsize=None)
+def _pem(engine: str):  # noqa: ANN202
+    """PEM of the track scenario on ``engine``, once per session (shared by the tests below): the dense engine
+    with its linear mean (DenseOptions(mean="linear")), the others with their default options (the batched
+    engine's mean is then Exudyn's deterministic run: its linear mean needs every axle off the body at t = 0)."""
+    import warnings
+
+    from tb_exudyn import run_pem
+
+    sc = _track_scenario()
+    sc = sc.replace(analysis=sc.analysis.replace(**PEM_BAND))
+    options = DenseOptions(mean="linear") if engine == "dense" else None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return run_pem(sc, engine=engine, options=options, workers=1, progress=False, psd_channels="all")
+
+
+@functools.lru_cache(maxsize=None)
+def _monte_carlo(engine: str):  # noqa: ANN202
+    """Monte Carlo of the track scenario with 2 samples (seed 3: the same profiles on every engine), once."""
     import warnings
 
     from tb_exudyn import run_monte_carlo
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        got, ref = (run_monte_carlo(_track_scenario(), engine=e, n_samples=2, workers=1, progress=False)
-                    for e in ("batched", "dense"))
-    assert _agree(got, ref) < 1e-9
+        return run_monte_carlo(_track_scenario(), engine=engine, n_samples=2, seed=3, workers=1, progress=False)
+
+
+def _live(ref) -> np.ndarray:  # noqa: ANN001
+    """The channels a random input reaches (the others, zero or round-off of 1e-16, below 1e-12)."""
+    assert len(ref.channel_names) > 10 and any(n.startswith("track.") for n in ref.channel_names)
+    live = ref.std.max(axis=1) > 1e-12
+    assert live.sum() > 10
+    return live
+
+
+def _agree(got, ref, mean: float = 1e-9) -> float:  # noqa: ANN001
+    """The largest difference of sigma(t) over the channels a random input reaches, relative to the channel's
+    largest sigma (the others below 1e-12 on both); the means within ``mean`` of each channel's largest."""
+    assert got.channel_names == ref.channel_names and np.array_equal(got.time, ref.time)
+    live = _live(ref)
+    assert np.all(got.std[~live] < 1e-12)
+    largest = np.abs(ref.mean).max(axis=1)
+    assert np.all(np.abs(got.mean - ref.mean).max(axis=1)[live] <= mean * largest[live])
+    return float((np.abs(got.std - ref.std)[live].max(axis=1) / ref.std.max(axis=1)[live]).max())
+
+
+def test_monte_carlo_of_a_scenario_with_a_track_on_both_linear_engines():
+    """The scenario below, Monte Carlo with 2 samples (the same seed: the same profiles) on both engines:
+    sigma over the samples within 1e-9 of each channel's largest (measured 1.2e-13 with 4 samples); the
+    means both Exudyn's deterministic run plus the samples' mean deviation."""
+    assert _agree(_monte_carlo("batched"), _monte_carlo("dense")) < 1e-9
 
 
 def test_pem_of_a_scenario_with_a_track_on_both_linear_engines():
     """A scenario naming a track structure (the builder's track and deck as one modal body,
     tb_exudyn.system.track_bridge, the body's rail longer than the bridge: ModalBridge.carries): the Yang & Yau
-    sprung mass at 180 km/h over a 10 m span, ballasted_uic60, 6 m of approach, PEM with 2 frequencies on
-    the batched and on the dense engine (both means Exudyn's run: the batched engine's linear mean needs every
-    axle off the body at t = 0). Reference: the dense engine. Tolerance 1e-9 of each channel's largest sigma,
-    as above: the same linear model and step, round-off apart (measured 1.5e-13)."""
-    import warnings
+    sprung mass at 180 km/h over a 10 m span, ballasted_uic60, 6 m of approach, PEM at 24 and 48 Hz on
+    the batched and on the dense engine. Reference: the dense engine. Tolerance 1e-9 of each channel's largest
+    sigma, as above: the same linear model and step, round-off apart (measured 1.5e-13). The means differ
+    (the dense engine's linear mean against Exudyn's run): the next test."""
+    assert _agree(_pem("batched"), _pem("dense"), mean=np.inf) < 1e-9
 
-    from tb_exudyn import run_pem
 
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        got, ref = (run_pem(_track_scenario(), engine=e, workers=1, progress=False) for e in ("batched", "dense"))
-    assert _agree(got, ref) < 1e-9
+def _groups(names) -> dict[str, np.ndarray]:  # noqa: ANN001
+    """The channel groups of the acceptance: the deck, the track (rail, sleeper, pad, ballast), the contact force."""
+    names = np.asarray(names)
+    deck = np.array([n.startswith("bridge.") or ".deck." in n for n in names])
+    force = np.array([n.startswith("car") and n.endswith(".force_z") for n in names])
+    track = np.array([n.startswith("track.") for n in names]) & ~deck
+    assert deck.any() and track.any() and force.sum() == 1
+    return {"deck": deck, "track": track, "contact force": force}
+
+
+@pytest.mark.exudyn
+def test_pem_of_a_scenario_with_a_track_on_the_exudyn_engine():
+    """The scenario and grid above on the Exudyn engine (the reference: two Exudyn runs per frequency from
+    rest, the cosine and the sine input at the working amplitude 1e-4 m; the track and the deck one
+    ObjectGenericODE2 with the full damping matrix Phi^T C Phi) against the batched engine (issue 47: the
+    engines agree within 1e-4 of max sigma).
+
+    Both integrate the same model with the same scheme: Exudyn's generalized-alpha at the scenario's step
+    (1 ms) and spectral radius (0.9), which the batched engine implements (engines/alpha.py,
+    tests/engines/test_batched.py), so the time step needs no convergence study; the sprung mass has no
+    rotations, so the model is linear and the amplitude does not matter. What remains is Exudyn's Newton
+    tolerance (relative 1e-8 of the residual): measured 4.8e-8 on the rail's acceleration, 1.0e-9 on the deck
+    and 2.3e-10 on the contact force (Newton at 1e-10 / 1e-8 N: 4e-10, 2e-11, 4e-12). Tolerance 1e-6 of each
+    channel's largest sigma, as the batched engine's other tests against Exudyn (the issue's 1e-4 is looser);
+    and each frequency's PSD within 1e-6 of its own largest value (each column alone, not hidden under the
+    other's weight; measured 1.2e-7, the PSD's float32 storage included). The Exudyn body's damping cut to its
+    diagonal moves the rail's sigma by 2.9 %, the deck's by 7e-4 and the force's by 1e-4 (measured): the test
+    sees the full matrix. The means are both Exudyn's deterministic run (round-off apart: 1e-9)."""
+    ref, got = _pem("exudyn"), _pem("batched")
+    assert ref.provenance["engine"] == "exudyn" and got.provenance["mean_engine"].startswith("exudyn")
+    live = _live(ref)
+    err = np.abs(got.std - ref.std).max(axis=1) / np.maximum(ref.std.max(axis=1), 1e-300)
+    worst = {g: float(err[m & live].max()) for g, m in _groups(ref.channel_names).items()}
+    assert max(worst.values()) < 1e-6 and _agree(got, ref) < 1e-6, worst
+    psd_ref, psd_got = np.asarray(ref.psd, dtype=float), np.asarray(got.psd, dtype=float)  # (channel, f, t)
+    assert psd_ref.shape[:2] == (len(ref.channel_names), 2)
+    scale = psd_ref.max(axis=2)  # each channel's and frequency's largest PSD value
+    reached = live[:, None] & (scale > 1e-12 * scale.max(axis=1, keepdims=True))
+    assert np.all(reached.sum(axis=0) > 10)  # each column reaches the deck, the track and the car
+    rel = np.abs(psd_got - psd_ref).max(axis=2) / np.where(reached, scale, 1.0)
+    assert np.all(rel[reached] < 1e-6), rel.max()
+
+
+@pytest.mark.exudyn
+def test_the_deterministic_runs_mean_on_the_track_against_the_dense_engines_linear_mean():
+    """The mean of the run above (gravity, the static state on the track at t = 0, no irregularity): Exudyn's
+    deterministic run (the Exudyn engine's mean, and the batched engine's on the track) against the dense
+    engine's linear mean (the linear model about the same static state, the dead load integrated by its own
+    dense step from there: tb_exudyn.engines.dense), the wheel standing on the track's body from the start.
+    The model is linear (no rotations) and the scheme the same, so Newton's tolerance is what remains: measured
+    1.4e-10 of the contact force's largest mean (56.6 kN), 8e-8 of every channel's largest |mean| at most
+    (the rail's acceleration, whose mean is the small dynamic part of the run). Tolerance 1e-8 on the contact
+    force, 1e-5 elsewhere (as the Exudyn Monte Carlo's test for the same reason, tests/engines/test_batched_mc.py)."""
+    ref, got = _pem("exudyn"), _pem("dense")
+    assert got.provenance["mean_engine"].startswith("dense")
+    largest = np.abs(ref.mean).max(axis=1)
+    err = np.abs(got.mean - ref.mean).max(axis=1) / np.maximum(largest, 1e-300)
+    groups = _groups(ref.channel_names)
+    live = _live(ref)
+    assert float(err[groups["contact force"]].max()) < 1e-8, err[groups["contact force"]]
+    assert float(err[live].max()) < 1e-5, err.max()
+
+
+@pytest.mark.exudyn
+def test_monte_carlo_of_a_scenario_with_a_track_on_the_exudyn_engine():
+    """Monte Carlo above on the Exudyn engine (each sample one run of the full model with gravity from the
+    static state, the sampled profile itself) against the batched engine's linear samples (the same seed, the
+    same profiles). The same model and scheme: Newton's tolerance remains (relative 1e-8 of a residual that
+    includes the 56 kN weight). Tolerance 1e-6 of each channel's largest sigma and mean (measured 1.3e-9 and
+    3.1e-9)."""
+    ref, got = _monte_carlo("exudyn"), _monte_carlo("batched")
+    assert ref.method == "monte_carlo" and got.method == "monte_carlo_linear"
+    assert _agree(got, ref, mean=1e-6) < 1e-6

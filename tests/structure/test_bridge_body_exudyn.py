@@ -77,6 +77,24 @@ def test_linearised_matrices_are_the_modal_ones(bridge, variant):
     assert np.allclose(d[np.ix_(idx, idx)], np.diag(2 * 0.05 * om), rtol=1e-12, atol=1e-12)
 
 
+@pytest.mark.parametrize("variant", ["generic", "ffrf"])
+def test_a_coupled_damping_matrix_is_the_bodys_whole(bridge, variant):
+    """A bridge whose damping is not modal (ModalBridge.coupled_damping: a track's pads and ballast,
+    docs/track.md 5b): the system's damping on the modal coordinates is that full matrix, in both variants
+    (the FFRF body took the diagonal of the modal ratios before). Reference: the matrix given, here
+    diag(2 zeta omega) plus a symmetric coupling of every pair of modes (round-off)."""
+    from dataclasses import replace
+
+    om = bridge.omega
+    coupling = 0.01 * np.sqrt(np.outer(om, om)) * np.cos(np.add.outer(np.arange(om.size), np.arange(om.size)))
+    damping = np.diag(2 * 0.05 * om) + coupling
+    _, mbs, body = _system(replace(bridge, coupled_damping=damping), variant)
+    d = ComputeLinearizedSystem(mbs, _settings())[2]
+    idx = body.ode2_indices(mbs)
+    assert np.count_nonzero(np.abs(damping - np.diag(np.diag(damping))) > 1e-3) == om.size * (om.size - 1)
+    assert np.allclose(d[np.ix_(idx, idx)], damping, rtol=1e-12, atol=1e-12 * np.abs(damping).max())
+
+
 def test_ffrf_without_ffrf_terms_has_no_modal_mass(bridge):
     """Exudyn pitfall the ffrf variant avoids: ObjectFFRFreducedOrder with computeFFRFterms=False
     and no user function assembles a zero mass matrix for the modal coordinates (it expects the
