@@ -49,10 +49,11 @@ GROUPS = {
 }
 
 
-def _scenario(track: bool, n_freq: int, approach: float, track_max_frequency: float):  # noqa: ANN202
+def _scenario(track: bool, n_freq: int, approach: float, track_max_frequency: float,  # noqa: ANN202
+              name: str = "li_zhu_2011"):
     import tb_exudyn as tbx
 
-    sc = tbx.load_scenario("li_zhu_2011")
+    sc = tbx.load_scenario(name)
     sc = sc.replace(analysis=sc.analysis.replace(n_freq=n_freq))
     if track:
         sc = sc.replace(track=sc.track.replace(structure="ballasted_uic60", structure_approach=approach),
@@ -68,7 +69,7 @@ def child(args: argparse.Namespace) -> None:
 
     from tb_exudyn import run_pem
 
-    sc = _scenario(args.track, args.child_n_freq, args.approach, args.track_max_frequency)
+    sc = _scenario(args.track, args.child_n_freq, args.approach, args.track_max_frequency, args.scenario)
     w0, c0 = time.perf_counter(), time.process_time()
     with tempfile.TemporaryDirectory() as out, warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -118,7 +119,8 @@ def on_bridge_windows(sc, time):  # noqa: ANN001, ANN201
 
 def _run(track: bool, n_freq: int, args: argparse.Namespace) -> dict:
     cmd = [sys.executable, __file__, "--child", "--child-n-freq", str(n_freq), "--workers", str(args.workers),
-           "--approach", str(args.approach), "--track-max-frequency", str(args.track_max_frequency)]
+           "--approach", str(args.approach), "--track-max-frequency", str(args.track_max_frequency),
+           "--scenario", args.scenario]
     if track:
         cmd.append("--track")
     env = {**os.environ, "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
@@ -129,6 +131,10 @@ def _run(track: bool, n_freq: int, args: argparse.Namespace) -> dict:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
+def _ratio(a: float, b: float) -> float:
+    return a / b if b > 0.0 else float("nan")
+
+
 def _uptime() -> str:
     with open("/proc/loadavg") as f:
         return " ".join(f.read().split()[:3])
@@ -136,6 +142,7 @@ def _uptime() -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenario", default="li_zhu_2011", help="the study (a name or a .toml file)")
     parser.add_argument("--n-freq", type=int, nargs="+", default=[2, 4], help="frequency grids measured")
     parser.add_argument("--full-n-freq", type=int, default=0, help="grid extrapolated to (0: the scenario's)")
     parser.add_argument("--repeats", type=int, default=3)
@@ -150,8 +157,10 @@ def main() -> None:
     if args.child:
         child(args)
         return
-    full = args.full_n_freq or _scenario(False, 200, 0.0, 0.0).analysis.n_freq
-    print(f"li_zhu_2011 PEM (batched engine, {args.workers} workers), with track.structure = ballasted_uic60 "
+    import tb_exudyn as tbx
+
+    full = args.full_n_freq or tbx.load_scenario(args.scenario).analysis.n_freq
+    print(f"{args.scenario} PEM (batched engine, {args.workers} workers), with track.structure = ballasted_uic60 "
           f"(structure_approach {args.approach:g} m, track modes up to {args.track_max_frequency:g} Hz) and without; "
           f"load average before: {_uptime()}", flush=True)
     med: dict[tuple[bool, int], dict] = {}
@@ -188,7 +197,8 @@ def main() -> None:
     for group in GROUPS:
         a, b = med[(False, n)]["sigma"][group], med[(True, n)]["sigma"][group]
         ao, bo = med[(False, n)]["sigma_on_bridge"][group], med[(True, n)]["sigma_on_bridge"][group]
-        print(f"    {group:40s} without {a:9.4g}  with {b:9.4g}  x{b / a:5.2f};  on the bridge {ao:9.4g}  {bo:9.4g}  x{bo / ao:5.2f}")
+        print(f"    {group:40s} without {a:9.4g}  with {b:9.4g}  x{_ratio(b, a):5.2f};  on the bridge {ao:9.4g}  {bo:9.4g}  "
+              f"x{_ratio(bo, ao):5.2f}")
     print(f"  load average after: {_uptime()}")
 
 
