@@ -112,3 +112,13 @@ def test_channel_pattern_matching_nothing_is_a_user_error(tmp_path, capsys):
     assert main(["run", str(bad), "--method", "det", "--out", str(tmp_path / "o"), "--no-figures"]) == 2
     err = capsys.readouterr().err
     assert "analysis.channels[1]" in err and "car1.boddy.*" in err and "Traceback" not in err
+
+
+def test_run_figures_all_with_no_figures_is_refused_before_any_work(tmp_path, capsys):
+    """`--figures all` (the page with every car's PSD figures) and `--no-figures` contradict: exit 2,
+    one line naming the option, nothing written."""
+    out = tmp_path / "out"
+    assert main(["run", "quick", "--out", str(out), "--figures", "all", "--no-figures"]) == 2
+    err = capsys.readouterr().err
+    assert "--figures" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()

@@ -22,7 +22,7 @@ from ..structure.guards import check_scenario_size
 from . import scenario as cli_scenario, text as cli_text
 from .flags import int_option
 from .lazy import methods as _methods
-from .results import folder_lock_of, report_package
+from .results import FIGURE_CHOICES, FIGURES_HELP, folder_lock_of, report_package
 
 EXIT_OK = 0
 
@@ -100,7 +100,7 @@ def _analyse(args: argparse.Namespace, scenario: Scenario, out, pool) -> int:  #
             else "Monte Carlo"
         print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
-    drawing = _start_figures(out, result, pool)
+    drawing = _start_figures(out, result, pool, args.figures == "all")
     if args.method != "det":
         table = out / TABLE_FILE
         write_text_atomic(table, cli_text.summary_table(result) + "\n")
@@ -110,24 +110,28 @@ def _analyse(args: argparse.Namespace, scenario: Scenario, out, pool) -> int:  #
         folder = result.kind.folder
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         # the page draws its figures (the standard ones, in parallel) and embeds them: one pass, no second read
-        report = reporting.write_report(out, found=found, progress=not args.no_progress, drawing=drawing)
-        figures = reporting.figure_jobs(out, found)  # the figures the page drew (and embeds)
-        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+        report = reporting.write_report(out, found=found, progress=not args.no_progress, drawing=drawing,
+                                        all_figures=args.figures == "all")
+        figures = len(reporting.page_jobs(out, found, all_figures=args.figures == "all")[0])  # the page's figures
+        print(f"{figures} figures and the report: {report}; results in {out.resolve()}")
     else:
         print(f"results in {out.resolve()}")
     return EXIT_OK
 
 
-def _start_figures(out, result, pool):  # noqa: ANN001, ANN202
+def _start_figures(out, result, pool, all_figures: bool):  # noqa: ANN001, ANN202
     """The figure processes' drawing (None without them), given now the figures of ``result`` whose
-    channels are known without its code checks (tb_exudyn.plotting.data.pattern_channels); the
-    checks' deciding channels follow with the report."""
+    channels are known without its code checks (tb_exudyn.plotting.data.pattern_channels; PSD figures
+    as the page shows them, tb_exudyn.plotting.data.page_spectral); the checks' deciding channels
+    follow with the report."""
     if pool is None:
         return None
     reporting = report_package()
     drawing = reporting.PageDrawing(pool)
     early = reporting.pattern_channels(result)
-    drawing.submit(reporting.figure_jobs(out, [(out / result.kind.folder, result)], early, where="command line"))
+    spectral = None if all_figures else reporting.pdata.page_spectral
+    drawing.submit(reporting.figure_jobs(out, [(out / result.kind.folder, result)], early, where="command line",
+                                         spectral=spectral))
     return drawing
 
 
@@ -141,6 +145,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     args.samples = int_option(args.samples, "--samples", MIN_SAMPLES, int(checks["n_samples"].high),
                               "Monte Carlo samples, as analysis.n_samples")
     args.seed = int_option(args.seed, "--seed", 0, int(checks["seed"].high), "as analysis.seed")
+    if args.figures is not None and args.no_figures:
+        raise SettingError("command line", "--figures", args.figures, "without --no-figures", "not with it")
+    args.figures = args.figures or "page"
     if args.linearization is not None and args.engine == "exudyn" and args.method != "det":
         if args.method == "mc" or args.linearization != "rest":
             raise SettingError("command line", "--linearization", args.linearization,
@@ -204,6 +211,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="Monte Carlo: keep every sample's channels in the result (N x channels x output times)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
+    p.add_argument("--figures", choices=FIGURE_CHOICES, default=None,
+                   help=FIGURES_HELP)
     p.set_defaults(func=_cmd_run, check=check_arguments)
 
 

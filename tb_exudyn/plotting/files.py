@@ -28,7 +28,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 from matplotlib.figure import Figure
 
@@ -167,12 +167,13 @@ def figure_file(folder: Path, channel: str, kind: str, fmt: str = "png") -> Path
     return folder / "figures" / f"{channel}.{kind}.{fmt}"
 
 
-def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str) -> list[FigureJob]:
+def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str,
+             spectral: Callable[[str], bool] | None) -> list[FigureJob]:
     source = path / "meta.json"
     out = []
     for ch in data.select_channels(result, channels, where=where, source=str(path)):
         kinds = ("bounds",) if isinstance(result, RandomResponse) else ("history",)
-        if data.has_psd(result, ch):
+        if data.has_psd(result, ch) and (spectral is None or spectral(ch)):
             kinds += ("psd_map", "psd_slices")
         one = (data.channel_subset(result, [ch]),)
         for kind in kinds:
@@ -182,13 +183,15 @@ def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], w
 
 
 def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels: str | Sequence[str] | None = None,
-                formats: Sequence[str] = ("png",), where: str = "figure_jobs") -> list[FigureJob]:
+                formats: Sequence[str] = ("png",), where: str = "figure_jobs",
+                spectral: Callable[[str], bool] | None = None) -> list[FigureJob]:
     """Every standard figure of the results ``found`` in ``folder`` (see :func:`plot_folder`),
-    with its paths checked (:func:`confined_path`)."""
+    with its paths checked (:func:`confined_path`). ``spectral``: which channels get their PSD map
+    and slices (None: every channel that has a map; a page's default: :func:`data.page_spectral`)."""
     root = Path(folder)
     jobs: list[FigureJob] = []
     for path, result in found:
-        jobs += _jobs_of(root, path, result, channels, formats, where)
+        jobs += _jobs_of(root, path, result, channels, formats, where, spectral)
     pems = [r for _, r in found if r.kind.gaussian]
     mcs = [(p, r) for p, r in found if r.kind.sampled]
     if pems and mcs:
