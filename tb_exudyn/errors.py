@@ -127,10 +127,54 @@ def short_repr(value: Any, limit: int = SHOWN_VALUE_LIMIT) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
+#: longest list, tuple, set or table a message shows whole [characters]: beyond it the first items and
+#: the count (a list of 1000 spans or 200 vehicles is wrong as a whole; its items stay in the user's file)
+SHOWN_CONTAINER_LIMIT = 30
+
+
+def short_container(value: list | tuple | set | frozenset | dict, limit: int = SHOWN_CONTAINER_LIMIT) -> str:
+    """repr of a container on one line; beyond ``limit`` characters a list, tuple or set shows its first
+    items and its count (``[32.0, 32.0, ... (1000 items)]``), a table its repr cut at ``limit``."""
+    text = repr(value).replace("\n", "\\n")
+    if len(text) <= limit:
+        return text
+    if isinstance(value, dict) or len(value) < 2:
+        return short_repr(value, limit=limit)
+    items = list(value)
+    def piece_of(item: Any) -> str:  # a path is never cut
+        whole = isinstance(item, str) and _looks_like_a_path(item)
+        return short_repr(item, limit=1 << 30 if whole else limit - 20)
+
+    shown = [piece_of(items[0])]
+    for item in items[1:]:
+        piece = piece_of(item)
+        if sum(len(t) + 2 for t in shown) + len(piece) > limit - 20:
+            break
+        shown.append(piece)
+    open_, close = "()" if isinstance(value, tuple) else ("[]" if isinstance(value, list) else "{}")
+    return f"{open_}{', '.join(shown)}, ... ({len(items)} items){close}"
+
+
 def shown_value(key: str | None, value: Any) -> str:
-    """A value as a message shows it: a file's name (key :data:`FILE_KEY`) always whole, any other value
-    by :func:`short_repr`."""
-    return short_repr(value, limit=1 << 30) if key == FILE_KEY else short_repr(value)
+    """A value as a message shows it: a file's name (key :data:`FILE_KEY`) always whole, a container by
+    :func:`short_container`, any other value by :func:`short_repr`."""
+    if key == FILE_KEY:
+        return short_repr(value, limit=1 << 30)
+    if isinstance(value, (list, tuple, set, frozenset, dict)):
+        return short_container(value)
+    if isinstance(value, str) and not _looks_like_a_path(value):
+        return short_repr(value, limit=SHOWN_TEXT_LIMIT)
+    return short_repr(value)
+
+
+#: longest text (not a path) a message shows whole [characters]: a typed value of that length is a
+#: list pasted into one option (1001 speeds), whose start says what it was
+SHOWN_TEXT_LIMIT = 60
+
+
+def _looks_like_a_path(text: str) -> bool:
+    """A path the user typed (never cut): holds a folder separator or ends like a model or result file."""
+    return "/" in text or "\\" in text or text.endswith((".toml", ".csv", ".json", ".npz", ".nc"))
 
 
 class ScenarioError(UserError, ValueError):
@@ -202,3 +246,20 @@ __all__ = [
     "FILE_KEY", "SHOWN_VALUE_LIMIT", "ScenarioError", "SettingError", "SimulationIncomplete", "TbExudynError", "UserError",
     "format_message", "short_repr", "shown_value",
 ]
+
+
+#: longest list of names an error's "allowed" shows whole [characters]
+SHOWN_NAMES_LIMIT = 70
+
+
+def one_of(names: Any, given: Any = None, *, tail: str = "") -> str:
+    """``one of a, b, c`` for an error's allowed part; a longer list (beyond :data:`SHOWN_NAMES_LIMIT`)
+    shows the names closest to ``given`` (difflib) and the count, so the line stays readable."""
+    import difflib  # only when an error is being written
+
+    names = [str(n) for n in names]
+    text = ", ".join(names) or "(none)"
+    if len(text) > SHOWN_NAMES_LIMIT:
+        near = difflib.get_close_matches(str(given), names, n=3, cutoff=0.0) if given is not None else names[:3]
+        text = ", ".join(near) + f", ... ({len(names)} in all)"
+    return f"one of {text}{tail}"

@@ -133,7 +133,7 @@ def decode_utf8(data: bytes) -> str:
         return data.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = data.count(b"\n", 0, exc.start) + 1
-        raise FileRefused(f"is not UTF-8 text (byte 0x{data[exc.start]:02x} at offset {exc.start}, "
+        raise FileRefused(f"not UTF-8 (byte 0x{data[exc.start]:02x} at offset {exc.start}, "
                           f"line {line})") from None
 
 

@@ -229,7 +229,7 @@ def check_before_save(folder: Path, arrays: Mapping[str, np.ndarray], text: str,
             raise _error(meta_path, f"JSON nested {depth} deep, more than the {MAX_JSON_DEPTH} allowed")
         check(folder, arrays, meta)
     except ResultsError as exc:
-        raise ResultsError(f"{exc} [not saved: the folder would not load]") from None
+        raise ResultsError(f"{exc} [not saved]") from None
 
 
 def save_result_folder(folder: str | Path, arrays: Mapping[str, np.ndarray], meta: Mapping[str, Any],

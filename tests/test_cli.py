@@ -62,15 +62,19 @@ def test_run_det_and_pem_then_plot_and_report(tmp_path, capsys):
                               channels=("bridge.span1.mid.*", "car1.body.acc_z"))
     path = save_scenario(sc, tmp_path / "tiny.toml")
     out = tmp_path / "out"
-    assert main(["run", str(path), "--method", "det", "--out", str(out), "--no-figures"]) == 0
+    assert main(["run", str(path), "--method", "det", "--out", str(out), "--no-progress"]) == 0
     assert load_results(out / "det").scenario == sc
+    assert list((out / "det" / "figures").glob("*.history.png")) and (out / "report.html").exists()
     assert main(["run", str(path), "--engine", "exudyn", "--out", str(out), "--workers", "1", "--no-progress"]) == 0
     text = capsys.readouterr().out
     assert "key channels" in text and "channels.txt in the output folder" in text and str(out.resolve()) in text and "report.html" in text
     table = (out / "channels.txt").read_text()
     assert "max|mean|+3s" in table and "m/s^2" in table and "2-12 Hz" in table
     assert (out / "pem" / "arrays.npz").exists() and (out / "report.html").exists()
-    assert list((out / "pem" / "figures").glob("*.png"))
+    pngs = list(out.glob("*/figures/*.png"))  # the page's figures of pem/ and of det/ (run before it)
+    # the run draws what its page shows and no more: each figure file once in the page (issue 49)
+    assert list((out / "pem" / "figures").glob("*.png")) and (out / "report.html").read_text().count('src="data:image/png;base64,') == len(pngs)
+    assert f"{len(pngs)} figures and the report" in text
     assert main(["report", str(out)]) == 0
     assert main(["plot", str(out), "--channels", "car1.body.acc_z"]) == 0
     assert main(["run", str(path), "--engine", "batched", "--out", str(tmp_path / "b"), "--workers", "1",
@@ -108,3 +112,13 @@ def test_channel_pattern_matching_nothing_is_a_user_error(tmp_path, capsys):
     assert main(["run", str(bad), "--method", "det", "--out", str(tmp_path / "o"), "--no-figures"]) == 2
     err = capsys.readouterr().err
     assert "analysis.channels[1]" in err and "car1.boddy.*" in err and "Traceback" not in err
+
+
+def test_run_figures_all_with_no_figures_is_refused_before_any_work(tmp_path, capsys):
+    """`--figures all` (the page with every car's PSD figures) and `--no-figures` contradict: exit 2,
+    one line naming the option, nothing written."""
+    out = tmp_path / "out"
+    assert main(["run", "quick", "--out", str(out), "--figures", "all", "--no-figures"]) == 2
+    err = capsys.readouterr().err
+    assert "--figures" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()

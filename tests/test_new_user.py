@@ -161,7 +161,7 @@ def test_uq_fits_a_screen(tmp_path, capsys):
 @pytest.mark.parametrize("argv", [
     ["--set", "track.lead_in=0.5"],  # the approach: the longest of the scenario's checks
     ["--set", "analysis.n_freq=30", "--freq-spacing", "adaptive"],  # too few frequencies for the modes
-    ["--set", "track.structure=ballasted_uic60"],  # a car whose contacts the track layer does not carry
+    ["--set", "track.structure=ballasted_uic60"],  # rails too long for the track's eigen-solution
 ])
 def test_a_new_users_errors_are_one_line_within_the_width(tmp_path, capsys, argv):
     """Errors a new user provokes on a shipped scenario: one line, exit 2, at most 200 characters (the

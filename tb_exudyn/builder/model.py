@@ -256,6 +256,8 @@ class TrainBridgeModel:
             offsets[node] = n_w
             n_w += n_coords
         layout = parts.contacts.layout(offsets, n_w)
+        if self.track is not None:  # the track's modes left out: their static flexibility in series at each contact
+            layout = self.track.series_contacts(layout)
         axle_start = -sc.track.lead_in - axle_offsets
         self.coupling = WheelRailCoupling(
             self.bridge, axle_start, sc.speed, layout, parts.load_axle, parts.load_force,

@@ -13,8 +13,8 @@ What the command does to ``--out`` (a folder that may hold other files, e.g. a r
   (:func:`tb_exudyn.execution.folder_lock`) and its earlier files tested again under the lock (a second
   check into the same folder is refused at once, naming the first; nothing of the first is replaced); each
   finished task (a mass case and train, a stochastic speed) goes to ``--out/checkpoint-check``;
-- the files (check.csv, check.png, check.html) are rendered in memory after the analysis and written as
-  one group (:func:`tb_exudyn.files.write_output`): all of them or none, also on Ctrl-C (a Ctrl-C during
+- the files (check.csv, check.png, check.html, and with ``--netcdf`` check.nc: the typed records as NetCDF,
+  ``CheckResult.to_xarray()``) are rendered in memory after the analysis and written as one group (:func:`tb_exudyn.files.write_output`): all of them or none, also on Ctrl-C (a Ctrl-C during
   the renames is held until the group is in place); the checkpoint is removed then (``--keep-checkpoint``:
   kept). ``--overwrite --no-figures`` removes an earlier check.png with the same renames;
 - a Ctrl-C before the files are written leaves the earlier files as they were and the finished tasks in
@@ -26,20 +26,23 @@ What the command does to ``--out`` (a folder that may hold other files, e.g. a r
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
+import tempfile
 from pathlib import Path
 
 from .flags import WHERE
 from .results import report_package
 from . import text as cli_text
 from ..codes import CHECK_CSV, CHECK_FIGURE, CHECK_PAGE, check
-from ..codes.check import CHECK_FILES
+from ..codes.check import CHECK_DATA, CHECK_FILES
 from ..codes.check_plan import CHECKPOINT
 from ..codes.a2_verdicts import ALPHA_VALUES
-from ..errors import SettingError
+from ..errors import CapabilityError, SettingError
 from ..execution.output import holdings, RunFiles
 from ..execution.output import refuse_earlier_files, remove_entry, removed_if_left_empty
 from ..files import check_writable
+from ..results.export import netcdf_content
 from ..scenario.show import LISTING_WIDTH
 
 #: exit status after a Ctrl-C (128 + SIGINT, as a shell reports it)
@@ -66,6 +69,25 @@ def _holds(path: Path, data: bytes) -> bool:
         return False
 
 
+def _netcdf_bytes(result) -> bytes:  # noqa: ANN001 - a CheckResult
+    """check.nc's bytes: the result's labelled form (``CheckResult.to_xarray()``) as NetCDF4, made in memory
+    (:func:`tb_exudyn.results.export.netcdf_content`; through a temporary file with an xarray that writes files only)."""
+    content, _ = netcdf_content(result, where=WHERE)
+    if not callable(content):
+        return bytes(content)
+    with tempfile.TemporaryDirectory() as tmp:
+        content(Path(tmp) / CHECK_DATA)
+        return (Path(tmp) / CHECK_DATA).read_bytes()
+
+
+def _check_netcdf() -> None:
+    """--netcdf's packages (the netcdf extra), before any work: one line naming the flag when one is missing."""
+    missing = [m for m in ("xarray", "h5netcdf") if importlib.util.find_spec(m) is None]
+    if missing:
+        raise CapabilityError(WHERE, "--netcdf", True, 'pip install "tb_exudyn[netcdf]"',
+                              f"{' and '.join(missing)} not installed: check.nc cannot be written")
+
+
 def _finished(out: Path) -> int:
     """The finished tasks in ``out``'s check checkpoint; a checkpoint without any is removed (nothing to resume)."""
     held = holdings(out, RunFiles("check", CHECKPOINT)) if out.is_dir() else []
@@ -85,12 +107,16 @@ def _cmd_check(args: argparse.Namespace) -> int:
     speeds = _speeds(args.stochastic_speeds)
     # --out as it is, read only: what no later step can change is refused at once
     check_writable(args.out, create=False)
+    if args.netcdf:
+        _check_netcdf()
     if not args.resume:  # with --resume the driver's claim decides (a checkpoint to continue)
         refuse_earlier_files(args.out, FILES, "check", overwrite=args.overwrite, where=WHERE)
     files: dict[str, bytes] = {}
 
     def render(result) -> dict[str, bytes]:  # noqa: ANN001 - the files, drawn under the lock, written as one
         files.update(report_package().check_files(result, None if args.no_figures else result.plot()))
+        if args.netcdf:
+            files[CHECK_DATA] = _netcdf_bytes(result)
         return files
 
     out = Path(args.out)
@@ -125,7 +151,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     from_checkpoint = f", {ran['tasks_from_checkpoint']} from the checkpoint" if ran.get("tasks_from_checkpoint") else ""
     print(f"{len(result)} rows in {result.seconds:.1f} s ({ran.get('tasks', 0)} tasks{from_checkpoint}, "
           f"{ran.get('executor', '')}): {(out / CHECK_CSV).resolve()}"
-          + ("" if CHECK_FIGURE not in files else f", {CHECK_FIGURE}") + f" and {CHECK_PAGE}")
+          + "".join(f", {n}" for n in (CHECK_DATA, CHECK_FIGURE) if n in files) + f" and {CHECK_PAGE}")
     return 0
 
 
@@ -153,9 +179,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default="check", help="output folder (default: ./check); one check at a time writes "
                    "into it, and its files are written all together or not at all")
     p.add_argument("--overwrite", action="store_true",
-                   help="replace an earlier check's check.csv, check.png and check.html in --out (with --no-figures: "
-                        "remove the png)")
+                   help="replace an earlier check's check.csv, check.nc, check.png and check.html in --out (with "
+                        "--no-figures: remove the png; without --netcdf the nc)")
     p.add_argument("--no-figures", action="store_true", help="no figure")
+    p.add_argument("--netcdf", action="store_true", help="also write check.nc: the typed records (criterion, load "
+                   "model, train, speed, case, location, value, limit, utilisation, verdict, caveats) as NetCDF4, "
+                   "CheckResult.to_xarray() (needs pip install \"tb_exudyn[netcdf]\")")
     p.add_argument("--stochastic", action="store_true",
                    help="also the PEM of the random track irregularity for the trains given as vehicle models "
                         "(ice_mttm, ave_s103): p_exceed and level_at_target at each speed of the nominal case (one PEM "

@@ -14,6 +14,11 @@ from ..results.compare import compare_folders
 from ..results.export import FORMATS as EXPORT_FORMATS
 from ..results.export import export
 
+#: the report page's figures (``tb-exudyn run`` and ``report``): page (default) or all
+FIGURE_CHOICES = ("page", "all")
+FIGURES_HELP = ("page (default): every figure of the bridge, the leading car and the channels the verdicts name, and "
+                "the sigma figures of every car; all: also the other cars' PSD maps and slices (a third more drawing)")
+
 EXIT_OK = 0
 
 
@@ -72,7 +77,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
     target = {"overwrite": args.overwrite, "where": "command line", "key": "--html"}
     report_package().report_target(args.folder, args.html, **target)  # refused before the lock too
     with folder_lock_of(args.folder):
-        print(report_package().write_report(args.folder, args.html, found=found, **target))
+        print(report_package().write_report(args.folder, args.html, found=found, all_figures=args.figures == "all",
+                                            **target))
     return EXIT_OK
 
 
@@ -106,7 +112,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    "not inside a result folder")
     p.add_argument("--overwrite", action="store_true",
                    help="replace the --html file if it exists; without it an existing file is refused")
+    p.add_argument("--figures", choices=FIGURE_CHOICES, default="page", help=FIGURES_HELP)
     p.set_defaults(func=_cmd_report)
 
 
-__all__ = ["add_parsers", "folder_lock_of", "report_package"]
+__all__ = ["FIGURE_CHOICES", "FIGURES_HELP", "add_parsers", "folder_lock_of", "report_package"]

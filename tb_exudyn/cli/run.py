@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 import textwrap
 
 from ..atomic import write_text_atomic
 from ..engines import DEFAULT_ENGINE, ENGINES
 from ..errors import SettingError
 from ..execution.output import removed_if_left_empty
+from ..execution.standby import standby_pool
 from ..results import find_results
 from ..results.checks import default_limits
 from ..scenario import Analysis, Scenario
@@ -20,7 +22,7 @@ from ..structure.guards import check_scenario_size
 from . import scenario as cli_scenario, text as cli_text
 from .flags import int_option
 from .lazy import methods as _methods
-from .results import folder_lock_of, report_package
+from .results import FIGURE_CHOICES, FIGURES_HELP, folder_lock_of, report_package
 
 EXIT_OK = 0
 
@@ -29,6 +31,21 @@ DEFAULT_SCENARIO = "li_zhu_2011"
 DEFAULT_OUT = "tb_exudyn_out"
 #: the channel table of a run, written into its output folder (the terminal shows a short summary)
 TABLE_FILE = "channels.txt"
+#: what the figure processes import while the analysis runs (its set-up is one process: a core is free)
+FIGURE_MODULES = ("tb_exudyn.plotting.files", "matplotlib.backends.backend_agg", "PIL.PngImagePlugin")
+#: figure processes started before the analysis (the others start with the figures): the set-up
+#: leaves one core free, and each idle one holds about 100 MB while the analysis runs
+FIGURE_PROCESSES_AHEAD = 1
+
+
+def figure_processes() -> int:
+    """The figure processes started before the analysis: one per core but this process's own (which
+    draws too, see tb_exudyn.plotting.files.run_jobs)."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        cores = os.cpu_count() or 1
+    return cores - 1
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -51,6 +68,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN001
+    """The analysis, its table, figures and report. The figure processes start first (their imports
+    fall in the analysis' set-up) and draw the result's figures as soon as it is saved, while this
+    process computes the checks and prints the table (issue 49)."""
+    with standby_pool(0 if args.no_figures else figure_processes(), FIGURE_MODULES, FIGURE_PROCESSES_AHEAD) as pool:
+        return _analyse(args, scenario, out, pool)
+
+
+def _analyse(args: argparse.Namespace, scenario: Scenario, out, pool) -> int:  # noqa: ANN001
     methods = _methods()
     print(textwrap.fill(f"scenario {scenario.name}: {run_label(scenario)}", cli_text.TERMINAL_WIDTH,
                         subsequent_indent="  ", break_on_hyphens=False))
@@ -60,7 +85,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
     if args.method == "det":
         execution = methods.Execution(out=out, overwrite=args.overwrite, max_memory=args.max_memory,
                                       where="command line")
-        th = methods.simulate(scenario, "deterministic", execution=execution)
+        result = th = methods.simulate(scenario, "deterministic", execution=execution)
         print(methods.summarize(th))
     elif args.method == "pem":
         psd = args.psd_channels or ["key"]
@@ -75,6 +100,7 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
             else "Monte Carlo"
         print(f"{what}: {result.n_samples} samples (seed {p.get('seed')}) in {p.get('seconds', 0.0):.1f} s; "
               f"samples with loss of wheel-rail contact: {p.get('samples_with_loss_of_contact', 0)}")
+    drawing = _start_figures(out, result, pool, args.figures == "all")
     if args.method != "det":
         table = out / TABLE_FILE
         write_text_atomic(table, cli_text.summary_table(result) + "\n")
@@ -84,12 +110,29 @@ def _run(args: argparse.Namespace, scenario: Scenario, out) -> int:  # noqa: ANN
         folder = result.kind.folder
         found = [(p, result if p.name == folder else r) for p, r in find_results(out)]  # the run's checks once
         # the page draws its figures (the standard ones, in parallel) and embeds them: one pass, no second read
-        report = reporting.write_report(out, found=found, progress=not args.no_progress)
-        figures = reporting.figure_jobs(out, found)  # the figures the page drew (and embeds)
-        print(f"{len(figures)} figures and the report: {report}; results in {out.resolve()}")
+        report = reporting.write_report(out, found=found, progress=not args.no_progress, drawing=drawing,
+                                        all_figures=args.figures == "all")
+        figures = len(reporting.page_jobs(out, found, all_figures=args.figures == "all")[0])  # the page's figures
+        print(f"{figures} figures and the report: {report}; results in {out.resolve()}")
     else:
         print(f"results in {out.resolve()}")
     return EXIT_OK
+
+
+def _start_figures(out, result, pool, all_figures: bool):  # noqa: ANN001, ANN202
+    """The figure processes' drawing (None without them), given now the figures of ``result`` whose
+    channels are known without its code checks (tb_exudyn.plotting.data.pattern_channels; PSD figures
+    as the page shows them, tb_exudyn.plotting.data.page_spectral); the checks' deciding channels
+    follow with the report."""
+    if pool is None:
+        return None
+    reporting = report_package()
+    drawing = reporting.PageDrawing(pool)
+    early = reporting.pattern_channels(result)
+    spectral = None if all_figures else reporting.pdata.page_spectral
+    drawing.submit(reporting.figure_jobs(out, [(out / result.kind.folder, result)], early, where="command line",
+                                         spectral=spectral))
+    return drawing
 
 
 MIN_SAMPLES = 2  # a sample standard deviation needs two samples (as run_monte_carlo checks)
@@ -102,6 +145,9 @@ def check_arguments(args: argparse.Namespace) -> argparse.Namespace:
     args.samples = int_option(args.samples, "--samples", MIN_SAMPLES, int(checks["n_samples"].high),
                               "Monte Carlo samples, as analysis.n_samples")
     args.seed = int_option(args.seed, "--seed", 0, int(checks["seed"].high), "as analysis.seed")
+    if args.figures is not None and args.no_figures:
+        raise SettingError("command line", "--figures", args.figures, "without --no-figures", "not with it")
+    args.figures = args.figures or "page"
     if args.linearization is not None and args.engine == "exudyn" and args.method != "det":
         if args.method == "mc" or args.linearization != "rest":
             raise SettingError("command line", "--linearization", args.linearization,
@@ -165,6 +211,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="Monte Carlo: keep every sample's channels in the result (N x channels x output times)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-figures", action="store_true", help="no figures and no report")
+    p.add_argument("--figures", choices=FIGURE_CHOICES, default=None,
+                   help=FIGURES_HELP)
     p.set_defaults(func=_cmd_run, check=check_arguments)
 
 

@@ -28,6 +28,7 @@ import numpy as np
 from ..atomic import write_text_atomic
 from ..errors import SettingError
 from ..execution import Execution
+from ..execution.threads import single_threaded_blas
 from ..results.check_records import CheckRecord, check_dataset, record_columns, records_csv
 from ..results.checks import DEFAULT_TARGET_PROBABILITY
 from ..scenario.io import load_bridge  # noqa: F401 - the check's bridges (tests read them here)
@@ -48,8 +49,10 @@ CHECK_CSV = "check.csv"
 CHECK_FIGURE = "check.png"
 #: the check's HTML page (tb_exudyn.report.check)
 CHECK_PAGE = "check.html"
+#: the check's typed records as NetCDF (``CheckResult.to_xarray()``; ``tb-exudyn check --netcdf``)
+CHECK_DATA = "check.nc"
 #: every file a check writes into its output folder, in the order they are written
-CHECK_FILES = (CHECK_CSV, CHECK_FIGURE, CHECK_PAGE)
+CHECK_FILES = (CHECK_CSV, CHECK_DATA, CHECK_FIGURE, CHECK_PAGE)
 
 VERDICT_OK, VERDICT_EXCEEDS = "ok", "exceeds"
 
@@ -127,8 +130,9 @@ class CheckResult:
         return [r for r in self.rows if r.get("p_exceed") is not None]
 
     def stochastic_scenario(self, train: str, speed_kmh: float):  # noqa: ANN201
-        """The scenario of ``train``'s stochastic row at ``speed_kmh``: ``run_pem`` of it, or ``tb-exudyn
-        run`` of its TOML (``scenario_to_toml``), gives the row's numbers."""
+        """The scenario of ``train``'s stochastic row at ``speed_kmh``: ``run_pem`` of it with
+        ``stochastic.engine_options("batched")`` gives the row's numbers (``tb-exudyn run`` of its TOML,
+        ``scenario_to_toml``: within float32's error, docs/en1991.md)."""
         if train not in self.stochastic_scenarios:
             raise SettingError("CheckResult.stochastic_scenario", "train", train,
                                ", ".join(self.stochastic_scenarios) or "none: the check has no stochastic rows")
@@ -242,12 +246,13 @@ def _stochastic_basis(setup: CheckSetup, runs: Sequence[stoch.StochasticRun]) ->
     return (f"PEM of {', '.join(source.track.irregularities)} (track and analysis of {source.name}) on the vehicle "
             f"models of {', '.join(t.name for t in setup.stochastic_trains)}, nominal case, damping "
             f"{100 * setup.zeta_vehicles:.3g} %; {n_runs} runs in {sum(r.seconds for r in runs):.1f} s; target "
-            f"probability {DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(setup.track)}")
+            f"probability {DEFAULT_TARGET_PROBABILITY:.3g} per passage; criterion {deck_criterion(setup.track)}"
+            + "".join(f"; {r.train}: {r.grid_error}" for r in runs if r.grid_error))
 
 
 def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceResponse],
               stochastic: dict[str, list[tuple[float, dict[str, Any]]]], stats: dict[str, Any], t0: float,
-              static: dict | None = None) -> CheckResult:
+              static: dict | None = None, interaction: dict | None = None) -> CheckResult:
     """The CheckResult of the check's tasks (tb_exudyn.methods.check): the rows of every (case, train) in that
     order, the stochastic values in the nominal case's rows, the A2.4.4 verdicts, the interaction runs."""
     rows, ordered = [], []
@@ -263,8 +268,8 @@ def _assemble(setup: CheckSetup, responses: dict[tuple[str, str], MovingForceRes
     messages = [m for run in runs for m in run.warnings]
     m = setup.modes[setup.ref_case]
     mb, used, cutoff = m.modal, m.used, m.cutoff
-    inter = vbi.check_rows(setup.bridge, setup.interaction_trains, rows, setup.zeta_vehicles, cutoff,
-                           setup.ref_case) if setup.interaction_trains else ()
+    inter = tuple(vbi.comparison_of((interaction or {})[t.name], setup.bridge, t, setup.zeta_vehicles, cutoff,
+                                    setup.ref_case) for t in setup.interaction_trains)  # the driver's tasks
     verdicts = a2_verdicts(setup.bridge, setup.line_speed_kmh, setup.track, setup.maintenance, mb, rows, ordered,
                            setup.cases, [t.name for t in setup.trains], setup.limit, setup.alpha, setup.alpha_given,
                            static=static)
@@ -365,7 +370,8 @@ def check(
     stochastic_scenario : the scenario whose track and analysis the PEM runs take (a name, a .toml path
         or a Scenario; default li_zhu_2011: german_low vertical, alignment, cross-level)
     interaction : per train given as vehicle models, its vehicle-bridge interaction run beside its moving forces
-        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_rows`; one Exudyn run per train)
+        at its deciding speed (:func:`tb_exudyn.codes.interaction.check_comparison`; one Exudyn run per train, a
+        task of the check's method: :class:`tb_exudyn.methods.check.InteractionTask`)
     workers, executor, progress : how the check's tasks run (:class:`tb_exudyn.execution.Execution`: one task
         per mass case and train, one per stochastic speed; :mod:`tb_exudyn.methods.check`); workers None: all
         cores, or this process for a check whose integrations are small (:data:`IN_PROCESS_WORK`). The
@@ -387,17 +393,22 @@ def check(
     execution_args = dict(executor=executor, out=out, resume=resume, progress=progress, where=where,
                           overwrite=overwrite, keep_checkpoint=keep_checkpoint)
     Execution(workers=workers, **execution_args)  # its arguments checked first (nothing is touched)
-    setup = plan_check(bridge, line_speed_kmh, trains=trains, track=track, construction=construction,
-                       additional_damping=additional_damping, damping_ratio=damping_ratio, maintenance=maintenance,
-                       speed_step_kmh=speed_step_kmh, cases=cases, where=where, stochastic=stochastic,
-                       stochastic_speeds=stochastic_speeds, stochastic_scenario=stochastic_scenario,
-                       interaction=interaction, alpha=alpha)
-    if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
-        workers = 1
-    method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
-        setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
-    return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers, **execution_args))
+    # one BLAS thread here too, as in every worker: the plan's eigenproblems (the mass cases' modes, the PEM
+    # model's) are small, and a multi-threaded OpenBLAS let its threads spin on them: li_zhu_2011_bridge with
+    # ice_mttm's stochastic column planned in 16 CPU-s instead of 0.8 (2 cores, measured under load 15)
+    with single_threaded_blas():
+        setup = plan_check(bridge, line_speed_kmh, trains=trains, track=track, construction=construction,
+                           additional_damping=additional_damping, damping_ratio=damping_ratio, maintenance=maintenance,
+                           speed_step_kmh=speed_step_kmh, cases=cases, where=where, stochastic=stochastic,
+                           stochastic_speeds=stochastic_speeds, stochastic_scenario=stochastic_scenario,
+                           interaction=interaction, alpha=alpha)
+        if workers is None and executor is None and _work(setup) < IN_PROCESS_WORK:
+            workers = 1
+        method = importlib.import_module("tb_exudyn.methods.check").CheckMethod(
+            setup, assemble=_assemble, render=render or table_files, group=CHECK_FILES, started=started)
+        return importlib.import_module("tb_exudyn.methods.driver").drive(method, Execution(workers=workers,
+                                                                                           **execution_args))
 
 
-__all__ = ["CHECK_CSV", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
+__all__ = ["CHECK_CSV", "CHECK_DATA", "CHECK_FIGURE", "CHECK_FILES", "CHECK_PAGE", "CheckResult", "NOMINAL_CASE", "check",
            "table_files"]

@@ -18,7 +18,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from ..errors import ResourceError, ScenarioError, SettingError, UserError
+from ..errors import ResourceError, ScenarioError, SettingError, UserError, one_of
 from ..scenario.code_data import MASS_CASES, with_mass_case
 from ..scenario.io import load_bridge
 from ..scenario.model import Continuous, Frame, SimpleBeam
@@ -151,11 +151,11 @@ def _bridge(where: str, bridge: Any, construction: str | None) -> tuple[Any, str
         text = str(bridge)
         known = model_files("bridges")
         if not (text.endswith(".toml") or Path(text).exists()) and text not in known:
-            raise err("bridge", text, f"one of {', '.join(known)} or a path to a .toml file", "unknown bridge name")
+            raise err("bridge", text, one_of(known, text, tail=" or a .toml file"), "unknown bridge name")
         bridge = load_bridge(bridge)
     if not isinstance(bridge, (SimpleBeam, Frame, Continuous)):  # e.g. a modal_table: no section data
-        raise err("bridge", label, "a bridge name, a .toml path, SimpleBeam, Frame or Continuous",
-                  f"a {getattr(bridge, 'kind', 'bridge')} bridge has no section data for the code's mass cases"
+        raise err("bridge", label, "a bridge with sections (SimpleBeam, Frame, Continuous)",
+                  f"a {getattr(bridge, 'kind', 'bridge')} bridge has no section data"
                   if hasattr(bridge, "kind") else "")
     mesh_basis = f"{bridge.elements_per_span} beam elements per span (the bridge's)"
     if bridge.elements_per_span < CHECK_ELEMENTS_PER_SPAN:
@@ -205,8 +205,7 @@ def _trains(where: str, trains: Any, spans: Sequence[float], continuous: bool) -
             where, "trains")
     if any(t.name.startswith("HSLM-A") for t in train_list) and min(spans) < HSLM_A_MIN_SPAN:
         raise SettingError(where, "trains", [t.name for t in train_list], f"spans >= {HSLM_A_MIN_SPAN:g} m for HSLM-A",
-                           f"span {min(spans):g} m of a continuous girder: HSLM-B is for simply supported spans "
-                           "under 7 m (EN 1991-2 Table E.4)")
+                           f"a continuous girder's {min(spans):g} m span (HSLM-B: simple spans < 7 m)")
     return train_list
 
 
@@ -254,9 +253,8 @@ def _stochastic(where: str, train_list: Sequence[ForceTrain], cases: Sequence[st
         return [], [], None
     chosen = [t for t in train_list if stoch.eligible(t)]
     if not chosen:
-        raise SettingError(where, "stochastic", [t.name for t in train_list], "trains given as vehicle models among "
-                           "the trains (ice_mttm, ave_s103 or a train .toml file of vehicles): HSLM-A trains are "
-                           "moving forces", "no train for the stochastic rows")
+        raise SettingError(where, "stochastic", [t.name for t in train_list], "trains of vehicle models (ice_mttm, "
+                           "ave_s103, a .toml)", "no train for the stochastic rows (HSLM-A: moving forces)")
     if NOMINAL_CASE not in cases:
         raise SettingError(where, "cases", list(cases), f"mass cases including {NOMINAL_CASE!r} (the stochastic rows' case)")
     extra = _stochastic_speeds(where, stochastic_speeds, line_speed_kmh)
@@ -307,8 +305,7 @@ def _stochastic_runs(where: str, bridge: Any, trains: Sequence[ForceTrain], sour
                 stoch.scenario_at(bases[train.name], v)
             except ScenarioError as exc:
                 raise SettingError(where, "stochastic_scenario", source.source_file or source.name, exc.allowed,
-                                   f"its analysis at {v:g} km/h (the speed rule: its band x v / v0, at most 0.1 / "
-                                   f"analysis.time_step): analysis.{exc.key}: {exc.reason}") from None
+                                   f"analysis.{exc.key} at {v:g} km/h: {exc.reason}") from None
     return bases, run_speeds
 
 

@@ -33,7 +33,6 @@ from typing import Any, Callable, Sequence
 import numpy as np
 
 from ..errors import SettingError
-from ..results.check_records import CheckRecord
 from ..scenario import Scenario
 from ..scenario.code_data import with_mass_case
 from ..scenario.model import Analysis, Track, Train
@@ -194,26 +193,49 @@ def check_trains(trains: Sequence[ForceTrain], asked: Any, err: Callable[..., Ex
         return []
     chosen = [t for t in trains if t.vehicles]
     if not chosen:
-        raise err("interaction", [t.name for t in trains], "trains given as vehicle models among the trains (ice_mttm, "
-                  "ave_s103 or a train .toml file of vehicles): HSLM trains are moving forces",
+        raise err("interaction", [t.name for t in trains], "a train of vehicle models (ice_mttm, ave_s103, a train "
+                  ".toml of vehicles): HSLM trains are moving forces",
                   "no train for the interaction rows")
     return chosen
 
 
-def check_rows(bridge: Any, trains: Sequence[ForceTrain], rows: Sequence[CheckRecord], damping_ratio: float,
-               cutoff_hz: float, case: str) -> tuple[InteractionComparison, ...]:
-    """One comparison per train of ``trains`` for the check: on ``bridge`` in mass case ``case`` (the check's
-    mesh) at ``damping_ratio`` (the check's without eq. 6.13's Delta zeta, which is for moving-force models),
-    the modes up to ``cutoff_hz``, at the speed of the train's largest mid-span peak among the check's
-    ``rows`` of that case (their ``acc_z_mid_span``). One interaction run per train."""
-    b = (with_mass_case(bridge, case) if bridge.code is not None else bridge).replace(damping_ratio=float(damping_ratio))
-    out = []
-    for train in trains:
-        mine = [r for r in rows if r.train == train.name and r.case == case]
-        top = max(mine, key=lambda r: max(r.acc_z_mid_span))
-        out.append(interaction_comparison(b, train, top.speed_kmh, max_frequency=cutoff_hz * (1.0 + 1e-9),
-                                          case=case))
-    return tuple(out)
+def check_bridge(bridge: Any, damping_ratio: float, case: str) -> Any:
+    """The check's interaction bridge: ``bridge`` (the check's mesh) in mass case ``case`` at ``damping_ratio``
+    (the check's without eq. 6.13's Delta zeta, which is for moving-force models)."""
+    return (with_mass_case(bridge, case) if bridge.code is not None else bridge).replace(damping_ratio=float(damping_ratio))
+
+
+def check_comparison(bridge: Any, train: ForceTrain, speed_kmh: float, damping_ratio: float, cutoff_hz: float,
+                     case: str) -> InteractionComparison:
+    """The check's comparison of ``train`` at ``speed_kmh``: on :func:`check_bridge`, the modes up to ``cutoff_hz``."""
+    return interaction_comparison(check_bridge(bridge, damping_ratio, case), train, speed_kmh,
+                                  max_frequency=cutoff_hz * (1.0 + 1e-9), case=case)
+
+
+def comparison_arrays(c: InteractionComparison) -> dict[str, np.ndarray]:
+    """A comparison as plain arrays (a check task's result, checkpointable): its numbers and its run's run_out,
+    from which :func:`comparison_of` rebuilds the scenario."""
+    out = {name: np.asarray(getattr(c, name), dtype=float) for name in (
+        "speed_kmh", "damping_ratio", "additional_damping", "moving_force_acc", "moving_force_dz_acc",
+        "interaction_acc", "frequencies", "end_time_s", "planned_end_time_s", "seconds")}
+    out["run_out"] = np.asarray(c.scenario.track.run_out if c.scenario is not None else math.nan, dtype=float)
+    return out
+
+
+def comparison_of(arrays: dict[str, np.ndarray], bridge: Any, train: ForceTrain, damping_ratio: float,
+                  cutoff_hz: float, case: str) -> InteractionComparison:
+    """The comparison of :func:`comparison_arrays`' arrays for :func:`check_comparison`'s arguments (its scenario
+    rebuilt: :func:`interaction_scenario` of the same inputs)."""
+    b = check_bridge(bridge, damping_ratio, case)
+    v = float(arrays["speed_kmh"])
+    sc = interaction_scenario(b, train, v, max_frequency=cutoff_hz * (1.0 + 1e-9), run_out=float(arrays["run_out"]))
+    return InteractionComparison(
+        train=train.name, bridge=b.name, speed_kmh=v, spans=tuple(float(x) for x in b.spans),
+        damping_ratio=float(arrays["damping_ratio"]), additional_damping=float(arrays["additional_damping"]),
+        moving_force_acc=np.array(arrays["moving_force_acc"]), moving_force_dz_acc=np.array(arrays["moving_force_dz_acc"]),
+        interaction_acc=np.array(arrays["interaction_acc"]), frequencies=np.array(arrays["frequencies"]),
+        end_time_s=float(arrays["end_time_s"]), planned_end_time_s=float(arrays["planned_end_time_s"]), scenario=sc,
+        seconds=float(arrays["seconds"]), case=case)
 
 
 def summary_lines(comparisons: Sequence[InteractionComparison]) -> list[str]:
@@ -231,5 +253,5 @@ def summary_lines(comparisons: Sequence[InteractionComparison]) -> list[str]:
     return lines
 
 
-__all__ = ["DEFAULT_LEAD_IN", "DEFAULT_MAX_FREQUENCY", "DEFAULT_TIME_STEP", "InteractionComparison", "MF_SAMPLES_PER_PERIOD", "check_rows",
-           "check_trains", "interaction_comparison", "interaction_scenario", "summary_lines"]
+__all__ = ["DEFAULT_LEAD_IN", "DEFAULT_MAX_FREQUENCY", "DEFAULT_TIME_STEP", "InteractionComparison", "MF_SAMPLES_PER_PERIOD", "check_bridge",
+           "check_comparison", "check_trains", "comparison_arrays", "comparison_of", "interaction_comparison", "interaction_scenario", "summary_lines"]

@@ -24,8 +24,9 @@ the check's track (:func:`tb_exudyn.codes.criteria.deck_criterion`: the criterio
 whose value is the moving-force rows' limit too, :func:`~tb_exudyn.codes.criteria.deck_acceleration_limit`) at its
 deciding location: ``p_exceed``, the probability of exceeding
 the limit at least once in one passage (Rice's rate, Poisson's first passage), and ``level_at_target``,
-the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem``
-(or ``tb-exudyn run``) of :func:`scenario_at` at that speed, to round-off.
+the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem`` of
+:func:`scenario_at` at that speed with :func:`engine_options` (the columns in float32: :data:`PRECISION`), to
+round-off; ``tb-exudyn run`` of it (float64) within float32's error (sigma within 1e-5 of its largest value).
 """
 
 from __future__ import annotations
@@ -37,7 +38,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence
 
-from ..errors import ScenarioError, SettingError
+from ..errors import ScenarioError, SettingError, one_of
+from ..results.caveats import can_turn
 from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
 from ..results.sweep import read_checks
@@ -55,9 +57,54 @@ DEFAULT_SCENARIO = "li_zhu_2011"
 CHANNELS: tuple[str, ...] = ("bridge.span*.acc_z*",)
 #: the bridge modes of the PEM model reach at least this factor times the check's cut-off frequency
 MODE_MARGIN = 1.05
+#: the precision of the PEM runs' columns (the batched engine's ``BatchedOptions.precision``): float32, as its grid
+#: error's midpoint columns already are. On ice_mttm over li_zhu_2011_bridge (144 and 300 km/h) a speed's CPU
+#: time falls by 14-26 % and every channel's max sigma stays within 7e-7 of the largest sigma of the float64 run,
+#: the level at the target within 1e-7 relative (the engine's stated error: 1e-5 of a channel's largest sigma,
+#: docs/speed.md section 1); tests/codes/test_stochastic.py compares the row with the float64 run
+PRECISION = "float32"
+#: the frequency grid's error (PEM's grid-error sweep: about a fifth of a speed's work, 1.5 CPU-s of ice_mttm's
+#: 4.5 over li_zhu_2011_bridge) is estimated at every GRID_ERROR_EVERY-th speed of a train, its last speed included
+#: (30 speeds: 4 of them) (:func:`grid_error_sampled`: the column's
+#: measure of its grid), and at every other speed whose row a grid error of GRID_ERROR_TURN of sigma could turn
+#: (:func:`grid_error_needed`: its PEM is run again with the estimate). The grid error enters a row only as a
+#: caveat that could turn its verdict (``results.caveats.can_turn``: the relative error at least the margin
+#: between the level and the limit), so a row whose margin exceeds GRID_ERROR_TURN is the same with and without
+#: the estimate as long as the grid's error stays below GRID_ERROR_TURN there; the sampled speeds measure it
+#: (li_zhu_2011's 200 linear frequencies, ice_mttm at 30 speeds from 144 to 300 km/h, every speed estimated:
+#: the deciding channel's error at most 1.3 %, any deck channel's 2.6 %, both at 300 km/h, a sampled speed:
+#: the error grows with the speed at the top of the range, the grid's spacing growing as v against the modes'
+#: fixed peaks), and :func:`stochastic_run` warns when they reach half of GRID_ERROR_TURN (the error varies
+#: from speed to speed as the peaks move across the grid's cells: a factor 2 of room)
+GRID_ERROR_EVERY = 10
+GRID_ERROR_TURN = 0.25
 #: the table's stochastic columns (None where not computed): those of the check's schema that read a record's
 #: StochasticValues
 COLUMNS: tuple[str, ...] = tuple(v.name for v in CHECK_RECORD if v.attribute.startswith("stochastic."))
+
+
+def engine_options(engine: str) -> Any:
+    """The options of the PEM runs on ``engine``: the batched engine's in :data:`PRECISION` (None: another
+    engine's defaults). ``run_pem(scenario_at(...), options=engine_options("batched"))`` gives a row's numbers."""
+    if engine != "batched":
+        return None
+    # the engines: imported on first use (as _sweep)
+    return importlib.import_module("tb_exudyn.engines.batched").BatchedOptions(precision=PRECISION)
+
+
+def grid_error_sampled(i: int, n: int) -> bool:
+    """Whether the ``i``-th of a train's ``n`` speeds estimates its grid error whatever its margin
+    (:data:`GRID_ERROR_EVERY`; the last speed too)."""
+    return i % GRID_ERROR_EVERY == 0 or i == n - 1
+
+
+def grid_error_needed(summary: Any, criterion: str) -> bool:
+    """Whether a grid error of :data:`GRID_ERROR_TURN` could turn the criterion's verdict in a speed's summary
+    (run without the estimate): its level within that fraction of the limit, or not finite."""
+    found = read_checks(summary).get(criterion)
+    if found is None:
+        return True
+    return can_turn(found.estimate, found.limit, GRID_ERROR_TURN) is not False
 
 
 def _sweep() -> Any:
@@ -82,7 +129,7 @@ def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str
         text = str(scenario)
         known = model_files("scenarios")
         if not text.strip() or (text not in known and not text.endswith(".toml") and not Path(text).exists()):
-            raise SettingError(where, key, text, f"one of {', '.join(known)} or a path to a scenario .toml file",
+            raise SettingError(where, key, text, one_of(known, text, tail=" or a scenario .toml file"),
                                "unknown scenario")
         sc = load_scenario(text)  # a bad file: its ScenarioError names the file and the key
     else:
@@ -128,8 +175,9 @@ def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_rati
 def scenario_at(base: Scenario, speed_kmh: float, n_freq: int | None = None) -> Scenario:
     """The scenario of the row at ``speed_kmh``: what :func:`run_sweep` runs there (its grid and approach
     rules, the channels :data:`CHANNELS`); ``n_freq``: the count the run used (an adaptive grid is raised
-    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it (or
-    ``tb-exudyn run`` of its TOML, ``scenario_to_toml``) gives the row's numbers."""
+    at each speed to what its rules need: the row's ``stochastic_n_freq``). ``run_pem`` of it with
+    :func:`engine_options` gives the row's numbers (``tb-exudyn run`` of its TOML, ``scenario_to_toml``: within
+    float32's error)."""
     sc = _sweep().sweep_scenario(base, float(speed_kmh), CHANNELS)
     if n_freq is not None and int(n_freq) != sc.analysis.n_freq:
         sc = sc.replace(analysis=sc.analysis.replace(n_freq=int(n_freq)))
@@ -146,6 +194,8 @@ class StochasticRun:
     values: dict[float, StochasticValues] = field(repr=False)
     warnings: tuple[str, ...] = ()
     seconds: float = 0.0
+    #: what the speeds' grid-error estimates measured ("" when none was made)
+    grid_error: str = ""
 
 
 def speed_key(speed_kmh: float) -> float:
@@ -158,6 +208,7 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     :data:`CHANNELS`; nothing written) and per speed the columns: p_exceed and level_at_target of the
     track's deck criterion at its deciding location, that location, the largest |mean| there (the
     vehicle model's deterministic run), the criterion's verdict and its caveats that could turn it."""
+    engine = importlib.import_module("tb_exudyn.engines").DEFAULT_ENGINE  # on first use (as _sweep)
     t0 = time.perf_counter()
     methods = _sweep()
     # a sweep names its tasks by speed_label (6 significant digits): speeds sharing a label run in
@@ -171,7 +222,7 @@ def run_stochastic(base: Scenario, speeds_kmh: Sequence[float], track: str, *, w
     done: list[tuple[float, dict[str, Any]]] = []
     for batch in batches:
         sweep = methods.run_sweep(base, batch, channels=CHANNELS, workers=workers, executor=executor,
-                                  progress=progress)
+                                  progress=progress, options=engine_options(engine))
         done += list(zip(sweep.speeds, sweep.summaries))
     return stochastic_run(base, done, track, name, time.perf_counter() - t0)
 
@@ -184,6 +235,7 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
     crit = deck_criterion(track)
     values: dict[float, StochasticValues] = {}
     messages: list[str] = []
+    estimated: list[tuple[float, float]] = []  # (speed, the deciding channel's grid error) where estimated
     for v, s in done:
         found = read_checks(s).get(crit)
         if found is None:  # the channels are the model's (its limit file was read before the work)
@@ -191,6 +243,9 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
                                f"no {crit} row at {v:g} km/h")
         names = [str(c) for c in s["channels"]]
         mean = float(s["max_abs_mean"][names.index(found.channel)]) if found.channel in names else math.nan
+        ge = s.get("grid_error")
+        if ge is not None and found.channel in names and math.isfinite(float(ge[names.index(found.channel)])):
+            estimated.append((float(v), float(ge[names.index(found.channel)])))
         values[speed_key(v)] = StochasticValues(
             p_exceed=found.probability, level_at_target=found.estimate, location=found.channel, mean_acc=mean,
             verdict=found.verdict + (f" ({found.reason})" if found.reason else ""), caveats=found.caveats,
@@ -198,10 +253,27 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
         messages += [str(m) for m in s.get("warnings", ())]
     if seconds is None:
         seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))
-    return StochasticRun(train=name or base.name, base=base, values=values, warnings=tuple(dict.fromkeys(messages)),
-                         seconds=seconds)
+    grid, note = _grid_error_note(estimated, len(done))
+    return StochasticRun(train=name or base.name, base=base, values=values,
+                         warnings=tuple(dict.fromkeys(messages + ([note] if note else []))), seconds=seconds,
+                         grid_error=grid)
 
 
-__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "MODE_MARGIN", "StochasticRun",
-           "base_scenario", "eligible", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+def _grid_error_note(estimated: Sequence[tuple[float, float]], n: int) -> tuple[str, str]:
+    """(what the rows' grid-error estimates measured, a warning when they reach GRID_ERROR_TURN / 2: the speeds
+    without an estimate were judged against GRID_ERROR_TURN)."""
+    if not estimated:
+        return "", ""
+    v, top = max(estimated, key=lambda e: abs(e[1]))
+    text = (f"grid error of the deciding channel estimated at {len(estimated)} of {n} speeds: at most "
+            f"{100 * abs(top):.2g} % (at {v:g} km/h)")
+    if len(estimated) == n or abs(top) < GRID_ERROR_TURN / 2:
+        return text, ""
+    return text, (f"the frequency grid's error reaches {100 * abs(top):.2g} % at {v:g} km/h, more than half of the "
+                  f"{100 * GRID_ERROR_TURN:g} % the speeds without an estimate were judged against (their rows may "
+                  f"miss a grid-error caveat): refine the grid (analysis.n_freq, analysis.freq_spacing = 'adaptive')")
+
+
+__all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "GRID_ERROR_EVERY", "GRID_ERROR_TURN", "MODE_MARGIN", "PRECISION",
+           "StochasticRun", "base_scenario", "eligible", "engine_options", "grid_error_needed", "grid_error_sampled", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
            "stochastic_run"]

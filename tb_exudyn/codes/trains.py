@@ -440,9 +440,8 @@ def distinct_trains(pairs: Sequence[tuple["ForceTrain", TrainSource]], where: st
             first[train.name] = source
             out.append(train)
         elif seen.identity != source.identity:
-            raise SettingError(where, key, [seen.given, source.given],
-                               "trains with distinct names (a train file's name key; HSLM-A1 ... HSLM-A10 and HSLM-B are EN "
-                               "1991-2's)", f"two trains named {train.name!r}: {seen.label} and {source.label}")
+            raise SettingError(where, key, train.name, "distinct names (a train file's name key)",
+                               f"two trains named {train.name!r}: {seen.label} and {source.label}")
     return out
 
 

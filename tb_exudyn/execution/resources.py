@@ -133,7 +133,7 @@ def available_memory() -> tuple[int | None, str]:
 
         soft = resource.getrlimit(resource.RLIMIT_AS)[0]
         if soft != resource.RLIM_INFINITY and soft > 0:
-            found.append((int(soft), f"this process's address-space limit (ulimit -v) of {format_bytes(soft)}"))
+            found.append((int(soft), f"ulimit -v {format_bytes(soft)}"))
     except (ImportError, OSError, ValueError):  # pragma: no cover - not POSIX
         pass
     return min(found) if found else (None, "an unknown limit")
@@ -214,8 +214,8 @@ def check_memory(estimate: MemoryEstimate, limit: MemoryLimit, where: str) -> No
         raise ResourceError.from_parts(
             limit.where, limit.key, format_bytes(limit.bytes),
             f"at least {format_bytes(fixed)} (more for the run itself)",
-            f"the run needs about {format_bytes(estimate.total)} of memory, {format_bytes(fixed)} of it for the "
-            f"interpreters and models of {max(1, estimate.workers)} process(es) alone, more than {limit.text}")
+            f"the run needs about {format_bytes(estimate.total)}, {format_bytes(fixed)} of it for "
+            f"{max(1, estimate.workers)} process(es) alone, more than {limit.text}")
     part, _, place = estimate.largest()
     share = f"{format_bytes(part.bytes)} {place}"
     workers = (f"; or fewer workers ({estimate.workers} now)"
@@ -269,17 +269,15 @@ def check_run_length(scenario: Any) -> None:
             key, value = "speed_kmh", scenario.speed_kmh
         else:
             key, value = "analysis.time_step", an.time_step
-        allowed = (f"at most {MAX_STEPS:.0e} steps: a larger analysis.time_step, or a shorter track.lead_in, "
-                   "track.run_out")
+        allowed = f"at most {MAX_STEPS:.0e} steps: larger time_step, shorter lead_in/run_out"
         if key == "speed_kmh":  # the speed at which the crossing takes MAX_STEPS steps
             slowest = 3.6 * (tr.lead_in + scenario.bridge.length + scenario.train.length + tr.run_out) \
                 / (MAX_STEPS * an.time_step)
             unit = 10.0 ** (math.floor(math.log10(slowest)) - 2)  # rounded up to 3 digits: that speed is allowed
-            allowed = (f"at most {MAX_STEPS:.0e} steps: a speed_kmh >= {math.ceil(slowest / unit) * unit:.3g}, or a "
-                       "larger analysis.time_step")
+            allowed = f"at most {MAX_STEPS:.0e} steps: speed_kmh >= {math.ceil(slowest / unit) * unit:.3g}, or a larger time_step"
         raise ResourceError(format_message(
             where, key, value, allowed,
-            f"the crossing takes {duration:.4g} s, {steps:.4g} steps of analysis.time_step = {an.time_step:g} s"))
+            f"{steps:.4g} steps of {an.time_step:g} s ({duration:.4g} s)"))
     if an.output_step > duration:
         raise ResourceError(format_message(
             where, "analysis.output_step", an.output_step, f"at most the crossing's duration, {duration:.4g} s",
@@ -318,8 +316,7 @@ def check_system_size(scenario: Any, n_bridge_modes: int, limit: int | None = No
     if limit is None or need <= limit:
         return
     most = int(math.sqrt(limit / SYSTEM_BYTES_PER_ENTRY))  # coordinates that fit
-    reason = (f"the system has {n} coordinates ({n_bridge_modes} bridge modes, {n_veh} of {len(vehicles)} vehicles): "
-              f"its linearised matrices need about {format_bytes(need)}, more than {text}")
+    reason = f"{len(vehicles)} vehicles ({n} coordinates) need about {format_bytes(need)}, over {text}"
     if n_veh >= n_bridge_modes:
         fit = max(0, (most - int(n_bridge_modes)) * len(vehicles) // n_veh)
         raise ResourceError(format_message(scenario_where(scenario), "train.vehicles", [v.name for v in vehicles],

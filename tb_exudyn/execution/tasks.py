@@ -270,8 +270,8 @@ def _drain(pool: Executor, todo, tasks, setup, setup_args, setup_key, work, fini
                     finished(i, fut.result())
         except BrokenProcessPool:  # seen by a result or, when the pool broke between two results, by submit
             raise ResourceError(
-                "a worker process ended abruptly: killed, out of memory (finished tasks kept: resume with fewer "
-                "workers) or not started (a script starts workers under 'if __name__ == \"__main__\":')") from None
+                "a worker process ended abruptly: killed, out of memory (resume with fewer workers) or not "
+                "started (a script starts them under 'if __name__ == \"__main__\":')") from None
     except BaseException:
         for fut in pending:
             fut.cancel()

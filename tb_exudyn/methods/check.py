@@ -6,9 +6,14 @@ method with :func:`~tb_exudyn.methods.driver.drive`, so that the check's work go
 does: in this process, a local process pool (``workers``) or an executor (Dask), with a checkpoint in the
 output folder and ``resume``. The tasks, in reduction order:
 
+- one :class:`InteractionTask` per train of the interaction runs (``interaction=True``): its moving forces in
+  the reference mass case again (the speed of their largest mid-span peak) and its Exudyn run with
+  interaction there (:func:`tb_exudyn.codes.interaction.check_comparison`); the longest tasks, first;
 - one :class:`StochasticTask` per train given as vehicle models and speed of its stochastic rows: the
-  speed's whole PEM, as a speed sweep's :class:`~tb_exudyn.methods.sweep.SpeedTask` (its summary); the
-  heaviest tasks, first, so that the pool's last tasks are short ones;
+  speed's whole PEM, as a speed sweep's :class:`~tb_exudyn.methods.sweep.SpeedTask` (its summary; the columns
+  in float32 and the grid error estimated at every GRID_ERROR_EVERY-th speed, elsewhere only where it could
+  turn the row: :mod:`tb_exudyn.codes.stochastic`); the heaviest tasks, first, so that the pool's last tasks
+  are short ones;
 - one :class:`StaticTask` per set of static load models (LM71, SW/0 on a continuous girder; LM71 alone for
   the comfort criterion there): :func:`~tb_exudyn.codes.deformation.static_deformations` (EN 1990 A2.4.4's
   deformation criteria);
@@ -39,8 +44,10 @@ import numpy as np
 from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
 from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
-from ..codes.stochastic import CHANNELS
+from ..codes.criteria import deck_criterion
+from ..codes.stochastic import CHANNELS, engine_options, grid_error_needed, grid_error_sampled
 from ..codes.trains import ForceTrain
+from ..codes import interaction as vbi
 from ..engines import DEFAULT_ENGINE
 from ..errors import UserError
 from ..execution import Execution, RunFiles, Task
@@ -89,6 +96,39 @@ class StochasticTask:
     speed: sweep.SpeedTask
     #: how an error of its PEM (e.g. a run this machine cannot hold) says which option's runs
     prefix: str = field(repr=False, default="")
+    #: the deck criterion whose verdict decides whether a speed not sampled estimates its grid error
+    #: (``speed.grid_error`` False: only where :func:`~tb_exudyn.codes.stochastic.grid_error_needed`)
+    criterion: str = ""
+
+
+@dataclass(frozen=True)
+class InteractionTask:
+    """One train's interaction run (``interaction=True``): its moving forces in the reference mass case (``moving``:
+    that case's and train's moving-force task, integrated again here to the same bits) decide the speed, the
+    largest mid-span peak (as the check's rows of that case would: the first of equal ones), where the train as
+    vehicle models crosses with interaction (:func:`tb_exudyn.codes.interaction.check_comparison`: one Exudyn
+    run). Its repr (the moving-force task's, the bridge's, the damping and the cut-off) is its digest."""
+
+    moving: MovingForceTask
+    bridge: Any
+    damping_ratio: float
+    cutoff_hz: float
+
+
+def deciding_speed(resp: MovingForceResponse) -> float:
+    """The speed of a response's largest mid-span peak (the first of equal ones): the rows' ``max(acc_z_mid_span)``."""
+    peaks = resp.max_acc[list(resp.mid_stations), :].max(axis=0)
+    return float(resp.speeds_kmh[int(np.argmax(peaks))])
+
+
+def interaction_task(task: InteractionTask) -> dict[str, np.ndarray]:
+    m = task.moving
+    with single_threaded_blas():
+        resp = moving_force_response(m.modal, m.force_train, np.array(m.speeds_kmh), m.spans,
+                                     damping_ratio=m.damping_ratio, modes=np.array(m.used, dtype=int))
+    comparison = vbi.check_comparison(task.bridge, m.force_train, deciding_speed(resp), task.damping_ratio,
+                                      task.cutoff_hz, m.case)
+    return vbi.comparison_arrays(comparison)
 
 
 def response_arrays(resp: MovingForceResponse) -> dict[str, np.ndarray]:
@@ -164,8 +204,13 @@ class CheckWorker:
             return moving_force_task(data)
         if isinstance(data, StaticTask):
             return static_task(data)
+        if isinstance(data, InteractionTask):
+            return interaction_task(data)
         try:
-            return sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            summary = sweep.SpeedWorker().work(None, Task(task.key, data.speed))
+            if data.speed.grid_error is False and grid_error_needed(summary, data.criterion):
+                summary = sweep.SpeedWorker().work(None, Task(task.key, dataclasses.replace(data.speed, grid_error=None)))
+            return summary
         except UserError as exc:
             raise prefixed(exc, data.prefix) from None
 
@@ -181,19 +226,22 @@ class CheckState:
     static: dict[tuple[str, ...], StaticDeformations] = field(default_factory=dict)
     #: each stochastic train's speeds whose band the speed rule capped (as a sweep's provenance says)
     capped: dict[str, list[float]] = field(default_factory=dict)
+    #: each interaction train's comparison (:func:`tb_exudyn.codes.interaction.comparison_arrays`)
+    interaction: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
 
 
 def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any]:
     """The stochastic rows' tasks (each speed's scenario checked, as a sweep's plan checks them) and the
     engine class (None without them)."""
-    tasks, cls = [], None
+    tasks, cls, options = [], None, engine_options(DEFAULT_ENGINE)
     for t, train in enumerate(setup.stochastic_trains):
         speeds = setup.run_speeds[train.name]
-        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS)
-        for v, sc in zip(speeds, scenarios):
-            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, None, None, False, sweep.SWEEP_SLICES)
+        cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS, options)
+        for i, (v, sc) in enumerate(zip(speeds, scenarios)):
+            st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES,
+                                 grid_error=None if grid_error_sampled(i, len(speeds)) else False)
             tasks.append(Task(f"pem-{t:02d}-{v:.6f}", StochasticTask(train.name, float(v), st, setup.stochastic_prefix(
-                train.name))))
+                train.name), deck_criterion(setup.track))))
     return tasks, cls
 
 
@@ -212,6 +260,15 @@ def _moving_force_tasks(setup: CheckSetup) -> list[Task]:
     return tasks
 
 
+def _interaction_tasks(setup: CheckSetup, moving: list[Task]) -> list[Task]:
+    """One per interaction train, on the reference mass case's moving-force task of that train."""
+    m = setup.modes[setup.ref_case]
+    by = {(t.data.case, t.data.train): t.data for t in moving}
+    return [Task(f"interaction-{i:02d}", InteractionTask(by[(setup.ref_case, train.name)], setup.bridge,
+                                                         float(setup.zeta_vehicles), float(m.cutoff)))
+            for i, train in enumerate(setup.interaction_trains)]
+
+
 def _static_tasks(setup: CheckSetup) -> list[Task]:
     """The static load models: the default set, and LM71 alone where the default adds SW/0 (a continuous
     girder: the comfort criterion loads LM71 only)."""
@@ -224,7 +281,7 @@ def _identity(setup: CheckSetup) -> dict[str, Any]:
     stochastic rows' scenarios (with the package versions and tb_exudyn's source)."""
     return fingerprint_identity(
         repr(setup.bridge), method="en1991_check", engine="moving_force" + ("+" + DEFAULT_ENGINE if setup.bases else ""),
-        engine_options={},
+        engine_options={"stochastic": repr(engine_options(DEFAULT_ENGINE))} if setup.bases else {},
         method_options={"setup": repr(setup), "trains": [repr(t) for t in setup.trains],
                         "series": {k: list(v) for k, v in setup.series.items()},
                         "stochastic": {k: repr(v) for k, v in setup.bases.items()},
@@ -251,8 +308,9 @@ class CheckMethod:
         t0 = self.started or _time.perf_counter()
         stochastic, cls = _stochastic_tasks(self.setup)
         if cls is not None:
-            warm_up.start(cls, None, execution.announce)  # a first run's compile, not in every worker
-        tasks = stochastic + _moving_force_tasks(self.setup) + _static_tasks(self.setup)
+            warm_up.start(cls, engine_options(DEFAULT_ENGINE), execution.announce)  # a first run's compile, not in every worker
+        moving = _moving_force_tasks(self.setup)  # an interaction run first: one Exudyn run, the longest task
+        tasks = _interaction_tasks(self.setup, moving) + stochastic + moving + _static_tasks(self.setup)
         state = CheckState(responses={}, stochastic={t.name: [] for t in self.setup.stochastic_trains}, t0=t0)
         return RunPlan(files=RunFiles("check", CHECKPOINT, group=self.group), tasks=tasks,
                        identity=_identity(self.setup), state=state,
@@ -264,6 +322,8 @@ class CheckMethod:
             state.responses[(data.case, data.train)] = response_of(result)
         elif isinstance(data, StaticTask):
             state.static[data.loads] = static_of(result)
+        elif isinstance(data, InteractionTask):
+            state.interaction[data.moving.train] = result
         else:
             state.stochastic[data.train].append((data.speed_kmh, result))
             if capped(self.setup.bases[data.train], data.speed.scenario):
@@ -276,7 +336,8 @@ class CheckMethod:
                                    base=self.setup.bases[train])
             for category, message in grouped_warnings(view):
                 warnings.warn(message, category, stacklevel=3)
-        return self.assemble(self.setup, state.responses, state.stochastic, stats, state.t0, state.static)
+        return self.assemble(self.setup, state.responses, state.stochastic, stats, state.t0, state.static,
+                             state.interaction)
 
     def save(self, result: Any, out: Path) -> None:
         files = self.render(result)
@@ -285,5 +346,6 @@ class CheckMethod:
                      where=self.setup.where, key="out", remove=stale)
 
 
-__all__ = ["CHECKPOINT", "CheckMethod", "CheckState", "CheckWorker", "MovingForceTask", "StaticTask", "StochasticTask",
+__all__ = ["CHECKPOINT", "CheckMethod", "CheckState", "CheckWorker", "InteractionTask", "MovingForceTask", "StaticTask",
+           "StochasticTask", "deciding_speed",
            "response_arrays", "response_of", "static_arrays", "static_of"]

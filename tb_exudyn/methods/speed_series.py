@@ -51,8 +51,8 @@ def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | N
             raise SettingError(where, key, shown, allowed, f"speed {v!r} out of range")
         label = speed_label(float(v))
         if label in seen:
-            raise SettingError(where, key, shown, allowed + " (different in the 6 significant digits of a speed's "
-                               "folder and task key)", f"{seen[label]!r} and {float(v)!r} are the same speed {label!r}")
+            raise SettingError(where, key, shown, "speeds differing in 6 significant digits",
+                               f"{seen[label]!r} and {float(v)!r}: the same speed {label!r}")
         seen[label] = float(v)
     return tuple(seen.values())
 
@@ -66,8 +66,8 @@ def parse_speeds(text: str, where: str = "parse_speeds") -> tuple[float, ...]:
     :func:`check_speeds` (the count before the list is made); errors name ``where`` (the caller) and
     ``speeds_kmh``."""
     key = KEYS["speeds"]
-    allowed = (f"START:STOP:STEP with 0 < START <= STOP <= {SPEED_CHECK.high:g} and STEP > 0, or speeds separated "
-               f"by commas, each {SPEED_CHECK.describe()} km/h; at most {MAX_SPEEDS} speeds")
+    allowed = (f"START:STOP:STEP (0 < START <= STOP <= {SPEED_CHECK.high:g}, STEP > 0) or a comma list, "
+               f"at most {MAX_SPEEDS} speeds")
     try:
         if ":" in text:
             start, stop, step = (float(x) for x in text.split(":"))

@@ -122,9 +122,8 @@ def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None,
         items = tuple(known.get(p, (p, p, p)) for p in channels)
         for p in channels:
             if not fnmatch.filter(names, p):
-                sample = ", ".join(names[:4]) + (", ..." if len(names) > 4 else "")
-                raise SettingError("run_sweep", "channels", list(channels), "patterns that each match a channel of "
-                                   f"the model (derived ones included), e.g. {sample}", f"{p!r} matches no channel")
+                raise SettingError("run_sweep", "channels", p, "patterns matching channels, "
+                                   f"e.g. {names[0] if names else '(none)'}", f"{p!r} matches no channel")
         return items
     keep = tuple(q for q in KEY_QUANTITIES if fnmatch.filter(names, q[1]))
     if not keep:
@@ -166,8 +165,7 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
     try:
         sc = sweep_scenario(base, speed_kmh, patterns, n_freq, freq_spacing)
     except ScenarioError as exc:
-        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"speeds at which the sweep's scenario is valid "
-                           f"({exc.key} {exc.allowed})", f"at {label} km/h {exc.key} = {exc.value!r}: {exc.reason}"
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"valid speeds ({exc.allowed})", f"at {label} km/h {exc.key} = {exc.value!r}: {exc.reason}"
                            ) from None
     try:
         check_run_length(sc)
@@ -176,9 +174,9 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
         if not sc.duration / dt > MAX_STEPS:
             raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
                                "allows", f"at {label} km/h: {exc}") from None
-        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"here from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
-                           f"(a crossing of at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
-                           f"crossing of {distance:.4g} m takes {sc.duration / dt:.4g} steps") from None
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
+                           f"(at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
+                           f"{distance:.4g} m crossing takes {sc.duration / dt:.4g} steps") from None
     return sc
 
 
@@ -226,6 +224,9 @@ class SpeedTask:
     keep_psd: bool = False
     overwrite: bool = field(default=False, repr=False)
     keep_checkpoint: bool = field(default=False, repr=False)
+    #: PEM's ``grid_error`` (None: the engine's default; False: not estimated, as the EN 1991-2 check's speeds
+    #: whose verdict it cannot turn)
+    grid_error: bool | None = None
 
 
 #: the column slices of a speed's PEM in a sweep: one. A speed is one worker's task, so slices there
@@ -250,7 +251,7 @@ class SpeedWorker:
         with warnings.catch_warnings(record=True) as caught:  # handed to the parent, which shows them once
             warnings.simplefilter("always")
             result = pem.run(st.scenario, st.engine, execution, options=st.options, keep_psd=st.keep_psd,
-                             least_count=st.scenario.analysis.freq_spacing == "adaptive")
+                             least_count=st.scenario.analysis.freq_spacing == "adaptive", grid_error=st.grid_error)
         summary = speed_summary(result)
         seen = dict.fromkeys((f"{w.message} (at {speed_label(st.scenario.speed_kmh)} km/h)",
                               f"{w.category.__module__}:{w.category.__qualname__}") for w in caught)
@@ -319,9 +320,8 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     quantities = key_patterns(scenario, channels)
     left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
     if scenario.track.structure:  # before any run
-        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a speed sweep "
-                            "(a run at one speed models the track: run_pem of the scenario at that speed)", "the sweep with the track "
-                            "layer is not built yet")
+        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a sweep (a run "
+                            "at one speed models the track)", "the sweep with a track is not built yet")
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
     scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
@@ -331,10 +331,10 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
 
 
 def speed_scenarios(scenario: Scenario, speeds_kmh: Sequence[float], engine: str = DEFAULT_ENGINE,
-                    channels: Sequence[str] | None = None) -> tuple[Any, list[Scenario]]:
-    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them: for a method
-    whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
-    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, None, None)
+                    channels: Sequence[str] | None = None, options: Any = None) -> tuple[Any, list[Scenario]]:
+    """The engine class and each speed's scenario, checked as :func:`check_sweep` checks them (``options``: the
+    engine's): for a method whose tasks include a sweep's speeds (the EN 1991-2 check's stochastic rows)."""
+    _, _, cls, scenarios, _ = _plan(scenario, speeds_kmh, engine, channels, None, options, None)
     return cls, scenarios
 
 

@@ -142,17 +142,35 @@ def channel_names(result: Result) -> tuple[str, ...]:
     return result.names if is_time_history(result) else tuple(result.channels)
 
 
-def deciding_bridge_channels(result: Result) -> list[str]:
-    """The bridge channels that decide a criterion of the result's code checks (its worst locations,
-    e.g. ``bridge.span1.q1.acc_z_en1990``), so that the report's verdict rows link to their figures;
-    none for a result without checks or whose limits cannot be read (the run reports that)."""
+def deciding_channels(result: Result) -> list[str]:
+    """The channels that decide a criterion of the result's code checks (its worst locations, e.g.
+    ``bridge.span1.q1.acc_z_en1990``, ``car3.body.acc_z``), those the verdicts name; none for a result
+    without checks or whose limits cannot be read (the run reports that)."""
     if not hasattr(result, "checks"):
         return []
     try:
         rows = result.checks().worst()
     except UserError:
         return []
-    return list(dict.fromkeys(r.channel for r in rows if r.channel.startswith("bridge.") and r.verdict != "NOT EVALUATED"))
+    return list(dict.fromkeys(r.channel for r in rows if r.verdict != "NOT EVALUATED"))
+
+
+def deciding_bridge_channels(result: Result) -> list[str]:
+    """The bridge channels of :func:`deciding_channels`, so that the report's verdict rows link to their figures."""
+    return [c for c in deciding_channels(result) if c.startswith("bridge.")]
+
+
+#: the car whose PSD figures a page shows (the leading car: the others' are left out, drawn on request)
+PAGE_CAR = 1
+
+
+def page_spectral(channel: str, deciding: Sequence[str] = ()) -> bool:
+    """Whether a report page draws the PSD map and slices of ``channel`` by default: the bridge's
+    channels, the leading car's (:data:`PAGE_CAR`) and those the checks' verdicts name (``deciding``);
+    the other cars' are left out (a third of the main job's drawing, docs/speed.md section 15; their
+    sigma and mean figures stay), and the page says so and how to draw them."""
+    car = channel_car(channel)
+    return car is None or car == PAGE_CAR or channel in deciding
 
 
 def default_channels(result: Result) -> list[str]:
@@ -162,6 +180,14 @@ def default_channels(result: Result) -> list[str]:
     pats = [p for _, group in default_patterns(names) for p in group] + deciding_bridge_channels(result)
     keep = [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
     return keep or list(names)
+
+
+def pattern_channels(result: Result) -> list[str]:
+    """The channels of :func:`default_channels` known without the result's code checks (those of
+    :func:`default_patterns`), in stored order: a run draws their figures while it computes the checks."""
+    names = channel_names(result)
+    pats = [p for _, group in default_patterns(names) for p in group]
+    return [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in pats)]
 
 
 #: The default figure channels of the reference study's layout (kept for callers of the old name;
@@ -369,7 +395,7 @@ def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | N
 __all__ = [
     "Crossing", "DISPLAY_UNITS", "DisplayUnit", "KEY_CHANNELS", "axis_label", "band_across_zero_share", "band_text",
     "channel_car", "channel_crossing", "channel_group", "channel_label", "channel_names", "channel_subset",
-    "crossing_times", "deciding_bridge_channels", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
+    "crossing_times", "deciding_bridge_channels", "deciding_channels", "page_spectral", "PAGE_CAR", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
     "low_frequency_content", "max_sigma_time", "mc_label", "psd_band", "psd_peak", "psd_slices", "psd_unit",
     "quantity_label", "sample_matrix", "select_channels", "sigma_to_mean_ratio",
 ]

@@ -28,7 +28,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 from matplotlib.figure import Figure
 
@@ -75,14 +75,55 @@ def compact_png(png: bytes) -> bytes:
         with Image.open(io.BytesIO(png)) as im:
             if im.format != "PNG" or im.mode not in ("RGB", "RGBA"):
                 return png
-            if im.mode == "RGBA" and im.getchannel("A").getextrema()[0] < 255:
-                return png
-            out = io.BytesIO()
-            im.convert("RGB").quantize(PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT).save(out, "PNG")
+            small = _palette_png(im)
     except (ImportError, OSError, ValueError, SyntaxError):  # not an image Pillow reads (SyntaxError: a broken PNG)
         return png
-    small = out.getvalue()
-    return small if len(small) < len(png) else png
+    return small if small is not None and len(small) < len(png) else png
+
+
+def _palette_png(im) -> bytes | None:  # noqa: ANN001 - a PIL image
+    """The PNG of an RGB(A) image with a palette of :data:`PALETTE_COLOURS` colours (median cut); None
+    when it has transparent pixels (a palette would lose them)."""
+    from PIL import Image
+    if im.mode == "RGBA" and im.getchannel("A").getextrema()[0] < 255:
+        return None
+    out = io.BytesIO()
+    im.convert("RGB").quantize(PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT).save(out, "PNG")
+    return out.getvalue()
+
+
+#: zlib level of the figure files drawn for a page: level 1 writes them 3 % larger than matplotlib's
+#: default (6) in a third less time (the reference study's figures)
+FILE_PNG_LEVEL = 1
+
+
+def figure_pngs(fig: Figure, dpi: int = DPI) -> tuple[bytes, bytes]:
+    """(the figure's PNG file, the PNG the page embeds), from one drawing on Agg: the file has the
+    pixels ``fig.savefig(format="png", dpi=dpi)`` writes (RGBA, or RGB when every pixel is opaque,
+    with matplotlib's Software and dpi fields), the page's copy is :func:`compact_png` of it, made from
+    the pixels in memory instead of decoding the file (when the palette is not smaller, the file's bytes)."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image, PngImagePlugin
+    original, original_dpi = fig.canvas, fig.dpi
+    try:
+        canvas = FigureCanvasAgg(fig)
+        fig.set_dpi(dpi)
+        canvas.draw()
+        rgba = Image.frombuffer("RGBA", canvas.get_width_height(physical=True), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        rgba.load()
+    finally:
+        fig.set_dpi(original_dpi)
+        fig.set_canvas(original)
+    opaque = rgba.getchannel("A").getextrema()[0] == 255
+    image = rgba.convert("RGB") if opaque else rgba
+    info = PngImagePlugin.PngInfo()
+    info.add_text("Software", f"Matplotlib version{matplotlib.__version__}, https://matplotlib.org/")
+    buf = io.BytesIO()
+    image.save(buf, "PNG", pnginfo=info, dpi=(dpi, dpi), compress_level=FILE_PNG_LEVEL)
+    png = buf.getvalue()
+    small = _palette_png(image) if opaque else None
+    return png, small if small is not None and len(small) < len(png) else png
 
 
 # ============================================================================================ paths
@@ -126,12 +167,13 @@ def figure_file(folder: Path, channel: str, kind: str, fmt: str = "png") -> Path
     return folder / "figures" / f"{channel}.{kind}.{fmt}"
 
 
-def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str) -> list[FigureJob]:
+def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str,
+             spectral: Callable[[str], bool] | None) -> list[FigureJob]:
     source = path / "meta.json"
     out = []
     for ch in data.select_channels(result, channels, where=where, source=str(path)):
         kinds = ("bounds",) if isinstance(result, RandomResponse) else ("history",)
-        if data.has_psd(result, ch):
+        if data.has_psd(result, ch) and (spectral is None or spectral(ch)):
             kinds += ("psd_map", "psd_slices")
         one = (data.channel_subset(result, [ch]),)
         for kind in kinds:
@@ -141,13 +183,15 @@ def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], w
 
 
 def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels: str | Sequence[str] | None = None,
-                formats: Sequence[str] = ("png",), where: str = "figure_jobs") -> list[FigureJob]:
+                formats: Sequence[str] = ("png",), where: str = "figure_jobs",
+                spectral: Callable[[str], bool] | None = None) -> list[FigureJob]:
     """Every standard figure of the results ``found`` in ``folder`` (see :func:`plot_folder`),
-    with its paths checked (:func:`confined_path`)."""
+    with its paths checked (:func:`confined_path`). ``spectral``: which channels get their PSD map
+    and slices (None: every channel that has a map; a page's default: :func:`data.page_spectral`)."""
     root = Path(folder)
     jobs: list[FigureJob] = []
     for path, result in found:
-        jobs += _jobs_of(root, path, result, channels, formats, where)
+        jobs += _jobs_of(root, path, result, channels, formats, where, spectral)
     pems = [r for _, r in found if r.kind.gaussian]
     mcs = [(p, r) for p, r in found if r.kind.sampled]
     if pems and mcs:
@@ -185,11 +229,10 @@ def draw_job(job: FigureJob, dpi: int = DPI) -> tuple[Path, ...]:
 def draw_job_for_page(job: FigureJob, dpi: int = DPI) -> tuple[tuple[Path, ...], bytes]:
     """Draw one job, write its files and return, with their paths, the PNG as a page embeds it
     (:func:`compact_png`): the palette re-encoding is done where the figure is drawn, in parallel,
-    not one figure after another in the process writing the page. The job's first file must be a PNG."""
+    not one figure after another in the process writing the page, and from the pixels in memory
+    (:func:`figure_pngs`). The job's first file must be a PNG."""
     fig = make_figure(job.kind, job.channel, job.payload)
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
-    png = buf.getvalue()
+    png, page = figure_pngs(fig, dpi)
     paths = []
     for p in job.paths:
         if p.suffix.lower() == ".png":
@@ -197,7 +240,7 @@ def draw_job_for_page(job: FigureJob, dpi: int = DPI) -> tuple[tuple[Path, ...],
             paths.append(p)
         else:
             paths.append(save_figure(fig, p, dpi=dpi))
-    return tuple(paths), compact_png(png)
+    return tuple(paths), page
 
 
 def _init_worker() -> None:
@@ -242,42 +285,82 @@ def run_jobs(draw, jobs: Sequence[FigureJob], workers: int | None = None, progre
     n = min(workers or default_workers(), len(jobs))
     if len(jobs) < MIN_JOBS_FOR_POOL:
         n = 1
-    done: dict[int, Any] = {}
     with tqdm(total=len(jobs), unit="figure", desc="figures", disable=None if progress else True, leave=False) as bar:
         if n <= 1:
-            for i, job in enumerate(jobs):
-                done[i] = draw(job, dpi)
+            done = []
+            for job in jobs:
+                done.append(draw(job, dpi))
                 bar.update()
-        else:
-            with ProcessPoolExecutor(max_workers=n - 1, mp_context=multiprocessing.get_context("spawn"),
-                                     initializer=_init_worker) as pool:
-                futures: list[Future] = []
-                for job in jobs:
-                    fut = pool.submit(draw, job, dpi)
-                    fut.add_done_callback(lambda f: None if f.cancelled() else bar.update())
-                    futures.append(fut)
-                # this process takes jobs from the end while the workers start and take them from the front
-                for i in range(len(jobs) - 1, -1, -1):
-                    if not futures[i].cancel():
-                        break
-                    done[i] = draw(jobs[i], dpi)
-                    bar.update()
-                broken = False
-                for i, fut in enumerate(futures):
-                    if i in done:
-                        continue
-                    if not broken:
-                        try:
-                            done[i] = fut.result()
-                            continue
-                        except BrokenProcessPool:  # e.g. a script without `if __name__ == "__main__":`
-                            broken = True
-                            warnings.warn("the figure workers could not start; drawing the figures in this "
-                                          "process (guard a script's main code with `if __name__ == "
-                                          "\"__main__\":`)", RuntimeWarning, stacklevel=2)
-                    done[i] = draw(jobs[i], dpi)
-                    bar.update()
+            return done
+        with ProcessPoolExecutor(max_workers=n - 1, mp_context=multiprocessing.get_context("spawn"),
+                                 initializer=_init_worker) as pool:
+            futures = [pool.submit(draw, job, dpi) for job in jobs]
+            return _collect(draw, jobs, futures, list(range(len(jobs))), dpi, bar)
+
+
+def _collect(draw, jobs: Sequence[FigureJob], futures: Sequence[Future], order: Sequence[int], dpi: int,
+             bar) -> list[Any]:  # noqa: ANN001
+    """What ``futures[i]`` (``draw(jobs[i], dpi)`` in a pool) returned, for each i. This process draws
+    too: it takes the jobs from the end of the pool's queue (``order``: the indices as submitted), those
+    not yet started, while the workers take them from the front; a pool that cannot start draws here."""
+    for fut in futures:
+        fut.add_done_callback(lambda f: None if f.cancelled() else bar.update())
+    done: dict[int, Any] = {}
+    for i in reversed(order):
+        if not futures[i].cancel():
+            break
+        done[i] = draw(jobs[i], dpi)
+        bar.update()
+    broken = False
+    for i, fut in enumerate(futures):
+        if i in done:
+            continue
+        if not broken:
+            try:
+                done[i] = fut.result()
+                continue
+            except BrokenProcessPool:  # e.g. a script without `if __name__ == "__main__":`
+                broken = True
+                warnings.warn("the figure workers could not start; drawing the figures in this "
+                              "process (guard a script's main code with `if __name__ == "
+                              "\"__main__\":`)", RuntimeWarning, stacklevel=3)
+        done[i] = draw(jobs[i], dpi)
+        bar.update()
     return [done[i] for i in range(len(jobs))]
+
+
+class PageDrawing:
+    """A page's figures drawn on a pool started beforehand (``executor``: e.g.
+    :func:`tb_exudyn.execution.standby.standby_pool`, whose processes imported this module while a
+    run computed): :meth:`submit` hands jobs to it as soon as their result exists, :meth:`pictures`
+    returns the page's PNGs of jobs (:func:`draw_job_for_page`), submitting those not yet submitted
+    and drawing in this process too (see :func:`run_jobs`). A job is drawn once, by its files."""
+
+    def __init__(self, executor: Any, dpi: int = DPI) -> None:
+        self.executor, self.dpi = executor, dpi
+        self._futures: dict[tuple[str, ...], tuple[int, Future]] = {}
+
+    @staticmethod
+    def _key(job: FigureJob) -> tuple[str, ...]:
+        return tuple(os.path.realpath(p) for p in job.paths)
+
+    def submit(self, jobs: Sequence[FigureJob]) -> None:
+        for job in jobs:
+            if self._key(job) not in self._futures:
+                self._futures[self._key(job)] = (len(self._futures), self.executor.submit(draw_job_for_page, job, self.dpi))
+
+    def has(self, job: FigureJob) -> bool:
+        return self._key(job) in self._futures
+
+    def pictures(self, jobs: Sequence[FigureJob], progress: bool = False) -> list[bytes]:
+        from tqdm.auto import tqdm
+
+        self.submit(jobs)
+        seq_futures = [self._futures[self._key(j)] for j in jobs]
+        order = sorted(range(len(jobs)), key=lambda i: seq_futures[i][0])
+        with tqdm(total=len(jobs), unit="figure", desc="figures", disable=None if progress else True, leave=False) as bar:
+            done = _collect(draw_job_for_page, jobs, [f for _, f in seq_futures], order, self.dpi, bar)
+        return [png for _, png in done]
 
 
 def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
@@ -303,5 +386,5 @@ def plot_folder(folder: str | Path, channels: str | Sequence[str] | None = None,
 
 
 __all__ = ["DPI", "FigureJob", "KINDS", "PALETTE_COLOURS", "compact_png", "confined_path", "default_workers", "draw_job",
-           "draw_job_for_page", "draw_jobs", "draw_jobs_for_page", "figure_file", "run_jobs",
+           "draw_job_for_page", "draw_jobs", "figure_pngs", "PageDrawing", "draw_jobs_for_page", "figure_file", "run_jobs",
            "figure_jobs", "make_figure", "plot_folder", "save_figure"]

@@ -44,6 +44,7 @@ table (``result.checks()``), the one the terminal's verdict lines read.
 from __future__ import annotations
 
 import datetime as _dt
+import functools
 import html
 import os
 from pathlib import Path
@@ -52,7 +53,8 @@ from typing import Any, Iterable, Sequence
 from .._version import __version__
 from ..files import output_targets, write_output
 from ..plotting import data as pdata
-from ..plotting.files import compact_png, draw_jobs_for_page, figure_jobs, plot_folder, save_figure
+from ..plotting.data import pattern_channels
+from ..plotting.files import PageDrawing, compact_png, draw_jobs_for_page, figure_jobs, plot_folder, save_figure
 from ..errors import UserError
 from ..results import RandomResponse, find_results
 from ..results.checks import default_limits
@@ -91,12 +93,13 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
                   checks: Iterable[Any] | None = None, modes: Iterable[Any] | None = None,
                   pictures: dict[tuple[str, str, str], bytes] | None = None,
                   names: dict[str, list[str]] | None = None, comparison: Sequence[str] = (),
-                  warnings: Sequence[str] = ()) -> str:
+                  warnings: Sequence[str] = (), left_out: Sequence[str] = ()) -> str:
     """The HTML text of a report on ``found`` results (see :func:`write_report`).
 
     ``pictures``: PNG bytes by (result folder name, channel, kind) ("" as folder for pem_vs_mc);
     ``names``: the channels with figures per result folder name (default: ``channels`` selected);
-    ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own.
+    ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own;
+    ``left_out``: channels whose PSD figures the page leaves out (it says so, and how to draw them).
     """
     found = ordered(found)
     report_warnings = list(warnings)
@@ -140,7 +143,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
             verdicts_section(verdicts, first, k, figure_ids),
             warnings_section(found, report_warnings),
             findings_section(studies, pem, figure_ids),
-            figures_section(found, pictures, names, k, list(comparison)),
+            figures_section(found, pictures, names, k, list(comparison), list(left_out)),
             channels_section(found, k, figure_ids),
             modes_section(mode_rows),
             scenario_section(scenarios),
@@ -158,16 +161,40 @@ def _fresh(png: Path, newest_input: float) -> bool:
         return False
 
 
+def page_jobs(folder: Path, found: Sequence[tuple[Path, Result]], channels=None, *,  # noqa: ANN001
+              all_figures: bool = False) -> tuple[list[Any], list[str]]:
+    """The figures a report page shows (:func:`tb_exudyn.plotting.files.figure_jobs`, PNG) and the
+    channels whose PSD figures it leaves out: for the default channels (``channels`` None) without
+    ``all_figures``, the PSD maps and slices of :func:`tb_exudyn.plotting.data.page_spectral` only
+    (the checks' deciding channels kept)."""
+    if channels is not None or all_figures:
+        return figure_jobs(folder, found, channels, ("png",)), []
+    deciding = [c for _, r in found for c in pdata.deciding_channels(r)]
+    spectral = functools.partial(pdata.page_spectral, deciding=deciding)
+    left_out = list(dict.fromkeys(c for _, r in found for c in pdata.select_channels(r)
+                                  if pdata.has_psd(r, c) and not spectral(c)))
+    return figure_jobs(folder, found, channels, ("png",), spectral=spectral), left_out
+
+
 def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels, *, workers: int | None = None,
-                    progress: bool = False) -> tuple[dict[tuple[str, str, str], bytes], dict[str, list[str]], list[str]]:
+                    progress: bool = False, drawing: PageDrawing | None = None, all_figures: bool = False,
+                    ) -> tuple[dict[tuple[str, str, str], bytes], dict[str, list[str]], list[str], list[str]]:
     """The report's figures as PNG bytes, as the page embeds them (:func:`compact_png`): the files
     ``plot_folder`` wrote when they are newer than the results, the others drawn now (in parallel,
-    into the same files; each worker also re-encodes the figures it draws). Returns (pictures,
-    channels with figures per result folder name, channels with a PEM against Monte Carlo figure)."""
-    jobs = figure_jobs(folder, found, channels, ("png",))
+    into the same files; each worker also re-encodes the figures it draws; with ``drawing``, on its
+    pool, which may have drawn some already). The default channels (``channels`` None) without
+    ``all_figures``: the PSD maps and slices of :func:`tb_exudyn.plotting.data.page_spectral` only.
+    Returns (pictures, channels with figures per result folder name, channels with a PEM against
+    Monte Carlo figure, channels whose PSD figures were left out)."""
+    jobs, left_out = page_jobs(folder, found, channels, all_figures=all_figures)
     newest = max((p / n).stat().st_mtime for p, _ in found for n in ("arrays.npz", "meta.json") if (p / n).exists())
-    missing = [j for j in jobs if not _fresh(j.paths[0], newest)]
-    drawn = dict(zip((j.paths[0] for j in missing), draw_jobs_for_page(missing, workers=workers, progress=progress)))
+    if drawing is not None:
+        missing = [j for j in jobs if drawing.has(j) or not _fresh(j.paths[0], newest)]
+        pngs = drawing.pictures(missing, progress=progress)
+    else:
+        missing = [j for j in jobs if not _fresh(j.paths[0], newest)]
+        pngs = draw_jobs_for_page(missing, workers=workers, progress=progress)
+    drawn = dict(zip((j.paths[0] for j in missing), pngs))
     def page_png(path: Path) -> bytes:  # noqa: E306 (drawn now: already compact; else the file, compacted here)
         return drawn[path] if path in drawn else compact_png(path.read_bytes())
     pictures: dict[tuple[str, str, str], bytes] = {}
@@ -182,7 +209,7 @@ def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels
         pictures[(result_dir, job.channel, job.kind)] = page_png(job.paths[0])
         if job.channel not in names[result_dir]:
             names[result_dir].append(job.channel)
-    return pictures, names, comparison
+    return pictures, names, comparison, left_out
 
 
 def report_target(folder: str | Path, out_html: str | Path | None = None, *, overwrite: bool = False,
@@ -201,7 +228,8 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
                  channels: str | Sequence[str] | None = None, checks: Iterable[Any] | None = None,
                  modes: Iterable[Any] | None = None, workers: int | None = None, progress: bool = False,
                  found: Sequence[tuple[Path, Result]] | None = None, overwrite: bool = False,
-                 where: str = "write_report", key: str = "out_html") -> Path:
+                 where: str = "write_report", key: str = "out_html", drawing: PageDrawing | None = None,
+                 all_figures: bool = False) -> Path:
     """Write one self-contained HTML page on the results in ``folder`` (one result folder, or a
     folder of result folders) to ``out_html`` (default ``<folder>/report.html``), atomically.
 
@@ -211,7 +239,12 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     they are; missing ones are drawn (``workers`` processes, a progress bar with ``progress``) into
     ``<result>/figures``. ``checks``: a checks table or the verdict rows (:func:`verdicts_of`; None:
     the checks of the first random result); ``modes``: the modes (:class:`ModeEntry`; None: "not computed"). ``found``: the results already
-    loaded (``find_results(folder)``).
+    loaded (``find_results(folder)``). ``drawing``: a :class:`~tb_exudyn.plotting.files.PageDrawing`
+    whose pool draws the figures (``tb-exudyn run`` starts it before the analysis and gives it the
+    result's figures as soon as the result is saved); ``workers`` is then unused. ``all_figures``:
+    the default channels' every figure; without it the PSD maps and slices of cars behind the
+    leading one are left out unless a verdict names the channel
+    (:func:`tb_exudyn.plotting.data.page_spectral`), and the page says so.
 
     The default page is the folder's own and is rewritten each time; a named ``out_html`` is
     checked before anything is drawn (:func:`tb_exudyn.files.output_targets`): refused inside a
@@ -223,9 +256,10 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     folder = Path(folder)
     found = find_results(folder) if found is None else found
     out, target, derived = report_target(folder, out_html, overwrite=overwrite, where=where, key=key)
-    pictures, names, comparison = report_pictures(folder, found, channels, workers=workers, progress=progress)
+    pictures, names, comparison, left_out = report_pictures(folder, found, channels, workers=workers,
+                                                            progress=progress, drawing=drawing, all_figures=all_figures)
     text = render_report(found, k=k, channels=channels, checks=checks, modes=modes, pictures=pictures,
-                         names=names, comparison=comparison)
+                         names=names, comparison=comparison, left_out=left_out)
     write_output([(target, text.encode("utf-8"))], named=out, overwrite=overwrite or derived, where=where, key=key)
     return out
 
@@ -233,7 +267,7 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
 
 __all__ = ["CheckEntry", "CodeLimit", "FindingRow", "ModeEntry", "Study", "StudyFinding", "StudyQuantity",
            "SummaryRow", "Verdicts", "as_check_entries", "check_entries", "as_mode_entries", "code_limit", "compare_findings", "find_results",
-           "figure_jobs", "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
+           "figure_jobs", "PageDrawing", "page_jobs", "pattern_channels", "load_study", "plot_folder", "render_report", "report_pictures", "report_target", "save_figure", "scenario_sections", "screening",
            "static_axle_load", "studies_for", "summary", "verdicts_of", "write_report",
            "SWEEP_REPORT", "render_sweep_report", "write_sweep_report", "UQ_REPORT", "render_uq_report", "write_uq_report",
            "CHECK_REPORT", "check_files", "render_check_report", "write_check_report"]

@@ -80,10 +80,10 @@ def default_limits() -> list[LimitSet]:
     if not files:
         folder = models_dir() / "limits"
         env = os.environ.get("TB_EXUDYN_MODELS")
-        allowed = "a limits/ folder holding at least one limit file (*.toml, as tb_exudyn's models/limits)"
+        allowed = "a limits/ folder with at least one limit file (*.toml)"
         if env:
-            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, "no limit file: no verdict could be given")
-        raise ScenarioError(str(folder), "<file>", str(folder), allowed, "no limit file: no verdict could be given")
+            raise SettingError("environment", "TB_EXUDYN_MODELS", env, allowed, "no limit file")
+        raise ScenarioError(str(folder), "<file>", str(folder), allowed, "no limit file")
     return unique_names([load_limits(path) for _, path in sorted(files.items())])
 
 
@@ -93,7 +93,7 @@ def unique_names(sets: list[LimitSet]) -> list[LimitSet]:
     for ls in sets:
         if ls.name in seen:
             other = source_file(seen[ls.name]) or "a LimitSet given in Python"
-            allowed = f"a name no other limit file of the checks uses (also in {other})"
+            allowed = f"a name no other limit file uses (also in {other})"
             if source_file(ls) is None:
                 raise SettingError("checks", "limits", ls.name, allowed, "duplicate limits name")
             raise ScenarioError(source_file(ls), "name", ls.name, allowed, "duplicate limits name")

@@ -91,8 +91,8 @@ def meta_band(meta: Mapping[str, Any], key: str, path: Path, high: float = math.
               high_text: str = "") -> tuple[float, float]:
     """A frequency band [f_low, f_high] [Hz] with 0 <= f_low < f_high < inf, and f_high <= ``high``
     (``high_text`` says where that bound comes from)."""
-    allowed = "[f_low, f_high] in Hz with 0 <= f_low < f_high, finite" + (
-        f", f_high <= {high:.6g} ({high_text})" if math.isfinite(high) else "")
+    allowed = "[f_low, f_high], 0 <= f_low < f_high" + (
+        f" <= {high:.4g} Hz ({high_text})" if math.isfinite(high) else " Hz, finite")
     value = _get(meta, key, path, allowed)
     ok = (isinstance(value, list) and len(value) == 2
           and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)
@@ -100,7 +100,7 @@ def meta_band(meta: Mapping[str, Any], key: str, path: Path, high: float = math.
     if not ok:
         raise _where(path, key, value, allowed, "bad value")
     if not value[1] <= high:
-        raise _where(path, key, value, allowed, "upper edge above any analysis of the result's scenario")
+        raise _where(path, key, value, allowed, "above the scenario's band")
     return float(value[0]), float(value[1])
 
 
@@ -151,17 +151,14 @@ PROVENANCE_FIELDS: dict[str, tuple[Callable[[Any], bool], str]] = {
     "damping_warnings": (_list_of(_object_of({
         "channels": _STR_LIST, "frequency": _is_number, "damping_ratio": _is_number, "decay_time": _number_or_null,
         "growth_on_bridge": _is_number, "label": lambda x: isinstance(x, str)})),
-        "a list of objects with 'channels' (a list of patterns), 'frequency', 'damping_ratio', 'decay_time', "
-        "'growth_on_bridge' (numbers) and 'label' (a string)"),
+        "a list of damping-warning objects"),
     "damped_modes": (_list_of(lambda m: _object_of(_MODE, closed=True)(m) and "frequency" in m and "damping_ratio" in m
                               and "label" in m),
-                     "a list of objects with 'frequency', 'damping_ratio' (numbers), 'label' and optionally "
-                     "'context', 'warning' (strings), nothing else"),
-    "grid_error": (_grid_error, "a sentence, or an object with per channel a number or an object whose "
-                                "'rel_error_max_sigma' and 'rel_deviation' are numbers"),
+                     "objects of frequency, damping_ratio, label (+ context, warning) only"),
+    "grid_error": (_grid_error, "a sentence or {channel: number or object}"),
     "derived_channels": (_object_of({"channels": lambda c: isinstance(c, dict) and all(
         not isinstance(e, dict) or _object_of({"window": _is_number})(e) for e in c.values())}),
-        "an object whose 'channels' maps channel names to objects with a 'window' in s (a number)"),
+        "{'channels': {name: {'window': seconds}}}"),
     "samples_with_loss_of_contact": (lambda v: _is_number(v) and 0 <= v < math.inf, "a number of samples >= 0"),
     "min_wheel_force_N": (_number_or_null, "a force in N or null"),
     "seconds": (_is_number, "a run time in s"),

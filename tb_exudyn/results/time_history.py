@@ -116,7 +116,7 @@ class TimeHistory(ChannelResult):
             if np.shape(self.channels[name]) != (n,):
                 raise ResultsError(f"{Path(folder) / 'arrays.npz'}: array 'values': channel {name!r} has shape "
                                    f"{np.shape(self.channels[name])}, not ({n},) as 'time' (allowed: one value per "
-                                   "output time) [not saved: the folder would not load]")
+                                   "output time) [not saved]")
         meta = {
             "format": FORMAT,
             "channels": names,

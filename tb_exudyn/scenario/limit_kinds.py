@@ -20,8 +20,7 @@ def _finite(ctx: Context, key: str, values: Sequence[float]) -> None:
     for i, v in enumerate(values):
         if not math.isfinite(v):
             sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
-            raise sub.error(v, "a finite number in the quantity's unit", "not a limit (nan is never evaluated, "
-                            "inf always passes)")
+            raise sub.error(v, "a finite number", "not a limit (nan: never evaluated, inf: always passes)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -121,8 +120,7 @@ class StaticLoadLimit(Validated):
 
     def _validate(self, ctx: Context) -> None:
         if not self.constant + self.coefficient > 0:
-            raise ctx.child("coefficient").error(self.coefficient, "a coefficient > 0 or a constant > 0 (the limit "
-                                                 "factor x (constant + coefficient x load) must be > 0)", "the limit is 0")
+            raise ctx.child("coefficient").error(self.coefficient, "constant + coefficient > 0", "the limit is 0")
 
 
 @dataclass(frozen=True, kw_only=True)

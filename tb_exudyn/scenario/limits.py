@@ -82,7 +82,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal, Sequence, get_args
 
-from ..errors import SettingError
+from ..errors import SettingError, one_of
 from .schema import NONNEGATIVE, Check, Context, Validated, convert, param, set_source_file
 from .limit_kinds import (LIMIT_KINDS, RESPONSE_LIMITS, STRUCTURAL_LIMITS, ComfortFigureLimit, FixedLimit,  # noqa: F401
                           GradedLimit, Limit, SpanRatioLimit, SpeedBandLimit, StaticLoadLimit)
@@ -291,13 +291,12 @@ class Criterion(Validated):
 
     def _validate_response(self, ctx: Context) -> None:
         if self.quantity not in QUANTITIES:
-            raise ctx.child("quantity").error(self.quantity, " | ".join(QUANTITIES), "unknown quantity")
+            raise ctx.child("quantity").error(self.quantity, one_of(QUANTITIES, self.quantity), "unknown quantity")
         index = self.quantity in INDEX_QUANTITIES
         if index != (self.statistic == "window_max"):
             allowed = ("'window_max' (a windowed index, not a random process)" if index else
-                       " | ".join(repr(s) for s in STATISTICS if s != "window_max")
-                       + f" ('window_max' is for the windowed indices {', '.join(INDEX_QUANTITIES)})")
-            raise ctx.child("statistic").error(self.statistic, allowed, f"not a statistic of quantity {self.quantity!r}")
+                       ", ".join(s for s in STATISTICS if s != "window_max"))
+            raise ctx.child("statistic").error(self.statistic, allowed, f"not a statistic of {self.quantity!r}")
         if self.window and self.statistic not in WINDOW_STATISTICS:
             raise ctx.child("window").error(self.window, f"0 or absent: statistic {self.statistic!r} has no window "
                                             f"(only {', '.join(WINDOW_STATISTICS)})", "would be ignored")
@@ -329,8 +328,7 @@ class Criterion(Validated):
         for i, v in enumerate(values):
             if not v > 0:
                 sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
-                raise sub.error(v, f"a number > 0: statistic {self.statistic!r} is compared with an upper bound (only "
-                                "'min', a lower bound, takes a limit <= 0)", "not a positive limit")
+                raise sub.error(v, "a number > 0 (only 'min' takes a limit <= 0)", "not a positive limit")
 
 
 @dataclass(frozen=True, kw_only=True)

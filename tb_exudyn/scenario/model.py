@@ -394,6 +394,11 @@ class Track(_Replaceable):
         "", doc="the track structure between wheel and deck: a name of `tb-exudyn list` (tracks, e.g. "
                 "ballasted_uic60) or a .toml file; empty: none, the wheel on the deck's track line (today's model)",
     )
+    structure_approach: float = param(
+        0.0, unit="m", check=NONNEGATIVE,
+        doc="with track.structure: the track structure reaches this far before and after the bridge, the wheels "
+            "on the rigid line beyond it (fewer track modes: docs/track.md 7); 0: under the whole run",
+    )
 
     def _validate(self, ctx: Context) -> None:
         if self.wavelength_min >= self.wavelength_max:
@@ -441,6 +446,11 @@ class Analysis(_Replaceable):
             "wheelset per wheel; lateral: the wheelset): c = 2 zeta sqrt(k m)",
     )
     mode_max_frequency: float = param(100.0, unit="Hz", doc="bridge modes up to this frequency", check=POSITIVE)
+    track_mode_max_frequency: float = param(
+        2000.0, unit="Hz", check=POSITIVE,
+        doc="with track.structure: the track-and-deck body's modes up to this frequency; the left-out modes' static "
+            "flexibility at each contact is kept in series with the contact spring (docs/track.md 7)",
+    )
     max_modes: int = param(0, doc="at most this many bridge modes (0: no limit)", check=Check(low=0.0, low_inclusive=True, high=1e5))
     spectral_radius: float = param(0.9, unit="-", doc="generalized-alpha spectral radius at infinite frequency", check=Check(low=0.0, high=1.0, low_inclusive=True))
     gravity: float = param(9.81, unit="m/s^2", doc="gravitational acceleration", check=POSITIVE)

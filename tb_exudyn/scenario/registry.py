@@ -11,7 +11,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..errors import SettingError
+from ..errors import SettingError, one_of
 from .errors import ScenarioError
 from .toml_io import read_toml
 
@@ -55,7 +55,7 @@ def model_path(category: str, name: str, referrer: str | None = None, key: str =
     files = model_files(category)
     if name not in files:
         raise ScenarioError(
-            referrer, key or category, name, f"one of {', '.join(files) or '(none)'} or a path to a .toml file",
+            referrer, key or category, name, one_of(files, name, tail=" or a .toml path"),
             f"unknown {category[:-1]} name",
         )
     return files[name]

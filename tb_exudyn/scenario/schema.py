@@ -17,6 +17,7 @@ from dataclasses import MISSING, dataclass, field, fields, is_dataclass
 from pathlib import Path
 from typing import Any, Callable, Literal, get_args, get_origin
 
+from ..errors import one_of
 from .errors import ScenarioError
 
 
@@ -270,7 +271,7 @@ def _convert_kind_union(choices: tuple, value: Any, ctx: Context) -> Any:
         return value
     if isinstance(value, str):
         if ctx.resolver is None:
-            raise ctx.error(value, allowed, "model names cannot be resolved here")
+            raise ctx.error(value, "kind = " + " | ".join(kinds), "no names here")
         return ctx.resolver(choices, value, ctx)
     if not isinstance(value, dict):
         raise ctx.error(value, allowed, "wrong type")
@@ -291,7 +292,7 @@ def from_dict(cls: type, data: dict, ctx: Context) -> Any:
     unknown = sorted(set(data) - set(known))
     if unknown:
         raise ctx.child(unknown[0]).error(
-            data[unknown[0]], "keys of " + cls.__name__ + ": " + ", ".join(known), "unknown key"
+            data[unknown[0]], one_of(known, unknown[0], tail=f" (keys of {cls.__name__})"), "unknown key"
         )
     kwargs = {}
     for name, f in known.items():
@@ -363,7 +364,7 @@ def replace(obj: Any, **changes: Any) -> Any:
     checked = {}
     for name, value in changes.items():
         if name not in known:
-            raise ScenarioError(where, name, value, "keys of " + type(obj).__name__ + ": " + ", ".join(known),
+            raise ScenarioError(where, name, value, one_of(known, name, tail=f" (keys of {type(obj).__name__})"),
                                 "unknown key")
         checked[name] = _replacement(hints[name], value, Context(where, name), known[name].metadata.get("check"))
     try:

@@ -59,9 +59,9 @@ def at_speed(base: Scenario, speed_kmh: float) -> Scenario:
     lo, hi = ms / tr.wavelength_max, ms / tr.wavelength_min  # the track's band at v [Hz]
     if not (f_min < f_max and f_min <= hi and f_max >= lo):
         raise ScenarioError(base.where, "freq_min", f_min,
-                            f"a band at {v:g} km/h ({an.freq_min:g}-{an.freq_max:g} Hz x {r:.4g}, <= "
-                            f"{cap_hz(base):g} Hz = 0.1 / time_step) overlapping the track's {lo:.4g}-{hi:.4g} Hz",
-                            f"empty frequency band ({f_min:.4g}-{f_max:.4g} Hz)")
+                            f"a band ({an.freq_min:g}-{an.freq_max:g} Hz x {r:.4g}, <= {cap_hz(base):g} Hz) in "
+                            f"{lo:.4g}-{hi:.4g} Hz",
+                            f"empty frequency band {f_min:.4g}-{f_max:.4g} Hz")
     if sc is base:
         return base
     sc = sc.replace(track=tr.replace(lead_in=max(tr.lead_in, tr.lead_in * r)),

@@ -19,7 +19,7 @@ MAX_TOML_BYTES = 4 * MIB
 def read_toml(path: Path) -> dict:
     """Parse a TOML file; a missing, unreadable, non-regular (FIFO, device, directory), oversized,
     non-UTF-8 or malformed file becomes a ScenarioError naming the file."""
-    allowed = f"a regular UTF-8 TOML file of at most {MAX_TOML_BYTES // MIB} MiB"
+    allowed = f"UTF-8 TOML, <= {MAX_TOML_BYTES // MIB} MiB"
     try:
         text = read_text(path, max_bytes=MAX_TOML_BYTES, follow_symlinks=True)
     except FileNotFoundError:

@@ -196,31 +196,29 @@ def check_track_structure(structure: str, bridge, track_line_height: float, ctx:
         raise key.error(structure, f"a structure whose support spacing ({ts.spacing:g} m) is at most the "
                         f"shortest span ({min(spans):g} m)", "support spacing longer than a span")
     if ts.depth > track_line_height + 1e-12:
-        raise key.error(structure, f"a structure no deeper than the rail level above the girder's shear centre "
-                        f"(bridge track height {track_line_height:g} m); '{ts.name}' is {ts.depth:.3g} m deep",
-                        "the track does not fit the bridge's track height")
+        raise key.error(structure, f"a structure at most the bridge's track height ({track_line_height:g} m) deep; "
+                        f"'{ts.name}' is {ts.depth:.3g} m", "the track does not fit the bridge")
 
 
-#: the vehicle kinds whose contacts the track layer carries: vertical contacts on the track centre line
-TRACK_VEHICLE_KINDS = ("sprung_mass", "moving_force")
-#: the kinds with a lateral contact (car15's wheelsets, the articulated sets' too): with them the track is built
-#: with the rails' lateral bending (system/track_bridge.py, ``lateral``); refused with a track until their runs
-#: are tested on it (docs/track.md, 5)
+#: the vehicle kinds whose contacts the track layer carries: vertical contacts on the track centre line or on
+#: either rail, and the wheelsets' lateral contact (car15, the articulated sets: the rails' lateral bending is
+#: built for them, system/track_bridge.py ``lateral``); the creep cars' general rows are not carried yet
+TRACK_VEHICLE_KINDS = ("sprung_mass", "moving_force", "car15", "articulated")
+#: the kinds with a lateral contact: with them the track is built with the rails' lateral bending
 LATERAL_TRACK_KINDS = ("car15", "articulated")
 
 
 def refuse_unbuilt_track(scenario) -> None:  # noqa: ANN001
     """What a run of a scenario with a ``track.structure`` cannot do yet, refused before any work (one
-    ScenarioError naming the key): a vehicle whose contacts the track layer does not carry (the wheelsets
-    of car15 and the articulated and creep cars: a lateral contact and a wheel on each rail; the track
-    carries vertical contacts, docs/track.md)."""
+    ScenarioError naming the key): a vehicle whose contacts the track layer does not carry (the creep cars:
+    their creep rows are not written on the rails, docs/track.md)."""
     if not scenario.track.structure:
         return
     kinds = sorted({v.kind for v in scenario.train.vehicles} - set(TRACK_VEHICLE_KINDS))
     if kinds:
         raise ScenarioError(scenario.where, "train.vehicles", ", ".join(kinds),  # one line within 200 characters
-                            "kind " + " or ".join(TRACK_VEHICLE_KINDS) + ", or no track.structure",
-                            "the track layer carries vertical contacts only")
+                            "kind " + ", ".join(TRACK_VEHICLE_KINDS) + ", or no track.structure",
+                            "the track layer carries no creep rows yet")
 
 
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",

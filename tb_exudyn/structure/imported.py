@@ -137,8 +137,8 @@ def read_modes(path: str) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
         if abs(mm - 1.0) > MODAL_MASS_TOLERANCE:
             raise _error(
                 path, f"modal_mass[row {i + 1}]", mm,
-                f"1 within {MODAL_MASS_TOLERANCE:g}: mass-normalised shapes (phi^T M phi = 1; divide a shape by "
-                "the square root of its modal mass)", "the mode is not mass-normalised")
+                f"1 within {MODAL_MASS_TOLERANCE:g} (phi^T M phi = 1: divide a shape by "
+                "sqrt of its modal mass)", "not mass-normalised")
     return freq, zeta, types
 
 

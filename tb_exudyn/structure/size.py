@@ -175,9 +175,8 @@ def check_bridge_size(bridge: SimpleBeam | Frame, max_frequency: float, max_mode
     fit = int((-b + math.sqrt(b * b + 4.0 * a * limit)) / (2.0 * a)) if a > 0 else int(limit // b)
     raise BridgeSizeError(
         f"bridge '{bridge.name}'", "spans", list(bridge.spans),
-        f"about {fit} such spans at most, fewer elements_per_span, a lower analysis.mode_max_frequency or max_modes",
-        f"{len(bridge.spans)} spans need about {format_bytes(size.bytes)} ({size.n_dof} DOFs, {size.n_modes} modes below "
-        f"{max_frequency:g} Hz), more than {text}")
+        f"about {fit} such spans at most",
+        f"{len(bridge.spans)} spans need about {format_bytes(size.bytes)}, over {text}")
 
 
 __all__ = ["BridgeSize", "BridgeSizeError", "bridge_size", "check_bridge_size", "estimate_modes"]

@@ -38,7 +38,7 @@ from ..scenario.errors import ScenarioError
 
 QUANTITIES: tuple[str, ...] = ("disp", "vel", "acc")
 #: the rule every channel name follows (what :func:`is_channel_name` checks)
-CHANNEL_NAME_RULE = "dot-separated segments of A-Z, a-z, 0-9 and '_', at most 200 characters (e.g. bridge.span1.mid.acc_z)"
+CHANNEL_NAME_RULE = "A-Z, a-z, 0-9, '_' joined by dots, <= 200 characters"
 _CHANNEL_NAME = re.compile(r"[A-Za-z0-9_]+(?:\.[A-Za-z0-9_]+)*\Z")
 _UNITS = {
     True: ("m", "m/s", "m/s^2"),  # translation

@@ -39,7 +39,7 @@ loads each rail by half, the alignment irregularity between wheel and rails.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import scipy.sparse as sp
@@ -48,10 +48,11 @@ from ..scenario.errors import ScenarioError
 from ..scenario.track_structure import LATERAL_TRACK_KINDS, TrackStructure, load_track_structure
 from ..structure.modal import ModalBridge, RailShapes, TrackShapes
 from .channels import Channel
+from .coupling import LATERAL
 from .derived import DerivedChannel, station_positions
 from .track_model import hermite, hermite_slope, track_model
 
-#: the track's modes kept [Hz]: the rail's receptance left out above f_c is about 1 / (3 pi EI k_c^3)
+#: the default of analysis.track_mode_max_frequency [Hz]: the rail's receptance left out above f_c is about 1 / (3 pi EI k_c^3)
 #: (k_c the bending wavenumber at f_c): 0.8 % at 2 kHz (docs/track.md, 3b)
 TRACK_MODE_MAX_FREQUENCY = 2000.0
 #: Hermite elements per bay (a node at each support and at mid-bay)
@@ -89,6 +90,21 @@ class TrackBridge:
     points: tuple[TrackPoint, ...]
     n_dof: int
     x_range: tuple[float, float]
+    #: the static flexibility [m/N] of the modes left out, at a point of one rail (``z``, vertical) and of the
+    #: rails' lateral centre line (``y``; 0 without the lateral rails): the mean over a bay on the deck and off it
+    residual: dict = field(default_factory=dict)
+
+    def series_contacts(self, layout):  # noqa: ANN001, ANN201 - a ContactLayout
+        """``layout`` with each penalty contact's spring in series with the left-out modes' static flexibility r
+        at its rail: k / (1 + k r), c / (1 + k r)^2 (the damper's low-frequency form). A vertical contact at
+        rail_offset e loads the left rail by (1 + e / b) / 2 and the right by (1 - e / b) / 2 (module docstring),
+        so its r is r_z ((1 + e/b)^2 + (1 - e/b)^2) / 4; a lateral one the rails' centre line's r_y."""
+        b = self.bridge.rail_shape_function.b
+        e = np.asarray(layout.rail_offset, dtype=float) / b
+        r = np.where(np.asarray(layout.direction) == LATERAL, self.residual.get("y", 0.0),
+                     self.residual.get("z", 0.0) * ((1 + e) ** 2 + (1 - e) ** 2) / 4)
+        k = np.asarray(layout.stiffness, dtype=float)
+        return replace(layout, stiffness=k / (1 + k * r), damping=np.asarray(layout.damping) / (1 + k * r) ** 2)
 
 
 def track_extent(axle_start: np.ndarray, speed: float, duration: float, spacing: float) -> tuple[float, int]:
@@ -98,6 +114,27 @@ def track_extent(axle_start: np.ndarray, speed: float, duration: float, spacing:
     x0 = x_first - MARGIN_BAYS * spacing
     n = int(math.ceil((x_last + MARGIN_BAYS * spacing - x0) / spacing))
     return x0, n
+
+
+def approach_extent(x0: float, n: int, spacing: float, approach: float, length: float) -> tuple[float, int]:
+    """(x0, n) of rails that reach ``approach`` [m] before and after a bridge of ``length`` (and MARGIN_BAYS bays
+    further, where no wheel is carried: :func:`carried_extent`), within the run's (x0, n); approach 0: the
+    run's. The supports keep their places on the run's grid."""
+    if approach <= 0.0:
+        return x0, n
+    first = max(0, int(math.floor((-approach - x0) / spacing)) - MARGIN_BAYS)
+    last = min(n, int(math.ceil((length + approach - x0) / spacing)) + MARGIN_BAYS)
+    return x0 + first * spacing, max(last - first, 1)
+
+
+def carried_extent(x0: float, n: int, spacing: float, cut: bool) -> tuple[float, float]:
+    """Where the rails carry a wheel: the whole rail under a run (no wheel comes within MARGIN_BAYS of its free
+    ends), or, when the rails were cut short of the run (``track.structure_approach``), the rail less
+    MARGIN_BAYS bays at each end, so that a wheel rolls from the rigid line onto a rail that is not its free
+    end's."""
+    if not cut:
+        return x0, x0 + n * spacing
+    return x0 + MARGIN_BAYS * spacing, x0 + (n - MARGIN_BAYS) * spacing
 
 
 def track_dofs(structure: TrackStructure, n_supports: int, n_deck_supports: int, lateral: bool = False) -> int:
@@ -122,16 +159,16 @@ def scenario_extent(scenario) -> tuple[TrackStructure, float, int]:  # noqa: ANN
     structure = load_track_structure(sc.track.structure, sc.source_file)
     axle_start = -sc.track.lead_in - np.asarray(sc.train.axle_positions, dtype=float)
     x0, n = track_extent(axle_start, sc.speed, sc.duration, structure.spacing)
+    x0, n = approach_extent(x0, n, structure.spacing, sc.track.structure_approach, sc.bridge.length)
     on = int(np.sum((x0 + (np.arange(n) + 0.5) * structure.spacing >= 0.0)
                     & (x0 + (np.arange(n) + 0.5) * structure.spacing <= sc.bridge.length)))
     dofs = track_dofs(structure, n, on, scenario_lateral(sc))
     if dofs > MAX_TRACK_DOFS:
         most = MAX_TRACK_DOFS * n * structure.spacing / dofs
-        raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,
-                            f"a run whose rails (lead-in, bridge, train, run-out and {MARGIN_BAYS} sleeper bays at "
-                            f"each end) are at most about {most:.0f} m long with track.structure",
-                            f"the track under the run is {n * structure.spacing:.0f} m long: {dofs} DOFs before its "
-                            f"modal reduction, more than {MAX_TRACK_DOFS}")
+        raise ScenarioError(sc.where, "track.lead_in", sc.track.lead_in,  # one line within 200 characters
+                            f"rails up to about {most:.0f} m, or a track.structure_approach",
+                            f"{n * structure.spacing:.0f} m of rails under the run: {dofs} DOFs, more than "
+                            f"{MAX_TRACK_DOFS}")
     return structure, x0, n
 
 
@@ -141,19 +178,74 @@ def scenario_track(scenario, deck: ModalBridge) -> TrackBridge:  # noqa: ANN001 
     structure, x0, n = scenario_extent(scenario)
     stations = {k: x for k, x in station_positions(deck.station_names, getattr(scenario.bridge, "spans", (deck.length,))).items()
                 if k in deck.station_names}
-    return track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, max_frequency=TRACK_MODE_MAX_FREQUENCY,
-                          stations=stations, lateral=scenario_lateral(scenario))
+    args = (structure, x0, n, scenario.track.half_gauge, scenario.analysis.track_mode_max_frequency,
+            tuple(stations.items()), scenario_lateral(scenario), scenario.track.structure_approach > 0.0)
+    key = (args, _deck_key(deck, x0 + (np.arange(n) + 0.5) * structure.spacing))
+    last = _LAST.get("track")
+    if last is not None and last[0] == key:  # the same track on the same deck: its modes solved once per process
+        return last[1]
+    track = track_and_deck(structure, deck, x0, n, scenario.track.half_gauge, max_frequency=args[4],
+                           stations=stations, lateral=args[6], cut=args[7])
+    _LAST["track"] = (key, track)
+    return track
 
 
-def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_supports: int, half_gauge: float,
-                   max_frequency: float = TRACK_MODE_MAX_FREQUENCY,
-                   stations: dict[str, float] | None = None, lateral: bool = False) -> TrackBridge:
-    """Both rails of ``structure`` on ``n_supports`` supports from x0 (module docstring), on ``deck`` (x = 0
-    at its start) where it is, reduced to the modes up to ``max_frequency``; ``stations`` (name -> x on
-    the deck) the places of the track channels; ``lateral``: the rails' lateral bending as well (module
-    docstring), their centre line the body's lateral rail shape y."""
-    from scipy.linalg import eigh
+#: the last track solved in this process (a run builds its model several times: the analysis, the engine, the
+#: mean; the track's eigen-solution is most of a build: 45 s of CPU for li_zhu_2011's 5178 DOFs)
+_LAST: dict = {}
 
+
+def _deck_key(deck: ModalBridge, xs: np.ndarray) -> tuple:
+    """What the track takes of a deck: its modes, damping, stations and rail-level shapes at the supports."""
+    rs = deck.rail_shapes(xs)
+    arrays = (deck.frequencies, deck.damping_ratios, deck.station_shapes, rs.y, rs.z, rs.rx)
+    return (deck.description, deck.length, deck.track, deck.station_names, deck.mode_types) + tuple(
+        (np.asarray(a).shape, np.asarray(a).tobytes()) for a in arrays)
+
+
+@dataclass(frozen=True)
+class _Assembled:
+    """The unreduced track and deck (:func:`_assemble`): ``K``, ``M``, ``C`` in the kept DOFs (CSR), ``T`` the
+    map from them to every DOF (the lowest mass of a support on the deck is the deck's rail level under it),
+    ``one`` a rail's TrackModel, ``lat`` the lateral rails or None, ``xs``/``on`` the supports and which stand
+    on the deck, ``p_left`` the deck's rows under the left rail, ``n_t``/``n_l`` a rail's vertical/lateral DOFs."""
+
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    C: sp.csr_matrix
+    T: sp.csr_matrix
+    one: object
+    lat: object
+    xs: np.ndarray
+    on: np.ndarray
+    p_left: np.ndarray
+    n_t: int
+    n_l: int
+
+    def rail_rows(self, x: np.ndarray, h: float, n_el: int) -> dict[str, sp.csr_matrix]:
+        """The rows (in the kept DOFs) of the left rail's vertical displacement ``z_left`` and, with the lateral
+        rails, of the rails' lateral centre line ``y`` (half each rail's) at points ``x`` of the rails' frame
+        (x = 0 at the rail's start)."""
+        x = np.atleast_1d(np.asarray(x, dtype=float))
+        e = np.minimum((x / h).astype(int), n_el - 1)
+        xi = x / h - e
+        H = hermite(xi, h)
+        cols = 2 * e[:, None] + np.arange(4)[None, :]
+        rows = np.repeat(np.arange(x.size), 4)
+        n_full = self.T.shape[0]
+        out = {"z_left": sp.csr_matrix((H.ravel(), (rows, cols.ravel())), shape=(x.size, n_full)) @ self.T}
+        if self.lat is not None:
+            base = 2 * self.n_t
+            y = sum(sp.csr_matrix((0.5 * H.ravel(), (rows, base + side * self.n_l + cols.ravel())),
+                                  shape=(x.size, n_full)) for side in range(2))
+            out["y"] = y @ self.T
+        return out
+
+
+def _assemble(structure: TrackStructure, deck: ModalBridge, x0: float, n_supports: int, half_gauge: float,
+              lateral: bool) -> _Assembled:
+    """Both rails of ``structure`` on ``n_supports`` supports from x0 on ``deck`` (module docstring), before
+    the modal reduction."""
     one = track_model(structure, n_supports, ELEMENTS_PER_BAY, ground="subgrade")
     b = float(half_gauge)
     xs = one.support_x + x0
@@ -198,19 +290,37 @@ def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_su
         for s in np.flatnonzero(on):
             T[side * n_t + lowest[s], deck_cols] = p_side[side][s]
     T = T.tocsr()
-    Kr, Mr, Cr = (T.T @ A @ T for A in (K, M, C))
-    lam, phi = eigh(Kr.toarray(), Mr.toarray(), subset_by_value=(-np.inf, (2 * np.pi * max_frequency) ** 2))
+    Kr, Mr, Cr = ((T.T @ A @ T).tocsr() for A in (K, M, C))
+    return _Assembled(K=Kr, M=Mr, C=Cr, T=T, one=one, lat=lat, xs=xs, on=on, p_left=p_side[0], n_t=n_t, n_l=n_l)
+
+
+def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_supports: int, half_gauge: float,
+                   max_frequency: float = TRACK_MODE_MAX_FREQUENCY,
+                   stations: dict[str, float] | None = None, lateral: bool = False, cut: bool = False) -> TrackBridge:
+    """Both rails of ``structure`` on ``n_supports`` supports from x0 (module docstring), on ``deck`` (x = 0
+    at its start) where it is, reduced to the modes up to ``max_frequency``; ``stations`` (name -> x on
+    the deck) the places of the track channels; ``lateral``: the rails' lateral bending as well (module
+    docstring), their centre line the body's lateral rail shape y; ``cut``: the rails end short of the run
+    (:func:`carried_extent`). The left-out modes' static flexibility at the rails: ``TrackBridge.residual``."""
+    from scipy.linalg import eigh
+
+    a = _assemble(structure, deck, x0, n_supports, half_gauge, lateral)
+    one, lat, xs, on, n_t, n_l, n_d = a.one, a.lat, a.xs, a.on, a.n_t, a.n_l, deck.n_modes
+    b = float(half_gauge)
+    lam, phi = eigh(a.K.toarray(), a.M.toarray(), subset_by_value=(-np.inf, (2 * np.pi * max_frequency) ** 2))
     lam = np.maximum(lam, 0.0)
     freq = np.sqrt(lam) / (2 * np.pi)
-    full = T @ phi  # (n_full, n): every DOF's share of each mode
-    damping = phi.T @ (Cr @ phi)
+    full = a.T @ phi  # (n_full, n): every DOF's share of each mode
+    damping = phi.T @ (a.C @ phi)
     damping = 0.5 * (damping + damping.T)
     ratios = np.diag(damping) / (2 * np.maximum(2 * np.pi * freq, 1e-300))
     phi_d = full[2 * n_t + 2 * n_l:]
     rails = (full[:one.n_rail], full[n_t:n_t + one.n_rail])
     lateral_rails = None if lat is None else tuple(full[2 * n_t + i * n_l:2 * n_t + i * n_l + lat.n_rail] for i in range(2))
-    shapes = _RailFunction(rails, phi_d, deck, x0, one.h, n_supports * ELEMENTS_PER_BAY, b, lateral_rails)
-    points = _points(stations or {}, xs, on, one, full, p_side[0], phi_d, structure)
+    carried = carried_extent(x0, n_supports, structure.spacing, cut)
+    shapes = _RailFunction(rails, phi_d, deck, x0, one.h, n_supports * ELEMENTS_PER_BAY, b, lateral_rails,
+                           (carried[0] - x0, carried[1] - x0))
+    points = _points(stations or {}, xs, on, one, full, a.p_left, phi_d, structure)
     zero = np.zeros(freq.size)
     extra = np.array([[zero, row, zero] for p in points for row in (p.rail, p.sleeper, p.deck)]).reshape(-1, 3, freq.size)
     station_shapes = np.concatenate((np.einsum("sij,jn->sin", deck.station_shapes, phi_d), extra), axis=0)
@@ -225,9 +335,49 @@ def track_and_deck(structure: TrackStructure, deck: ModalBridge, x0: float, n_su
                      f"({n_supports} supports per rail from "
                      f"x = {x0:.4g} m, {int(on.sum())} on the deck): {freq.size} modes of the track and the deck "
                      f"up to {max_frequency:g} Hz"),
-        tracks=tracks, track=deck.track, rail_extent=(x0, x0 + n_supports * structure.spacing),
+        tracks=tracks, track=deck.track, rail_extent=carried,
         coupled_damping=damping)
-    return TrackBridge(bridge=body, points=points, n_dof=kept.size, x_range=(x0, x0 + n_supports * structure.spacing))
+    return TrackBridge(bridge=body, points=points, n_dof=a.K.shape[0], x_range=(x0, x0 + n_supports * structure.spacing),
+                       residual=_residual(a, phi, lam, structure.spacing, deck.length, x0, one.h,
+                                          n_supports * ELEMENTS_PER_BAY))
+
+
+def residual_points(xs: np.ndarray, on: np.ndarray, spacing: float) -> np.ndarray:
+    """Where the left-out modes' flexibility is sampled [m, bridge frame]: above a support and mid-bay, at the
+    support on the deck nearest its middle and at the off-deck support farthest from both the deck and the
+    rails' ends (none off it when every support is on it)."""
+    pts = []
+    if np.any(on):
+        mid = xs[on][np.argmin(np.abs(xs[on] - 0.5 * (xs[on][0] + xs[on][-1])))]
+        pts += [mid, mid + 0.5 * spacing]
+    off = xs[~on]
+    if off.size:
+        margin = np.minimum(np.abs(off - xs[0]), np.abs(off - xs[-1]))
+        away = np.minimum(margin, np.min(np.abs(off[:, None] - xs[on][None, :]), axis=1) if np.any(on) else margin)
+        s = off[np.argmax(away)]
+        pts += [s, s + 0.5 * spacing]
+    return np.asarray(pts)
+
+
+def _residual(a: _Assembled, phi: np.ndarray, lam: np.ndarray, spacing: float, length: float, x0: float,
+              h: float, n_el: int) -> dict:
+    """The static flexibility of the modes left out [m/N]: the unreduced model's (a sparse solve) less the kept
+    modes' sum s_i^2 / omega_i^2, at :func:`residual_points`, its mean ('z' one rail, 'y' the rails' lateral
+    centre line) and its spread ('z_spread', 'y_spread': (max - min) / mean)."""
+    import scipy.sparse.linalg as sla
+
+    pts = residual_points(a.xs, a.on, spacing)
+    rows = a.rail_rows(pts - x0, h, n_el)
+    lu = sla.splu(a.K.tocsc())
+    out = {}
+    for key, R in rows.items():
+        R = R.toarray()
+        full = np.array([r @ lu.solve(r) for r in R])
+        kept = np.sum((R @ phi) ** 2 / np.maximum(lam, 1e-300), axis=1)
+        left = np.maximum(full - kept, 0.0)
+        out[key.split("_")[0]] = float(np.mean(left))
+        out[key.split("_")[0] + "_spread"] = float((left.max() - left.min()) / max(np.mean(left), 1e-300))
+    return out
 
 
 #: a track point's rows, in this order after the deck's stations (channels ``track.<station>.left.<part>``)
@@ -264,17 +414,19 @@ def track_forces(track: TrackBridge) -> list[DerivedChannel]:
 
 
 class _RailFunction:
-    """x -> RailShapes of the two rails (module docstring); picklable (no closure)."""
+    """x -> RailShapes of the two rails (module docstring), zero where the rails carry no wheel (outside
+    ``carried``, [m] from the rails' start: :func:`carried_extent`); picklable (no closure)."""
 
-    def __init__(self, rails, phi_d, deck, x0, h, n_el, b, lateral=None) -> None:  # noqa: ANN001
+    def __init__(self, rails, phi_d, deck, x0, h, n_el, b, lateral=None, carried=None) -> None:  # noqa: ANN001
         self.rails, self.phi_d, self.deck, self.x0, self.h, self.n_el, self.b = rails, phi_d, deck, x0, h, n_el, b
         self.lateral = lateral
+        self.carried = (0.0, n_el * h) if carried is None else carried
 
     def __call__(self, x: np.ndarray) -> RailShapes:
         x = np.atleast_1d(np.asarray(x, dtype=float))
         u = x - self.x0
         length = self.n_el * self.h
-        inside = (u >= 0.0) & (u <= length)
+        inside = (u >= self.carried[0]) & (u <= self.carried[1])
         uc = np.clip(u, 0.0, length)
         e = np.minimum((uc / self.h).astype(int), self.n_el - 1)
         xi = uc / self.h - e
@@ -366,4 +518,5 @@ def _points(stations: dict[str, float], xs: np.ndarray, on: np.ndarray, one, ful
 
 
 __all__ = ["scenario_lateral", "POINT_PARTS", "track_channels", "track_forces", "scenario_extent", "scenario_track", "MARGIN_BAYS", "MAX_TRACK_DOFS", "TRACK_MODE_MAX_FREQUENCY", "TrackBridge", "TrackPoint",
-           "track_and_deck", "track_dofs", "track_extent"]
+           "track_and_deck", "track_dofs", "track_extent", "approach_extent", "carried_extent",
+           "residual_points"]

@@ -25,7 +25,8 @@ from .test_layout import code_strings
 #: module -> why it may name flags (the remaining places; removing one means its text says the library's names)
 ALLOWED = {
     "tb_exudyn.report.check": "check.html: 'tb-exudyn check --stochastic', 'Not drawn (--no-figures)'",
-    "tb_exudyn.report.sections": "report.html: an override 'such as --speed-kmh or --set'",
+    "tb_exudyn.report.sections": "report.html: an override 'such as --speed-kmh or --set'; the figures left out: "
+                                 "'tb-exudyn run ... --figures all'",
     "tb_exudyn.report.sweep": "speed_sweep.html: 'tb-exudyn run --speed-kmh', '--freq-spacing adaptive', '--no-figures'",
     "tb_exudyn.report.uq": "uq.html: '--order', '--no-figures'",
     "tb_exudyn.report.verdicts": "the verdicts' hint 'tb-exudyn check BRIDGE --line-speed-kmh V'",

@@ -138,12 +138,12 @@ def test_a_run_of_a_scenario_with_a_track_gives_the_track_channels():
 
 
 @pytest.mark.parametrize("argv, key", [
-    (["run", "quick"], "train.vehicles"),
+    (["run", "li_zhu_2011_creep"], "train.vehicles"),
     (["sweep", "yang_yau_sprung_mass", "--speeds-kmh", "80:100:10"], "track.structure"),
     (["run", "yang_yau_sprung_mass", "--engine", "dense", "--set", "track.lead_in=300"], "track.lead_in"),
 ])
 def test_what_the_track_layer_does_not_run_yet_is_refused_in_one_line(tmp_path, capsys, argv, key):
-    """The cars with lateral contacts, the speed sweep with a track structure, and a
+    """The creep cars, the speed sweep with a track structure, and a
     track too long for its dense eigen-solution (347 m of rails under a 300 m lead-in: 6868 DOFs, more than
     6000): one line naming the key, exit 2, nothing written."""
     out = tmp_path / "out"

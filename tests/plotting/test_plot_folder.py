@@ -105,3 +105,62 @@ def test_a_symlinked_result_folder_cannot_lead_outside(tmp_path, pem):
     with pytest.raises(ResultsError, match="symbolic link"):
         plot_folder(tmp_path / "out")
     assert not (outside / "figures").exists()
+
+
+def test_a_pages_figure_is_drawn_once_with_savefigs_pixels(pem):
+    """figure_pngs draws a figure once on Agg and encodes both PNGs from its pixels in memory (the
+    page's palette copy no longer decodes the file). Reference: matplotlib's own
+    ``savefig(format="png")`` of the same figure, and compact_png of those bytes (the page's copy as
+    it was made before). Exact: the same Agg drawing gives the same pixels, and the palette copy is
+    the same median cut of the same RGB pixels; only the file's zlib level and colour type (RGB
+    when opaque) may differ."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    from tb_exudyn.plotting import plot_psd_map
+    from tb_exudyn.plotting.files import compact_png, figure_pngs
+
+    for make in (lambda: plot_bounds(pem, "car1.body.acc_y"), lambda: plot_psd_map(pem, "car1.body.acc_y")):
+        png, page = figure_pngs(make())
+        buf = io.BytesIO()
+        make().savefig(buf, format="png", dpi=100)
+
+        def pixels(data, mode):
+            with Image.open(io.BytesIO(data)) as im:
+                return np.asarray(im.convert(mode))
+
+        assert np.array_equal(pixels(png, "RGBA"), pixels(buf.getvalue(), "RGBA"))
+        assert np.array_equal(pixels(page, "RGB"), pixels(compact_png(buf.getvalue()), "RGB"))
+        assert len(page) < len(png) / 2  # the page's copy is the small one
+
+
+def test_a_page_drawn_on_a_pool_started_ahead_shows_every_figure_it_drew(tmp_path, pem):
+    """``tb-exudyn run``'s path (issue 49): figure processes started before the analysis
+    (execution.standby), given the figures of the channels known without the checks first, then the
+    page. Every figure file drawn is embedded once, no figure is drawn that the page does not show,
+    and the page's pictures are the bytes of the page drawn in one process (the same drawing:
+    the reference is write_report without a pool)."""
+    import re
+
+    from tb_exudyn.cli.run import FIGURE_MODULES
+    from tb_exudyn.execution.standby import standby_pool
+    from tb_exudyn.plotting.data import pattern_channels
+    from tb_exudyn.plotting.files import PageDrawing, figure_jobs
+
+    for name in ("pool", "serial"):
+        pem.save(tmp_path / name / "pem")
+    out = tmp_path / "pool"
+    with standby_pool(1, FIGURE_MODULES) as pool:
+        drawing = PageDrawing(pool)
+        early = figure_jobs(out, [(out / "pem", pem)], pattern_channels(pem))
+        drawing.submit(early)
+        drawing.submit(early)  # a job is drawn once
+        write_report(out, drawing=drawing)
+    write_report(tmp_path / "serial", workers=1)
+    pages = [re.findall(r'src="data:image/png;base64,([^"]+)"', (tmp_path / n / "report.html").read_text())
+             for n in ("pool", "serial")]
+    files = sorted((out / "pem" / "figures").glob("*.png"))
+    assert 0 < len(early) <= len(files) == len(pages[0]) == len(set(pages[0]))
+    assert pages[0] == pages[1]

@@ -97,8 +97,10 @@ def test_any_other_type_is_a_type_error_saying_what_to_pass(name, wrong):
 
 
 def test_an_unknown_name_is_the_library_error_naming_the_names():
-    with pytest.raises(UserError, match="quick"):
-        tb_exudyn.run_pem("no_such_scenario", progress=False)
+    with pytest.raises(UserError, match=r"unknown scenario name \(allowed: one of \w+, \w+, \w+, \.\.\. \(\d+ in all\)"):
+        tb_exudyn.run_pem("no_such_scenario", progress=False)  # the three closest names and the count
+    with pytest.raises(UserError, match=r"one of quick, "):
+        tb_exudyn.run_pem("quik", progress=False)
 
 
 @pytest.mark.parametrize("kind", ["random_response", "time_history"])

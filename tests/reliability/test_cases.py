@@ -22,6 +22,9 @@ from .cases import CASES, Run, snapshot, subprocess_command
 
 ROOT = Path(__file__).resolve().parents[2]
 
+#: the terminal's line width for every command (issue 49), not counting the paths the user typed
+LINE_MAX = 200
+
 
 def run_case(run: Run, cwd: Path, capsys: pytest.CaptureFixture, monkeypatch: pytest.MonkeyPatch) -> tuple[int, str]:
     """Exit status and stderr of a case (in this process, or isolated in a limited subprocess)."""
@@ -61,6 +64,8 @@ def assert_one_clear_error(case, tmp_path: Path, capsys: pytest.CaptureFixture,
     for text in run.expect:
         assert text in err, f"{text!r} not in {err!r}"
     assert snapshot(tmp_path) == before, "something was written, moved or deleted"
+    shown = err.strip().replace(str(tmp_path), "T")  # the width a user sees, less the paths they typed
+    assert len(shown) <= LINE_MAX, f"{len(shown)} characters (at most {LINE_MAX}): {shown}"
     return err
 
 

@@ -1,6 +1,6 @@
 """Paths on the command line (issue 49): a file named in ``--set`` is found from the working folder, as a
 shell user expects (not from the scenario's folder); every "not found" names the path it tried; no
-message cuts a file name, and a bad value is shown whole up to SHOWN_VALUE_LIMIT characters.
+message cuts a file name, and a typed value is shown whole up to SHOWN_TEXT_LIMIT characters.
 
 The scenario and the files are laid out in folders of their own, so that resolving from the scenario's
 folder and from the working folder give different paths: the test fails if the wrong one is used.
@@ -90,7 +90,9 @@ def test_a_long_file_name_is_never_cut(tmp_path, monkeypatch, capsys):
 
 
 def test_a_bad_value_is_shown_whole_up_to_the_limit(capsys):
-    name = "x" * 150  # no such spectrum: a value of 150 characters
+    """A typed value (a name, a typo) is shown whole up to SHOWN_TEXT_LIMIT characters (60: longer is a list
+    pasted into one option, e.g. 1001 speeds, whose start says what it was), a path always whole."""
+    name = "x" * 30  # no such spectrum: a --set value of 55 characters
     assert main(["show", "quick", "--set", f"track.irregularities=['{name}']"]) == 2
     err = _one_line(capsys)
     assert name in err and "..." not in err.split("(allowed")[0]

@@ -86,18 +86,19 @@ def test_bad_track_data_is_one_line_and_exit_2(tmp_path, capsys, changes, scenar
 
 
 def test_a_car_whose_contacts_the_track_does_not_carry_is_refused(tmp_path, capsys):
-    """The track layer carries vertical contacts on the centre line (sprung masses, moving forces): a car15
-    (a wheel on each rail, a lateral contact) must not run with its wheels half on the deck (one line, exit 2,
-    also where the library builds; tests/builder/test_track_scenario.py runs the ones it carries)."""
+    """The track layer carries vertical contacts (sprung masses, moving forces, the wheels of car15 and the
+    articulated sets) and the wheelsets' lateral contact, not the creep cars' general rows: a creep car must
+    not run with its creep forces on the deck (one line, exit 2, also where the library builds;
+    tests/builder/test_track_scenario.py and tests/engines/test_track_car15.py run the ones it carries)."""
     out = tmp_path / "out"
-    assert main(["run", "quick", "--set", "track.structure=ballasted_uic60", "--out", str(out)]) == 2
+    assert main(["run", "li_zhu_2011_creep", "--set", "track.structure=ballasted_uic60", "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "train.vehicles" in err and "vertical contacts only" in err, err
+    assert len(err.splitlines()) == 1 and "train.vehicles" in err and "creep rows" in err, err
     assert not out.exists()
     from tb_exudyn.builder import build_model
     from tb_exudyn.scenario import ScenarioError
 
-    sc = load_scenario("quick")
+    sc = load_scenario("li_zhu_2011_creep")
     with pytest.raises(ScenarioError, match="train.vehicles"):
         build_model(sc.replace(track=sc.track.replace(structure="ballasted_uic60")))
 

@@ -91,7 +91,7 @@ def check_psd_channels(names: Sequence[str] | None, psd_channels: Any, where: st
         raise SettingError(where, key, psd_channels, allowed)
     for p in pats if names is not None else ():
         if not any(fnmatch.fnmatchcase(n, p) for n in names):
-            raise SettingError(where, key, p, allowed, "matches no channel of this scenario")
+            raise SettingError(where, key, p, allowed, "matches no channel")
 
 
 __all__ = ["GridErrorWarning", "check_psd_channels", "grid_error_messages", "prepare_sweep", "psd_rows", "psd_z_rows"]
