@@ -16,8 +16,8 @@ from ..results.export import export
 
 #: the report page's figures (``tb-exudyn run`` and ``report``): page (default) or all
 FIGURE_CHOICES = ("page", "all")
-FIGURES_HELP = ("page (default): every figure of the bridge, the leading car and the channels the verdicts name, and "
-                "the sigma figures of every car; all: also the other cars' PSD maps and slices (a third more drawing)")
+FIGURES_HELP = ("page (default): the figures of the bridge, the leading car and the channels the verdicts name; all: "
+                "also the other cars' (about 40 %% more drawing for the main job)")
 
 EXIT_OK = 0
 

@@ -121,17 +121,17 @@ def _analyse(args: argparse.Namespace, scenario: Scenario, out, pool) -> int:  #
 
 def _start_figures(out, result, pool, all_figures: bool):  # noqa: ANN001, ANN202
     """The figure processes' drawing (None without them), given now the figures of ``result`` whose
-    channels are known without its code checks (tb_exudyn.plotting.data.pattern_channels; PSD figures
-    as the page shows them, tb_exudyn.plotting.data.page_spectral); the checks' deciding channels
-    follow with the report."""
+    channels are known without its code checks (tb_exudyn.plotting.data.pattern_channels, those the
+    page shows: tb_exudyn.plotting.data.page_channel); the checks' deciding channels follow with the
+    report."""
     if pool is None:
         return None
     reporting = report_package()
     drawing = reporting.PageDrawing(pool)
     early = reporting.pattern_channels(result)
-    spectral = None if all_figures else reporting.pdata.page_spectral
+    shown = None if all_figures else reporting.pdata.page_channel
     drawing.submit(reporting.figure_jobs(out, [(out / result.kind.folder, result)], early, where="command line",
-                                         spectral=spectral))
+                                         shown=shown))
     return drawing
 
 

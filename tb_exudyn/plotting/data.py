@@ -160,15 +160,16 @@ def deciding_bridge_channels(result: Result) -> list[str]:
     return [c for c in deciding_channels(result) if c.startswith("bridge.")]
 
 
-#: the car whose PSD figures a page shows (the leading car: the others' are left out, drawn on request)
+#: the car whose figures a page shows (the leading car: the others' are left out, drawn on request)
 PAGE_CAR = 1
 
 
-def page_spectral(channel: str, deciding: Sequence[str] = ()) -> bool:
-    """Whether a report page draws the PSD map and slices of ``channel`` by default: the bridge's
-    channels, the leading car's (:data:`PAGE_CAR`) and those the checks' verdicts name (``deciding``);
-    the other cars' are left out (a third of the main job's drawing, docs/speed.md section 15; their
-    sigma and mean figures stay), and the page says so and how to draw them."""
+def page_channel(channel: str, deciding: Sequence[str] = ()) -> bool:
+    """Whether a report page draws the figures of ``channel`` by default: the bridge's channels, the
+    leading car's (:data:`PAGE_CAR`) and those the checks' verdicts name (``deciding``); the other
+    cars' are left out (their sigma, PSD maps and slices: about 30 % of the main job's drawing,
+    docs/speed.md section 15; their numbers stay in the channel table), and the page says so and
+    how to draw them."""
     car = channel_car(channel)
     return car is None or car == PAGE_CAR or channel in deciding
 
@@ -395,7 +396,7 @@ def sample_matrix(resp: RandomResponse, channel: str, samples) -> np.ndarray | N
 __all__ = [
     "Crossing", "DISPLAY_UNITS", "DisplayUnit", "KEY_CHANNELS", "axis_label", "band_across_zero_share", "band_text",
     "channel_car", "channel_crossing", "channel_group", "channel_label", "channel_names", "channel_subset",
-    "crossing_times", "deciding_bridge_channels", "deciding_channels", "page_spectral", "PAGE_CAR", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
+    "crossing_times", "deciding_bridge_channels", "deciding_channels", "page_channel", "PAGE_CAR", "default_channels", "default_patterns", "display_unit", "format_number", "has_psd", "psd_row",
     "low_frequency_content", "max_sigma_time", "mc_label", "psd_band", "psd_peak", "psd_slices", "psd_unit",
     "quantity_label", "sample_matrix", "select_channels", "sigma_to_mean_ratio",
 ]

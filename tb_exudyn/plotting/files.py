@@ -168,12 +168,14 @@ def figure_file(folder: Path, channel: str, kind: str, fmt: str = "png") -> Path
 
 
 def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], where: str,
-             spectral: Callable[[str], bool] | None) -> list[FigureJob]:
+             shown: Callable[[str], bool] | None) -> list[FigureJob]:
     source = path / "meta.json"
     out = []
     for ch in data.select_channels(result, channels, where=where, source=str(path)):
+        if shown is not None and not shown(ch):
+            continue
         kinds = ("bounds",) if isinstance(result, RandomResponse) else ("history",)
-        if data.has_psd(result, ch) and (spectral is None or spectral(ch)):
+        if data.has_psd(result, ch):
             kinds += ("psd_map", "psd_slices")
         one = (data.channel_subset(result, [ch]),)
         for kind in kinds:
@@ -184,14 +186,14 @@ def _jobs_of(root: Path, path: Path, result, channels, formats: Sequence[str], w
 
 def figure_jobs(folder: str | Path, found: Sequence[tuple[Path, Any]], channels: str | Sequence[str] | None = None,
                 formats: Sequence[str] = ("png",), where: str = "figure_jobs",
-                spectral: Callable[[str], bool] | None = None) -> list[FigureJob]:
+                shown: Callable[[str], bool] | None = None) -> list[FigureJob]:
     """Every standard figure of the results ``found`` in ``folder`` (see :func:`plot_folder`),
-    with its paths checked (:func:`confined_path`). ``spectral``: which channels get their PSD map
-    and slices (None: every channel that has a map; a page's default: :func:`data.page_spectral`)."""
+    with its paths checked (:func:`confined_path`). ``shown``: which of the selected channels get
+    figures (None: all; a page's default: :func:`data.page_channel`)."""
     root = Path(folder)
     jobs: list[FigureJob] = []
     for path, result in found:
-        jobs += _jobs_of(root, path, result, channels, formats, where, spectral)
+        jobs += _jobs_of(root, path, result, channels, formats, where, shown)
     pems = [r for _, r in found if r.kind.gaussian]
     mcs = [(p, r) for p, r in found if r.kind.sampled]
     if pems and mcs:

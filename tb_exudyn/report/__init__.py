@@ -99,7 +99,7 @@ def render_report(found: Sequence[tuple[Path, Result]], k: float = 3.0,
     ``pictures``: PNG bytes by (result folder name, channel, kind) ("" as folder for pem_vs_mc);
     ``names``: the channels with figures per result folder name (default: ``channels`` selected);
     ``comparison``: channels with a PEM against Monte Carlo figure; ``warnings``: the report's own;
-    ``left_out``: channels whose PSD figures the page leaves out (it says so, and how to draw them).
+    ``left_out``: channels whose figures the page leaves out (it says so, and how to draw them).
     """
     found = ordered(found)
     report_warnings = list(warnings)
@@ -164,16 +164,15 @@ def _fresh(png: Path, newest_input: float) -> bool:
 def page_jobs(folder: Path, found: Sequence[tuple[Path, Result]], channels=None, *,  # noqa: ANN001
               all_figures: bool = False) -> tuple[list[Any], list[str]]:
     """The figures a report page shows (:func:`tb_exudyn.plotting.files.figure_jobs`, PNG) and the
-    channels whose PSD figures it leaves out: for the default channels (``channels`` None) without
-    ``all_figures``, the PSD maps and slices of :func:`tb_exudyn.plotting.data.page_spectral` only
-    (the checks' deciding channels kept)."""
+    channels whose figures it leaves out: for the default channels (``channels`` None) without
+    ``all_figures``, those of :func:`tb_exudyn.plotting.data.page_channel` only (the bridge, the
+    leading car and the checks' deciding channels)."""
     if channels is not None or all_figures:
         return figure_jobs(folder, found, channels, ("png",)), []
     deciding = [c for _, r in found for c in pdata.deciding_channels(r)]
-    spectral = functools.partial(pdata.page_spectral, deciding=deciding)
-    left_out = list(dict.fromkeys(c for _, r in found for c in pdata.select_channels(r)
-                                  if pdata.has_psd(r, c) and not spectral(c)))
-    return figure_jobs(folder, found, channels, ("png",), spectral=spectral), left_out
+    shown = functools.partial(pdata.page_channel, deciding=deciding)
+    left_out = list(dict.fromkeys(c for _, r in found for c in pdata.select_channels(r) if not shown(c)))
+    return figure_jobs(folder, found, channels, ("png",), shown=shown), left_out
 
 
 def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels, *, workers: int | None = None,
@@ -183,9 +182,9 @@ def report_pictures(folder: Path, found: Sequence[tuple[Path, Result]], channels
     ``plot_folder`` wrote when they are newer than the results, the others drawn now (in parallel,
     into the same files; each worker also re-encodes the figures it draws; with ``drawing``, on its
     pool, which may have drawn some already). The default channels (``channels`` None) without
-    ``all_figures``: the PSD maps and slices of :func:`tb_exudyn.plotting.data.page_spectral` only.
+    ``all_figures``: the channels of :func:`tb_exudyn.plotting.data.page_channel` only.
     Returns (pictures, channels with figures per result folder name, channels with a PEM against
-    Monte Carlo figure, channels whose PSD figures were left out)."""
+    Monte Carlo figure, channels whose figures were left out)."""
     jobs, left_out = page_jobs(folder, found, channels, all_figures=all_figures)
     newest = max((p / n).stat().st_mtime for p, _ in found for n in ("arrays.npz", "meta.json") if (p / n).exists())
     if drawing is not None:
@@ -242,9 +241,9 @@ def write_report(folder: str | Path, out_html: str | Path | None = None, *, k: f
     loaded (``find_results(folder)``). ``drawing``: a :class:`~tb_exudyn.plotting.files.PageDrawing`
     whose pool draws the figures (``tb-exudyn run`` starts it before the analysis and gives it the
     result's figures as soon as the result is saved); ``workers`` is then unused. ``all_figures``:
-    the default channels' every figure; without it the PSD maps and slices of cars behind the
-    leading one are left out unless a verdict names the channel
-    (:func:`tb_exudyn.plotting.data.page_spectral`), and the page says so.
+    the default channels' every figure; without it the figures of the cars behind the leading one
+    are left out unless a verdict names the channel (:func:`tb_exudyn.plotting.data.page_channel`),
+    and the page says so.
 
     The default page is the folder's own and is rewritten each time; a named ``out_html`` is
     checked before anything is drawn (:func:`tb_exudyn.files.output_targets`): refused inside a

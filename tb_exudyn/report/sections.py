@@ -336,12 +336,12 @@ def _img(png: bytes, alt: str) -> str:
 
 
 def left_out_line(left_out: Sequence[str]) -> str:
-    """The page's line on the PSD figures it leaves out (:func:`tb_exudyn.plotting.data.page_spectral`)."""
+    """The page's line on the channels whose figures it leaves out (:func:`tb_exudyn.plotting.data.page_channel`)."""
     cars = sorted({c for c in map(pdata.channel_car, left_out) if c is not None})
     who = f"car {cars[0]}" if len(cars) == 1 else f"cars {', '.join(map(str, cars[:-1]))} and {cars[-1]}" if cars \
         else "other channels"
-    return (f"Not drawn here: the PSD maps and PSD slices of {len(left_out)} channels of {who} "
-            f"({', '.join(left_out)}; {2 * len(left_out)} figures; their sigma and mean are above). "
+    return (f"Not drawn here: the figures (sigma and mean, PSD map and slices) of {len(left_out)} channels of {who} "
+            f"({', '.join(left_out)}; their numbers are in the channel table). "
             "'tb-exudyn plot FOLDER' draws them into the result's figures folder; "
             "'tb-exudyn run ... --figures all' or 'tb-exudyn report FOLDER --figures all' puts them on the page.")
 
@@ -351,7 +351,7 @@ def figures_section(found: Sequence[tuple[Path, Result]], pictures: dict[tuple[s
     """Per result, per channel group (bridge, car k, car k wheelsets): each channel's numbers
     above its figures; the bridge's group open (else the first), the others folded.
     ``pictures[(result folder name, channel, kind)]`` = PNG bytes; ``left_out``: the channels whose
-    PSD figures the page leaves out (one line says which and how to draw them)."""
+    figures the page leaves out (one line says which and how to draw them)."""
     out = ['<section id="figures"><h2>Figures</h2>']
     if left_out:
         out.append(f'<p class="left-out">{esc(left_out_line(left_out))}</p>')
