@@ -143,7 +143,7 @@ def short_container(value: list | tuple | set | frozenset | dict, limit: int = S
     items = list(value)
     def piece_of(item: Any) -> str:  # a path is never cut
         whole = isinstance(item, str) and _looks_like_a_path(item)
-        return short_repr(item, limit=1 << 30 if whole else limit - 20)
+        return short_repr(item, limit=1 << 30 if whole else limit)
 
     shown = [piece_of(items[0])]
     for item in items[1:]:

@@ -253,7 +253,7 @@ def _stochastic(where: str, train_list: Sequence[ForceTrain], cases: Sequence[st
         return [], [], None
     chosen = [t for t in train_list if stoch.eligible(t)]
     if not chosen:
-        raise SettingError(where, "stochastic", [t.name for t in train_list], "trains of vehicle models (ice_mttm, "
+        raise SettingError(where, "stochastic", [t.name for t in train_list], "vehicle models (ice_mttm, "
                            "ave_s103, a .toml)", "no train for the stochastic rows (HSLM-A: moving forces)")
     if NOMINAL_CASE not in cases:
         raise SettingError(where, "cases", list(cases), f"mass cases including {NOMINAL_CASE!r} (the stochastic rows' case)")

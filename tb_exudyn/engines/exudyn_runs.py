@@ -158,7 +158,7 @@ def integrate(model: TrainBridgeModel, settings: SolverSettings | None = None, d
     t_reached = model.mbs.systemData.GetTime()
     if not ok or abs(t_reached - end_time) > 0.5 * dt:
         raise SimulationIncomplete(
-            f"the Exudyn run stopped at t = {t_reached:.6g} s of {end_time:.6g} s ({n_steps} steps of "
+            f"the Exudyn run stopped at t = {t_reached:.6g} s before its end time {end_time:.6g} s ({n_steps} steps of "
             f"{dt:g} s): {solver.GetErrorString() or 'Newton did not converge'}; try a smaller time step"
         )
     rec = model.recording()

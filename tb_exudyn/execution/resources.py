@@ -316,7 +316,7 @@ def check_system_size(scenario: Any, n_bridge_modes: int, limit: int | None = No
     if limit is None or need <= limit:
         return
     most = int(math.sqrt(limit / SYSTEM_BYTES_PER_ENTRY))  # coordinates that fit
-    reason = f"{len(vehicles)} vehicles ({n} coordinates) need about {format_bytes(need)}, over {text}"
+    reason = f"{len(vehicles)} vehicles need about {format_bytes(need)}, over {text}"
     if n_veh >= n_bridge_modes:
         fit = max(0, (most - int(n_bridge_modes)) * len(vehicles) // n_veh)
         raise ResourceError(format_message(scenario_where(scenario), "train.vehicles", [v.name for v in vehicles],

@@ -52,7 +52,7 @@ def check_speeds(speeds: Sequence[float], where: str = "run_sweep", key: str | N
         label = speed_label(float(v))
         if label in seen:
             raise SettingError(where, key, shown, "speeds differing in 6 significant digits",
-                               f"{seen[label]!r} and {float(v)!r}: the same speed {label!r}")
+                               f"{seen[label]!r} and {float(v)!r} are the same speed {label!r}")
         seen[label] = float(v)
     return tuple(seen.values())
 

@@ -174,9 +174,9 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
         if not sc.duration / dt > MAX_STEPS:
             raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
                                "allows", f"at {label} km/h: {exc}") from None
-        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
-                           f"(at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
-                           f"{distance:.4g} m crossing takes {sc.duration / dt:.4g} steps") from None
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"here from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
+                           f"(a crossing of at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
+                           f"crossing of {distance:.4g} m takes {sc.duration / dt:.4g} steps") from None
     return sc
 
 

@@ -20,7 +20,7 @@ def _finite(ctx: Context, key: str, values: Sequence[float]) -> None:
     for i, v in enumerate(values):
         if not math.isfinite(v):
             sub = ctx.child(key) if key == "value" else ctx.child(key).child(i)
-            raise sub.error(v, "a finite number", "not a limit (nan: never evaluated, inf: always passes)")
+            raise sub.error(v, "a finite number", "not a limit (nan is never evaluated, inf always passes)")
 
 
 @dataclass(frozen=True, kw_only=True)

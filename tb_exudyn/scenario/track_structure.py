@@ -196,8 +196,8 @@ def check_track_structure(structure: str, bridge, track_line_height: float, ctx:
         raise key.error(structure, f"a structure whose support spacing ({ts.spacing:g} m) is at most the "
                         f"shortest span ({min(spans):g} m)", "support spacing longer than a span")
     if ts.depth > track_line_height + 1e-12:
-        raise key.error(structure, f"a structure at most the bridge's track height ({track_line_height:g} m) deep; "
-                        f"'{ts.name}' is {ts.depth:.3g} m", "the track does not fit the bridge")
+        raise key.error(structure, f"at most {track_line_height:g} m deep; '{ts.name}' is {ts.depth:.3g} m",
+                        "the track does not fit the bridge's track height")
 
 
 #: the vehicle kinds whose contacts the track layer carries: vertical contacts on the track centre line or on

@@ -53,7 +53,7 @@ def test_the_default_page_leaves_out_the_other_cars_figures_and_says_how_to_draw
     assert BEHIND in line and "car 2" in line and "tb-exudyn plot FOLDER" in line and "--figures all" in line
     assert not list((folder / "pem" / "figures").glob(f"{BEHIND}.*"))
     page = write_report(folder, workers=1, all_figures=True).read_text(encoding="utf-8")
-    assert len(re.findall(r'src="data:image/png;base64,', page)) == 9 and "left-out" not in page
+    assert len(re.findall(r'src="data:image/png;base64,', page)) == 9 and 'class="left-out"' not in page
     assert len(list((folder / "pem" / "figures").glob(f"{BEHIND}.*.png"))) == 3
     monkeypatch.setattr(pdata, "deciding_channels", lambda r: [BEHIND])
     jobs, left_out = page_jobs(folder, found)
