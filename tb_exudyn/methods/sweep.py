@@ -122,8 +122,7 @@ def key_patterns(scenario: Scenario, channels: Sequence[str] | None = None,
         items = tuple(known.get(p, (p, p, p)) for p in channels)
         for p in channels:
             if not fnmatch.filter(names, p):
-                raise SettingError("run_sweep", "channels", p, "patterns matching channels, "
-                                   f"e.g. {names[0] if names else '(none)'}", f"{p!r} matches no channel")
+                raise SettingError("run_sweep", "channels", p, "patterns matching channels", f"{p!r} matches no channel")
         return items
     keep = tuple(q for q in KEY_QUANTITIES if fnmatch.filter(names, q[1]))
     if not keep:
@@ -175,7 +174,7 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
             raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "speeds whose run the scenario's analysis "
                                "allows", f"at {label} km/h: {exc}") from None
         raise SettingError("run_sweep", "speeds_kmh", speed_kmh, f"here from {distance / (dt * MAX_STEPS) / KMH:.3g} km/h "
-                           f"(a crossing of at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
+                           f"(at most {MAX_STEPS:.0e} steps of {dt:g} s)", f"at {label} km/h the "
                            f"crossing of {distance:.4g} m takes {sc.duration / dt:.4g} steps") from None
     return sc
 

@@ -91,8 +91,7 @@ def meta_band(meta: Mapping[str, Any], key: str, path: Path, high: float = math.
               high_text: str = "") -> tuple[float, float]:
     """A frequency band [f_low, f_high] [Hz] with 0 <= f_low < f_high < inf, and f_high <= ``high``
     (``high_text`` says where that bound comes from)."""
-    allowed = "[f_low, f_high], 0 <= f_low < f_high" + (
-        f" <= {high:.4g} Hz ({high_text})" if math.isfinite(high) else " Hz, finite")
+    allowed = "0 <= f_low < f_high" + (f" <= {high_text or f'{high:.4g} Hz'}" if math.isfinite(high) else " Hz, finite")
     value = _get(meta, key, path, allowed)
     ok = (isinstance(value, list) and len(value) == 2
           and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) for v in value)

@@ -66,8 +66,8 @@ def band_limit(scenario: Scenario) -> tuple[float, str]:
     scenario: e.g. [0.6, 1e308] for the quick scenario, whose bound is 100 Hz."""
     pem = 0.1 / scenario.analysis.time_step
     mc = scenario.speed / scenario.track.wavelength_min
-    return max(pem, mc) * (1 + BAND_RTOL), (f"max of 0.1/time_step = {pem:.4g} Hz, "
-                                            f"speed/wavelength_min = {mc:.4g} Hz")
+    return max(pem, mc) * (1 + BAND_RTOL), (f"max(0.1/time_step = {pem:.4g} Hz, "
+                                            f"v/wavelength_min = {mc:.4g} Hz)")
 
 
 @dataclass(frozen=True, eq=False)
