@@ -75,11 +75,12 @@ class CoupledBridge:
         """A0_b^-1 F for F in the block's basis (where A0_b = I in the eigenbasis)."""
         return F.copy() if self.T is not None else self.A0b_inv @ F
 
-    def row_operators(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray, Cb: FloatArray
-                      ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def row_operators(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray, Cb: FloatArray,
+                      CbPd: FloatArray | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(L_q, L_v, S^a A0_b^-T) of the contact rows (..., rows, nb), the shapes in the block's basis:
-        L_q = S^k - C_b P_k, L_v = S^d - C_b P_d (C_b = S^k + gamma' S^d)."""
-        Lv = Sd - _rows_times(Cb, self.Pd)
+        L_q = S^k - C_b P_k, L_v = S^d - C_b P_d (C_b = S^k + gamma' S^d); ``CbPd``: C_b P_d given (the
+        rails' rows times P_d tabulated once: the engine's ``rails_in_basis``), else the product."""
+        Lv = Sd - (_rows_times(Cb, self.Pd) if CbPd is None else CbPd)
         if self.T is not None:
             return Sk - Cb * self.pk, Lv, Sa
         return Sk - _rows_times(Cb, self.Pk), Lv, _rows_times(Sa, self.A0b_inv.T)

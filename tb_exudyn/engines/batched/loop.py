@@ -108,7 +108,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
         module = jit.load("tb_exudyn.engines.batched.compiled")
         for run in runs:
             run.compile(module, coef, h)
-    shapes = {o.shape_key: o.rail_shapes(cp.bridge) for o in operators if o.nb}
+    shapes = {key: fn for o in operators if o.nb for key, fn in o.rail_shapes(cp.bridge).items()}
     block = step_block(cp, 0, 1, h, shapes)
     Y = pool[0]
     sh0 = shared(block)[0]

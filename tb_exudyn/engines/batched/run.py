@@ -141,6 +141,8 @@ class _Operators:
                                    and hasattr(lin.coupling.bridge.rail_shape_function, "in_basis"))
         if self.rails_in_basis:
             self.shape_key = ("basis", *self.shape_key)
+        #: with rails_in_basis, the rail shapes times P_d as well (C_b P_d of L_v interpolated, not a product)
+        self.damped_key = ("basis P_d", *self.shape_key[1:]) if self.rails_in_basis else None
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
@@ -172,14 +174,16 @@ class _Operators:
         self.kblock: tuple[Any, ...] | None = None
         self._ktables: tuple[Any, ...] | None = None
 
-    def rail_shapes(self, bridge: Any) -> Any:
-        """x -> the rail shapes of this component's bridge coordinates (:func:`.steps.mode_shapes`; in the
-        coupled block's basis when ``rails_in_basis``)."""
-        if self.rails_in_basis:
-            X = np.zeros((bridge.n_modes, self.nb))
-            X[self.modes] = self.bridge_block.T
-            return bridge.rail_shape_function.in_basis(X)
-        return mode_shapes(bridge, self.modes)
+    def rail_shapes(self, bridge: Any) -> dict[Any, Any]:
+        """key -> x -> the rail shapes this component's step reads (:func:`.steps.mode_shapes`): of its bridge
+        modes, or with ``rails_in_basis`` in the coupled block's basis, S(x) T, and S(x) T P_d
+        (``damped_key``)."""
+        if not self.rails_in_basis:
+            return {self.shape_key: mode_shapes(bridge, self.modes)}
+        X = np.zeros((bridge.n_modes, self.nb))
+        X[self.modes] = self.bridge_block.T
+        fn = bridge.rail_shape_function
+        return {self.shape_key: fn.in_basis(X), self.damped_key: fn.in_basis(X @ self.bridge_block.Pd)}
 
     def vehicle_tables(self) -> tuple[Any, ...]:
         """The vehicles' operators for the compiled step (:mod:`.compiled`): (vt, vo, bl, fo, vbuf),
@@ -260,7 +264,10 @@ class _Operators:
             S = self.bridge_block.to_basis(S)
         Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
         Cb = Sk + self.gp * Sd
-        if self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
+        if self.damped_key is not None:  # C_b P_d from the rails times P_d (.coupled.CoupledBridge.row_operators)
+            SP = np.matmul(self.shape_maps[a0:a1, 1:], block.rails[self.damped_key][steps][:, self.axle[a0:a1]])
+            Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb, SP[:, :, 0] + self.gp * SP[:, :, 1])
+        elif self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
             Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb)
         else:
             Lq = Sk - Cb * self.pk
