@@ -8,7 +8,8 @@ S^a(t)^T f with A0_b = beta' M_b + gamma' D0_b + K0_b, P_k = A0_b^-1 K0_b, P_d =
 K0_b, D0_b are symmetric (a track's always are), the block is integrated in the basis q_b = T y of the
 generalised eigenproblem K0_b t = kappa A0_b t (T^T A0_b T = I, T^T K0_b T = diag(kappa)): there A0_b = I,
 P_k = diag(kappa) and P_d = T^T D0_b T, the same step up to round-off with one dense product per step
-instead of two; the rail shapes S(t) become S(t) T, the generalised forces T^T F and the bridge channels'
+instead of two; the rail shapes S(t) become S(t) T (tabulated once where the bridge's rail function can:
+``_Operators.rails_in_basis``, the track's, with C_b P_d from S(t) T P_d), the generalised forces T^T F and the bridge channels'
 station shapes s T. Otherwise (``basis`` False, or a block that is not symmetric) A0_b is inverted once
 and both products are dense.
 """
