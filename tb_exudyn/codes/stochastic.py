@@ -27,6 +27,12 @@ the limit at least once in one passage (Rice's rate, Poisson's first passage), a
 the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem`` of
 :func:`scenario_at` at that speed with :func:`engine_options` (the columns in float32: :data:`PRECISION`), to
 round-off; ``tb-exudyn run`` of it (float64) within float32's error (sigma within 1e-5 of its largest value).
+
+A scenario with a track structure (``track.structure``) gives rows on the track (docs/track.md section 8): its
+structure, reach (``track.structure_approach``) and cut-off (``analysis.track_mode_max_frequency``) go with its
+track and analysis; a train whose cars the track does not carry (the creep cars) is refused naming ``trains``
+(:func:`check_on_track`), a speed whose track would exceed the dense eigen-solution's size naming the scenario,
+before any work; the defaults of the two settings the rows take are said in the rows' warnings (:func:`track_note`).
 """
 
 from __future__ import annotations

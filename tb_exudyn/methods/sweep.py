@@ -34,6 +34,14 @@ output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`
 ``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
 sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
 
+A scenario with a track structure (``track.structure``, docs/track.md section 8) sweeps as any other: each speed
+a PEM on the track-and-deck body. Its modes and the static correction of the left-out ones are a costly part of a
+speed's set-up and do not depend on the speed when the rails are cut short of the run
+(``track.structure_approach``: placed by the bridge, not by the lead-in the speed rule scales), so the parent's
+(its model built for the channel list) is sent with the workers' set-up (:func:`shared_tracks`,
+:class:`SpeedWorker`) and every speed takes it instead of solving it again; with the rails under the whole run each
+speed has its own (longer at higher speeds: each speed's size is checked before any run).
+
 The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output folder; the figure is
 :func:`tb_exudyn.plotting.plot_speed_sweep`, the page :func:`tb_exudyn.report.write_sweep_report`,
 ``speed_sweep.html``, both written by ``tb-exudyn sweep``): one row per speed with, per key quantity, the
@@ -221,15 +229,16 @@ def keep_tracks(tracks: tuple) -> None:
 
 
 def shared_tracks(base: Scenario, scenarios: Sequence[Scenario]) -> tuple:
-    """The track the parent solved for ``base`` (its model built by :func:`key_patterns`) when every speed's
-    scenario has that track (the same structure and extent: the rails cut short of the run,
-    ``track.structure_approach``, are placed by the bridge, not by the speed's lead-in), for the workers to keep
-    (:class:`SpeedWorker`); () otherwise (no track, or each speed's own: rails under the whole run)."""
+    """The track the parent solved for ``base`` (its model built by :func:`key_patterns`) when a speed's scenario
+    has that track (the same structure and extent: the rails cut short of the run, ``track.structure_approach``,
+    are placed by the bridge, not by the speed's lead-in; under the whole run, the speeds up to the base's, whose
+    lead-in the speed rule keeps), for the workers to keep (:class:`SpeedWorker`); () otherwise (no track, or
+    every speed its own)."""
     if not base.track.structure:
         return ()
     tb = importlib.import_module("tb_exudyn.system.track_bridge")
     extent = tb.scenario_extent(base)[1:]
-    if any(tb.scenario_extent(sc)[1:] != extent for sc in scenarios):
+    if all(tb.scenario_extent(sc)[1:] != extent for sc in scenarios):
         return ()
     return tb.solved_tracks()
 
