@@ -89,3 +89,29 @@ def test_a_sweep_row_with_a_track_is_run_pem_at_its_speed(swept):
                 assert float(got) == pytest.approx(float(want), rel=ROUND_OFF, abs=0.0), (v, c)
         sigma.append(float(s["max_sigma"][names.index("car1.axle1.force_z")]))
     assert sigma[0] != sigma[1] and min(sigma) > 0.0
+
+
+def test_a_workers_set_up_keeps_the_parents_track(monkeypatch):
+    """What a worker process gets: the parent's track (``shared_tracks``, after the parent built the base's model),
+    pickled as the pool sends it; after the worker's set-up (``SpeedWorker.setup``) a build at the other speed
+    takes it and solves nothing. (In a spawned process the same was measured: 0 solves with it, 1 without.)"""
+    import pickle
+
+    from tb_exudyn.builder.model import build_model
+    from tb_exudyn.methods.sweep import SpeedWorker, shared_tracks
+
+    base = _base()
+    monkeypatch.setattr(track_bridge, "_LAST", {})
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        build_model(base, warn=False)
+        entries = shared_tracks(base, [sweep_scenario(base, v) for v in SPEEDS])
+        assert len(entries) == 1
+        assert shared_tracks(base.replace(track=base.track.replace(structure="")), []) == ()
+        track_bridge._LAST.clear()
+        SpeedWorker(pickle.loads(pickle.dumps(entries))).setup()
+        solved = []
+        monkeypatch.setattr(track_bridge, "track_and_deck", lambda *a, **k: solved.append(1))
+        model = build_model(sweep_scenario(base, SPEEDS[1]), warn=False)
+    assert solved == [] and model is not None
+    assert repr(SpeedWorker(entries)) == repr(SpeedWorker())  # the set-up cache's key: the track not in it
