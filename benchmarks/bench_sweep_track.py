@@ -19,7 +19,9 @@ Modes (each a fresh state of this process's track cache, run ``--repeat`` times,
 
 Usage::
 
-    python benchmarks/bench_sweep_track.py [--speeds 4] [--repeat 3] [--approach 10] [--cutoff 300] [--workers 2]
+    python benchmarks/bench_sweep_track.py [--speeds 3] [--repeat 3] [--approach 6] [--cutoff 300] [--workers 2]
+
+The defaults are docs/track.md section 8's run (there with ``--repeat 1`` under load); about 3 CPU-minutes.
 
 Prints per mode the median CPU and wall seconds, the track solves in this process and their CPU seconds, and the
 saving against ``per speed``.
@@ -93,12 +95,12 @@ def run(mode: str, base, speeds, workers: int) -> tuple[float, float, list[float
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    p.add_argument("--speeds", type=int, default=4)
+    p.add_argument("--speeds", type=int, default=3)
     p.add_argument("--repeat", type=int, default=3)
-    p.add_argument("--approach", type=float, default=10.0)
+    p.add_argument("--approach", type=float, default=6.0)
     p.add_argument("--cutoff", type=float, default=300.0)
     p.add_argument("--n-freq", type=int, default=2)
-    p.add_argument("--workers", type=int, default=1)
+    p.add_argument("--workers", type=int, default=2)
     a = p.parse_args()
     base = _scenario(a.approach, a.cutoff, a.n_freq)
     speeds = [200.0 + 20.0 * i for i in range(a.speeds)]
