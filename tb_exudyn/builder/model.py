@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import math
 import warnings
+from contextlib import contextmanager
 from dataclasses import dataclass, replace
-from typing import Literal
+from typing import Iterator, Literal
 
 import exudyn as exu
 import numpy as np
@@ -44,6 +45,8 @@ from .vehicles import VEHICLE_BUILDERS, TrainParts
 
 #: fewest time steps per period of the stiffest contact mode before a warning
 CONTACT_STEPS_PER_PERIOD = 4.0
+#: linearisations a model keeps (:meth:`TrainBridgeModel.linearized_system`: about rest and the static state)
+LINEARIZED_KEPT = 2
 #: fewest time steps on the approach track before the first axle reaches the bridge (else: error)
 MIN_LEAD_IN_STEPS = 10
 
@@ -246,6 +249,7 @@ class TrainBridgeModel:
         mbs.Assemble()
         self.n_ode2 = mbs.systemData.ODE2Size()
         self._static_cache: dict[tuple[float, bool], NDArray[np.float64]] = {}
+        self._linearized: dict[tuple[float, bytes], tuple[NDArray[np.float64], ...]] = {}
 
     def _add_coupling(self, axle_offsets: NDArray[np.float64]) -> None:
         """The wheel-rail coupling: ONE ObjectGenericODE2 over [bridge node, wheel nodes] whose
@@ -339,13 +343,51 @@ class TrainBridgeModel:
         """M, K, D of the whole system linearised at the reference configuration (or at the
         displacements ``state``, e.g. ``static_state()``: then K includes the geometric stiffness of
         the forces carried there, the suspensions' preload under gravity), with the train standing
-        at its positions of time t (no convective terms). Sets the initial state to rest."""
+        at its positions of time t (no convective terms). Sets the initial state to rest.
+
+        The last :data:`LINEARIZED_KEPT` results are kept by (t, state) (the set-up's mode table, the
+        damping guard, the linear model and the static state ask for the same ones; copies are
+        returned). A bridge body with a coupled damping matrix (a track's: Exudyn differentiates its
+        object numerically, n^3 for n modes, 40 s at 1736) has its known blocks K = diag(omega^2)
+        and D (:meth:`_known_body_blocks`) inserted instead."""
         zero = np.zeros(self.n_ode2)
-        self._set_initial(zero if state is None else np.asarray(state, dtype=float), zero)
-        with self.coupling.frozen(t):
-            M, K, D = self.mbs.ComputeLinearizedSystem(exu.SimulationSettings())
+        q = zero if state is None else np.asarray(state, dtype=float)
+        key = (float(t), q.tobytes())
+        kept = self._linearized.pop(key, None)
+        if kept is None:
+            self._set_initial(q, zero)
+            with self.coupling.frozen(t), self._known_body_blocks() as blocks:
+                M, K, D = (np.asarray(a) for a in self.mbs.ComputeLinearizedSystem(exu.SimulationSettings()))
+            if blocks is not None:
+                ix, Kb, Db = blocks
+                K[np.ix_(ix, ix)] += Kb
+                D[np.ix_(ix, ix)] += Db
+            kept = (M, K, D)
+        self._linearized[key] = kept
+        while len(self._linearized) > LINEARIZED_KEPT:
+            self._linearized.pop(next(iter(self._linearized)))
         self._set_initial(zero, zero)
-        return np.asarray(M), np.asarray(K), np.asarray(D)
+        return kept[0].copy(), kept[1].copy(), kept[2].copy()
+
+    @contextmanager
+    def _known_body_blocks(self) -> Iterator[tuple[NDArray[np.int64], NDArray[np.float64], NDArray[np.float64]] | None]:
+        """With a coupled bridge damping (a track's), the bridge body's stiffness and damping matrices
+        set to zero inside the block (restored after), yielding (its global indices, diag(omega^2), D),
+        the blocks to add to Exudyn's linearisation; else nothing changes and None is yielded (a run
+        without a track takes Exudyn's linearisation as before, bitwise)."""
+        br = self.bridge
+        if br.coupled_damping is None:
+            yield None
+            return
+        obj, n = self.bridge_body.object, br.n_modes
+        kept = {p: self.mbs.GetObjectParameter(obj, p) for p in ("stiffnessMatrix", "dampingMatrix")}
+        try:
+            for p in kept:
+                self.mbs.SetObjectParameter(obj, p, _sparse_zero(n))
+            yield self.node_indices(self.bridge_node), np.diag(br.omega**2), np.asarray(br.coupled_damping, dtype=float)
+        finally:
+            for p, value in kept.items():
+                self.mbs.SetObjectParameter(obj, p, value)
 
     def dead_load(self, t: float = 0.0) -> NDArray[np.float64]:
         """Generalised static load vector: gravity (if on), point loads and the irregularity

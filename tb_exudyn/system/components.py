@@ -106,9 +106,11 @@ def _bridge_parts(lin: LinearSystem, times: FloatArray) -> Iterator[tuple[FloatA
 class _CouplingSums:
     """The sums behind :func:`coupling_pattern`, over chunks of times (:meth:`add`)."""
 
-    def __init__(self, lin: LinearSystem) -> None:
+    def __init__(self, lin: LinearSystem, joined: IntArray | None = None) -> None:
         cp = lin.coupling
         self.rm, self.nb, self.n = cp.row_maps(), cp.n_bridge, cp.n
+        #: the bridge-bridge columns summed: all but ``joined`` (bridge coordinates M, K0, D0 already join)
+        self.cols = None if joined is None else np.setdiff1d(np.arange(self.nb), joined)
         self.rng = np.random.default_rng(2)
         self.K = np.zeros((2, cp.n, cp.n))
         self.D = np.zeros((2, cp.n, cp.n))
@@ -124,7 +126,10 @@ class _CouplingSums:
             rho = 1.0 + self.rng.random(n_t)
             wSa = np.einsum("t,trb->rb", rho, Sa)
             for X, S, G in ((self.K[d], Sk, rm.stiff_wheel), (self.D[d], Sd, rm.damp_wheel)):
-                X[:nb, :nb] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)
+                if self.cols is None:
+                    X[:nb, :nb] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)
+                else:  # an edge inside the joined set adds nothing: (n_b x n_kept), not n_b^2
+                    X[:nb, self.cols] += (Sa * rho[:, None, None]).reshape(-1, nb).T @ S.reshape(-1, nb)[:, self.cols]
                 X[:nb, nb:] -= wSa.T @ G
                 X[nb:, :nb] -= rm.app_wheel.T @ np.einsum("t,trb->rb", rho, S)
                 X[nb:, nb:] += rho.sum() * (rm.app_wheel.T @ G)
@@ -234,16 +239,31 @@ def _keep(memo: "OrderedDict[bytes, tuple[weakref.ref, Any]]", key: bytes, coupl
         memo.popitem(last=False)
 
 
-def _scanned(lin: LinearSystem, times: FloatArray) -> tuple[NDArray[np.bool_], ...]:
+def _joined_bridge(base: NDArray[np.bool_], bridge: IntArray) -> IntArray | None:
+    """The bridge modes (indices among them) of the largest set that ``base`` (M, K0, D0's pattern) already
+    joins, if it has more than one (a track's modes, joined by the pads' and the ballast's damping); None for a
+    modal bridge body's diagonal block, whose every mode stands alone."""
+    block = base[np.ix_(bridge, bridge)]
+    if not (block.sum() > bridge.size):  # diagonal (or empty): nothing joined
+        return None
+    _, label = connected_components(csr_matrix(block), directed=False)
+    counts = np.bincount(label)
+    return np.flatnonzero(label == np.argmax(counts)) if counts.max() > 1 else None
+
+
+def _scanned(lin: LinearSystem, times: FloatArray, joined: IntArray | None = None) -> tuple[NDArray[np.bool_], ...]:
     """(coupling pattern, contact rows' pattern, excited coordinates) of one pass over the bridge parts
     at the times (:func:`_scan` with :class:`_CouplingSums` and :class:`_InputReach`), read-only; the
-    last few kept by what they read (``_SCANNED``)."""
+    last few kept by what they read (``_SCANNED``). ``joined``: bridge modes M, K0, D0 already join
+    (:func:`_joined_bridge`), whose coupling among themselves is not summed (left False in the pattern;
+    the threshold is then taken of the entries summed)."""
     times = np.asarray(times, dtype=float)
-    key = _digest(lin.coupling, lin.bridge, lin.wheel, np.array([lin.n]), times)
+    key = _digest(lin.coupling, lin.bridge, lin.wheel, np.array([lin.n]), times,
+                  np.array([-1]) if joined is None else joined)
     hit = _kept(_SCANNED, key, lin.coupling)
     if hit is not None:
         return hit
-    coupling, reach = _CouplingSums(lin), _InputReach(lin)
+    coupling, reach = _CouplingSums(lin, joined), _InputReach(lin)
     _scan(lin, times, coupling, reach)
     out = (*coupling.result(), reach.result())
     for a in out:
@@ -279,7 +299,8 @@ def _find_components(lin: LinearSystem, times: FloatArray) -> list[Component]:
     base = (lin.M != 0) | (lin.K0 != 0) | (lin.D0 != 0)
     base = base | base.T
     ci = np.concatenate((lin.bridge, lin.wheel))
-    coup, rows_pattern, excited = _scanned(lin, times)  # one pass over the bridge parts for both
+    # one pass over the bridge parts for both
+    coup, rows_pattern, excited = _scanned(lin, times, _joined_bridge(base, lin.bridge))
     full = base.copy()
     full[np.ix_(ci, ci)] |= coup
     n_comp, label = connected_components(csr_matrix(full), directed=False)

@@ -439,6 +439,14 @@ class _RailFunction:
         self.lateral = lateral
         self.carried = (0.0, n_el * h) if carried is None else carried
 
+    def in_basis(self, X: np.ndarray) -> "_RailFunction":
+        """The same function for coordinates y with q = X y (X: (n_modes, m)): each row S becomes S X, its
+        rails' and the deck's rows multiplied once here (S(x) X at a point is then an interpolation of 4
+        rows, not a product with X: the batched engine's coupled block, docs/track.md 3d)."""
+        lateral = None if self.lateral is None else [r @ X for r in self.lateral]
+        return _RailFunction([r @ X for r in self.rails], self.phi_d @ X, self.deck, self.x0, self.h, self.n_el,
+                             self.b, lateral, self.carried)
+
     def __call__(self, x: np.ndarray) -> RailShapes:
         x = np.atleast_1d(np.asarray(x, dtype=float))
         u = x - self.x0

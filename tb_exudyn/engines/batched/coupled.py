@@ -8,7 +8,8 @@ S^a(t)^T f with A0_b = beta' M_b + gamma' D0_b + K0_b, P_k = A0_b^-1 K0_b, P_d =
 K0_b, D0_b are symmetric (a track's always are), the block is integrated in the basis q_b = T y of the
 generalised eigenproblem K0_b t = kappa A0_b t (T^T A0_b T = I, T^T K0_b T = diag(kappa)): there A0_b = I,
 P_k = diag(kappa) and P_d = T^T D0_b T, the same step up to round-off with one dense product per step
-instead of two; the rail shapes S(t) become S(t) T, the generalised forces T^T F and the bridge channels'
+instead of two; the rail shapes S(t) become S(t) T (tabulated once where the bridge's rail function can:
+``_Operators.rails_in_basis``, the track's, with C_b P_d from S(t) T P_d), the generalised forces T^T F and the bridge channels'
 station shapes s T. Otherwise (``basis`` False, or a block that is not symmetric) A0_b is inverted once
 and both products are dense.
 """
@@ -75,11 +76,12 @@ class CoupledBridge:
         """A0_b^-1 F for F in the block's basis (where A0_b = I in the eigenbasis)."""
         return F.copy() if self.T is not None else self.A0b_inv @ F
 
-    def row_operators(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray, Cb: FloatArray
-                      ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def row_operators(self, Sa: FloatArray, Sk: FloatArray, Sd: FloatArray, Cb: FloatArray,
+                      CbPd: FloatArray | None = None) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(L_q, L_v, S^a A0_b^-T) of the contact rows (..., rows, nb), the shapes in the block's basis:
-        L_q = S^k - C_b P_k, L_v = S^d - C_b P_d (C_b = S^k + gamma' S^d)."""
-        Lv = Sd - _rows_times(Cb, self.Pd)
+        L_q = S^k - C_b P_k, L_v = S^d - C_b P_d (C_b = S^k + gamma' S^d); ``CbPd``: C_b P_d given (the
+        rails' rows times P_d tabulated once: the engine's ``rails_in_basis``), else the product."""
+        Lv = Sd - (_rows_times(Cb, self.Pd) if CbPd is None else CbPd)
         if self.T is not None:
             return Sk - Cb * self.pk, Lv, Sa
         return Sk - _rows_times(Cb, self.Pk), Lv, _rows_times(Sa, self.A0b_inv.T)

@@ -12,7 +12,7 @@ from .inputs import shared_inputs
 from .kernels import PRECISIONS
 from .outputs import _Outputs
 from .run import _Operators, _Run
-from .steps import BLOCK_STEPS, mode_shapes, step_block
+from .steps import BLOCK_STEPS, step_block
 
 #: bytes of a column chunk's state (q~, v~, a~, Delta): about a core's L2 cache (2 MB here); measured
 #: on the reference study (600 columns): 1.25 MB 8.6 s, 2.5 MB 8.2 s, 5 MB 9.0 s, no chunks 9.6 s
@@ -108,7 +108,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
         module = jit.load("tb_exudyn.engines.batched.compiled")
         for run in runs:
             run.compile(module, coef, h)
-    shapes = {o.shape_key: mode_shapes(cp.bridge, o.modes) for o in operators if o.nb}
+    shapes = {key: fn for o in operators if o.nb for key, fn in o.rail_shapes(cp.bridge).items()}
     block = step_block(cp, 0, 1, h, shapes)
     Y = pool[0]
     sh0 = shared(block)[0]

@@ -34,7 +34,7 @@ from .coupled import CoupledBridge
 from .inputs import _HarmonicInputs, _StaticInputs, run_inputs
 from ...jit import blas_scratch
 from .kernels import PRECISIONS, _inv, advance_calls, gemm_call, in_precision, run_calls
-from .steps import StepBlock
+from .steps import StepBlock, mode_shapes
 
 FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
@@ -134,6 +134,15 @@ class _Operators:
             self.bridge_block = CoupledBridge(M, K0, D0, nb, bp, gp, self.dtype)
             self.M = M.copy()  # its mass block in the block's basis (the first accelerations)
             self.M[:nb, :nb] = self.bridge_block.mass
+        # the rail shapes the step reads: the modes' own, or (a coupled block in its eigenbasis, a rail function
+        # that can: the track's) directly in the block's basis, S(x) T tabulated once (.steps.basis_shapes)
+        self.shape_key: tuple[Any, ...] = tuple(int(i) for i in self.modes)
+        self.rails_in_basis = bool(self.bridge_block is not None and self.bridge_block.T is not None
+                                   and hasattr(lin.coupling.bridge.rail_shape_function, "in_basis"))
+        if self.rails_in_basis:
+            self.shape_key = ("basis", *self.shape_key)
+        #: with rails_in_basis, the rail shapes times P_d as well (C_b P_d of L_v interpolated, not a product)
+        self.damped_key = ("basis P_d", *self.shape_key[1:]) if self.rails_in_basis else None
         for veh in comp.vehicles:
             for b0, b1 in veh.blocks:
                 A0inv[b0:b1, b0:b1] = np.linalg.inv(A0[b0:b1, b0:b1])
@@ -151,7 +160,6 @@ class _Operators:
         # (n_r, 3, 6): the coefficients of the rail shapes (RAIL_SHAPE_ROWS) in S^a, S^k, S^d of each row
         self.shape_maps = np.ascontiguousarray(
             np.stack([P[rows] for P in (maps.app_shape, maps.stiff_shape, maps.damp_shape)], axis=1))
-        self.shape_key = tuple(int(i) for i in self.modes)  # the modes whose rail shapes the run needs
         self.H0 = np.eye(rows.size)
         self.vehicles = [_Vehicle(veh, A0inv, K0, D0, Ga, Gk, Gd, self.Cw, self.H0, self.dtype) for veh in comp.vehicles]
         if sum(v.r1 - v.r0 for v in self.vehicles) != rows.size:
@@ -165,6 +173,17 @@ class _Operators:
         self._kinv: tuple[Any, ...] | None = None
         self.kblock: tuple[Any, ...] | None = None
         self._ktables: tuple[Any, ...] | None = None
+
+    def rail_shapes(self, bridge: Any) -> dict[Any, Any]:
+        """key -> x -> the rail shapes this component's step reads (:func:`.steps.mode_shapes`): of its bridge
+        modes, or with ``rails_in_basis`` in the coupled block's basis, S(x) T, and S(x) T P_d
+        (``damped_key``)."""
+        if not self.rails_in_basis:
+            return {self.shape_key: mode_shapes(bridge, self.modes)}
+        X = np.zeros((bridge.n_modes, self.nb))
+        X[self.modes] = self.bridge_block.T
+        fn = bridge.rail_shape_function
+        return {self.shape_key: fn.in_basis(X), self.damped_key: fn.in_basis(X @ self.bridge_block.Pd)}
 
     def vehicle_tables(self) -> tuple[Any, ...]:
         """The vehicles' operators for the compiled step (:mod:`.compiled`): (vt, vo, bl, fo, vbuf),
@@ -241,11 +260,14 @@ class _Operators:
         a0, a1 = int(used[0]), int(used[-1]) + 1  # rows evaluated: [a0, a1)
         # S^m[r] = sum_j shape_m[r, j] rail_j(x_a(r)): one (3 x 6) @ (6 x n_b) product per row and step
         S = np.matmul(self.shape_maps[a0:a1], rails[steps][:, self.axle[a0:a1]])  # (k, rows, 3, n_b)
-        if self.bridge_block is not None:  # the shapes in the coupled block's basis
+        if self.bridge_block is not None and not self.rails_in_basis:  # the shapes in the coupled block's basis
             S = self.bridge_block.to_basis(S)
         Sa, Sk, Sd = S[:, :, 0], S[:, :, 1], S[:, :, 2]
         Cb = Sk + self.gp * Sd
-        if self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
+        if self.damped_key is not None:  # C_b P_d from the rails times P_d (.coupled.CoupledBridge.row_operators)
+            SP = np.matmul(self.shape_maps[a0:a1, 1:], block.rails[self.damped_key][steps][:, self.axle[a0:a1]])
+            Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb, SP[:, :, 0] + self.gp * SP[:, :, 1])
+        elif self.bridge_block is not None:  # its dense P_d (and P_k, A0_b^-1 outside its eigenbasis)
             Lq, Lv, SaS = self.bridge_block.row_operators(Sa, Sk, Sd, Cb)
         else:
             Lq = Sk - Cb * self.pk
@@ -362,7 +384,7 @@ class _Run:
         if self.nb and ops.shape_key in block0.rails:
             P = P.copy()
             P[:, : self.nb] = np.matmul(ops.shape_maps[:, :1], block0.rails[ops.shape_key][0][self.axle])[:, 0]
-            if ops.bridge_block is not None:
+            if ops.bridge_block is not None and not ops.rails_in_basis:
                 P[:, : self.nb] = ops.bridge_block.to_basis(P[:, : self.nb])
         rhs = -(P.T @ self.Gc.astype(np.complex128))
         if self.force_delta is not None:
