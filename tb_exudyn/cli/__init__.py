@@ -93,6 +93,27 @@ def _one_line_warning(message, category, filename, lineno, file=None, line=None)
 _SHOWN: set[str] = set()
 
 
+#: after a Ctrl-C the program ends within this many seconds, whatever an exit handler waits for
+EXIT_WATCHDOG_S = 30.0
+
+
+def _exit_within(seconds: float, code: int) -> None:
+    """A daemon thread that ends the process with ``code`` if the interpreter's exit (its handlers join
+    the worker pools' threads and processes, without a timeout) has not ended it ``seconds`` from now.
+    Every output is already whole or absent by then: the blocks that write finished when the interrupt
+    passed through them."""
+    import os
+    import threading
+    import time
+
+    def end() -> None:
+        time.sleep(seconds)
+        sys.stderr.flush()
+        os._exit(code)
+
+    threading.Thread(target=end, daemon=True, name="tb_exudyn-exit-watchdog").start()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     _SHOWN.clear()  # each command shows each warning once (main may be called again in one process)
     parser = build_parser()
@@ -100,7 +121,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     shown = warnings.showwarning
     warnings.showwarning = _one_line_warning
     try:
-        return int(args.func(check_arguments(args)))
+        code = int(args.func(check_arguments(args)))
+        if code == cli_check.EXIT_INTERRUPTED and argv is None:  # check's own Ctrl-C path: the same bound
+            _exit_within(EXIT_WATCHDOG_S, code)
+        return code
     except UserError as exc:  # ScenarioError, SettingError, CheckpointError, ResultsError, ...
         print(f"tb-exudyn: error: {cli_flags.as_flags(exc)}", file=sys.stderr)  # library keys told as flags
         return EXIT_USER_ERROR
@@ -115,6 +139,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:  # a command without --resume has nothing to resume (check: cli_check says what is left)
         kept = "; finished tasks are kept (run again with --resume)" if hasattr(args, "resume") else ""
         print(f"tb-exudyn: interrupted{kept}", file=sys.stderr)
+        if argv is None:  # the program, not a caller in this process: its exit must not hang
+            _exit_within(EXIT_WATCHDOG_S, cli_check.EXIT_INTERRUPTED)
         return cli_check.EXIT_INTERRUPTED
     finally:
         warnings.showwarning = shown

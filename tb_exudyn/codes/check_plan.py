@@ -11,6 +11,7 @@ line respells them as its flags. Nothing is computed beyond the modes: the work 
 
 from __future__ import annotations
 
+import importlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -302,11 +303,24 @@ def _stochastic_runs(where: str, bridge: Any, trains: Sequence[ForceTrain], sour
         run_speeds[train.name] = tuple(v for v in series[train.name] if stoch.speed_key(v) in chosen)
         for v in run_speeds[train.name]:
             try:
-                stoch.scenario_at(bases[train.name], v)
+                sc = stoch.scenario_at(bases[train.name], v)
             except ScenarioError as exc:
                 raise SettingError(where, "stochastic_scenario", source.source_file or source.name, exc.allowed,
                                    f"analysis.{exc.key} at {v:g} km/h: {exc.reason}") from None
+            _track_size(where, source, train, sc, v)
     return bases, run_speeds
+
+
+def _track_size(where: str, source: Any, train: ForceTrain, sc: Any, v: float) -> None:
+    """A stochastic row's track (``track.structure`` of the source) within the dense eigen-solution's size at its
+    speed (tb_exudyn.system.track_bridge.scenario_extent), before any work: SettingError naming the option."""
+    if not sc.track.structure:
+        return
+    try:  # the track's module on first use (scipy's sparse matrices: only with a track)
+        importlib.import_module("tb_exudyn.system.track_bridge").scenario_extent(sc)
+    except ScenarioError as exc:  # one line within 200 characters
+        raise SettingError(where, "stochastic_scenario", source.source_file or source.name,
+                           "a track.structure_approach", f"{train.name} at {v:g} km/h: {exc.reason}") from None
 
 
 def too_many_steps(where: str, line_speed_kmh: float, train: ForceTrain, lowest_kmh: float, steps: Any) -> ResourceError:

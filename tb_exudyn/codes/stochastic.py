@@ -27,10 +27,17 @@ the limit at least once in one passage (Rice's rate, Poisson's first passage), a
 the level exceeded with the target probability per passage. The row at a speed is that of ``run_pem`` of
 :func:`scenario_at` at that speed with :func:`engine_options` (the columns in float32: :data:`PRECISION`), to
 round-off; ``tb-exudyn run`` of it (float64) within float32's error (sigma within 1e-5 of its largest value).
+
+A scenario with a track structure (``track.structure``) gives rows on the track (docs/track.md section 8): its
+structure, reach (``track.structure_approach``) and cut-off (``analysis.track_mode_max_frequency``) go with its
+track and analysis; a train whose cars the track does not carry (the creep cars) is refused naming ``trains``
+(:func:`check_on_track`), a speed whose track would exceed the dense eigen-solution's size naming the scenario,
+before any work; the defaults of the two settings the rows take are said in the rows' warnings (:func:`track_note`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import math
 import time
@@ -44,7 +51,8 @@ from ..results.check_records import StochasticValues
 from ..results.schema import CHECK_RECORD
 from ..results.sweep import read_checks
 from ..scenario import Scenario, load_scenario
-from ..scenario.model import Train
+from ..scenario.model import Analysis, Track, Train
+from ..scenario.track_structure import TRACK_VEHICLE_KINDS
 from ..scenario.registry import model_files
 from .criteria import deck_criterion
 from .trains import ForceTrain
@@ -137,11 +145,41 @@ def scenario_source(scenario: str | Path | Scenario | None, where: str, key: str
     if not sc.track.irregularities:
         raise SettingError(where, key, sc.name, "a scenario with track irregularities (track.irregularities)",
                            "no irregularity: nothing random to analyse")
-    if sc.track.structure:  # the check's trains are cars with a wheel on each rail: not on the track layer yet
-        raise SettingError(where, key, sc.name, "a scenario without track.structure (the check's stochastic column "
-                           "does not model the track layer yet: docs/track.md)", f"track.structure = "
-                           f"{sc.track.structure!r}")
     return sc
+
+
+def check_on_track(source: Scenario, train: ForceTrain, where: str = "check") -> None:
+    """A train whose cars the track layer does not carry (the creep cars: ``TRACK_VEHICLE_KINDS``) on a
+    ``source`` naming a track structure: SettingError naming ``trains``, before any work."""
+    if not source.track.structure:
+        return
+    kinds = sorted({v.kind for v in train.vehicles} - set(TRACK_VEHICLE_KINDS))
+    if kinds:  # one line within 200 characters
+        raise SettingError(where, "trains", train.name, "cars of kind car15 or articulated on a track.structure",
+                           f"{', '.join(kinds)}: the track layer carries no creep rows yet")
+
+
+def track_note(base: Scenario) -> str:
+    """What the rows of ``base`` (a check's stochastic scenario) take of the track at its defaults, the user's
+    scenario not setting them (docs/track.md 8): the track modes' cut-off ``analysis.track_mode_max_frequency``
+    and the track's reach ``track.structure_approach``; "" without a track structure or with both set."""
+    if not base.track.structure:
+        return ""
+    left = []
+    if base.analysis.track_mode_max_frequency == _default(Analysis, "track_mode_max_frequency"):
+        left.append(f"the track's modes up to {base.analysis.track_mode_max_frequency:g} Hz "
+                    "(analysis.track_mode_max_frequency; 300 Hz keeps the band within 2 % at a fraction of the cost)")
+    if base.track.structure_approach == _default(Track, "structure_approach"):
+        left.append("the rails under each speed's whole run (track.structure_approach = 0; a speed's lead-in, "
+                    "scaled by the speed rule, lengthens its track, solved anew per speed)")
+    if not left:
+        return ""
+    return (f"the stochastic rows on the track {base.track.structure} take the defaults: {'; '.join(left)}: set them "
+            f"in the stochastic scenario (docs/track.md 8)")
+
+
+def _default(cls: Any, name: str) -> Any:
+    return next(f.default for f in dataclasses.fields(cls) if f.name == name)
 
 
 def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_ratio: float, cutoff_hz: float,
@@ -154,6 +192,7 @@ def base_scenario(source: Scenario, bridge: Any, train: ForceTrain, damping_rati
     if not eligible(train):
         raise SettingError(where, "trains", train.name, "a train given as vehicle models (models/trains)",
                            "moving forces only")
+    check_on_track(source, train, where)
     an = source.analysis
     modes = max(an.mode_max_frequency, MODE_MARGIN * float(cutoff_hz))
     try:
@@ -254,8 +293,9 @@ def stochastic_run(base: Scenario, done: Sequence[tuple[float, Any]], track: str
     if seconds is None:
         seconds = sum(float(s["seconds"]) for _, s in done if math.isfinite(float(s["seconds"])))
     grid, note = _grid_error_note(estimated, len(done))
+    notes = [n for n in (note, track_note(base)) if n]
     return StochasticRun(train=name or base.name, base=base, values=values,
-                         warnings=tuple(dict.fromkeys(messages + ([note] if note else []))), seconds=seconds,
+                         warnings=tuple(dict.fromkeys(messages + notes)), seconds=seconds,
                          grid_error=grid)
 
 
@@ -275,5 +315,5 @@ def _grid_error_note(estimated: Sequence[tuple[float, float]], n: int) -> tuple[
 
 
 __all__ = ["CHANNELS", "COLUMNS", "DEFAULT_SCENARIO", "GRID_ERROR_EVERY", "GRID_ERROR_TURN", "MODE_MARGIN", "PRECISION",
-           "StochasticRun", "base_scenario", "eligible", "engine_options", "grid_error_needed", "grid_error_sampled", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
-           "stochastic_run"]
+           "StochasticRun", "base_scenario", "check_on_track", "eligible", "engine_options", "grid_error_needed", "grid_error_sampled", "run_stochastic", "scenario_at", "scenario_source", "speed_key",
+           "stochastic_run", "track_note"]

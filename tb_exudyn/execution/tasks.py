@@ -114,8 +114,14 @@ def _sigint_blocked() -> Iterator[None]:
 
 def _stop_pool(pool: ProcessPoolExecutor) -> None:
     """End a local pool now: cancel what waits, terminate the workers (their tasks are lost: not
-    finished, so not in the checkpoint)."""
+    finished, so not in the checkpoint), kill any that outlives SIGTERM by 5 s, and wait for the pool's
+    manager thread, which the interpreter joins at exit without a timeout. A worker terminated while it
+    sends a result leaves that thread reading a message that never ends (the parent holds the result
+    pipe's other end open, so no end-of-file comes): closing the parent's end ends the read (issue 49: a
+    Ctrl-C'd 2-worker run printed its line and then did not exit, sometimes)."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    manager = getattr(pool, "_executor_manager_thread", None)
+    writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)  # shutdown forgets the queue
     pool.shutdown(wait=False, cancel_futures=True)
     for p in processes:
         try:
@@ -125,8 +131,19 @@ def _stop_pool(pool: ProcessPoolExecutor) -> None:
     for p in processes:
         try:
             p.join(timeout=5)
-        except (OSError, AttributeError, AssertionError):
+            if p.is_alive():
+                p.kill()
+                p.join(timeout=5)
+        except (OSError, AttributeError, AssertionError, ValueError):
             pass
+    if manager is not None and manager.is_alive() and writer is not None:
+        manager.join(timeout=1)
+        if manager.is_alive():  # reading: the workers are gone, so the parent's end is the last writer
+            try:
+                writer.close()
+            except OSError:
+                pass
+            manager.join(timeout=10)
 
 
 # ------------------------------------------------------------------------------------- helpers

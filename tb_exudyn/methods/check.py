@@ -45,7 +45,7 @@ from ..codes.check_plan import CHECKPOINT, CheckSetup, prefixed
 from ..codes.deformation import LM71, SW0, StaticDeformations, static_deformations
 from ..codes.moving_force import MovingForceResponse, moving_force_response
 from ..codes.criteria import deck_criterion
-from ..codes.stochastic import CHANNELS, engine_options, grid_error_needed, grid_error_sampled
+from ..codes.stochastic import CHANNELS, engine_options, grid_error_needed, grid_error_sampled, track_note
 from ..codes.trains import ForceTrain
 from ..codes import interaction as vbi
 from ..engines import DEFAULT_ENGINE
@@ -193,9 +193,14 @@ def moving_force_task(task: MovingForceTask) -> dict[str, np.ndarray]:
 @dataclass(frozen=True)
 class CheckWorker:
     """The check's worker (:class:`~tb_exudyn.methods.driver.Worker`): nothing to set up (the modes come
-    with each task; a PEM speed builds its own model); a stochastic row's error says which option's runs."""
+    with each task; a PEM speed builds its own model) but the track-and-deck bodies the plan solved for the
+    stochastic rows (``tracks``: :func:`tb_exudyn.methods.sweep.shared_tracks`, kept as a sweep's workers keep
+    them; not in its repr); a stochastic row's error says which option's runs."""
+
+    tracks: tuple = field(default=(), repr=False, compare=False)
 
     def setup(self) -> None:
+        sweep.keep_tracks(self.tracks)
         return None
 
     def work(self, _: Any, task: Task) -> dict[str, np.ndarray]:
@@ -230,19 +235,21 @@ class CheckState:
     interaction: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
 
 
-def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any]:
-    """The stochastic rows' tasks (each speed's scenario checked, as a sweep's plan checks them) and the
-    engine class (None without them)."""
-    tasks, cls, options = [], None, engine_options(DEFAULT_ENGINE)
+def _stochastic_tasks(setup: CheckSetup) -> tuple[list[Task], Any, tuple]:
+    """The stochastic rows' tasks (each speed's scenario checked, as a sweep's plan checks them), the
+    engine class (None without them) and the tracks the plan solved that the speeds share (a train's whole
+    series on one track: :func:`tb_exudyn.methods.sweep.shared_tracks`; the last train's kept)."""
+    tasks, cls, options, tracks = [], None, engine_options(DEFAULT_ENGINE), ()
     for t, train in enumerate(setup.stochastic_trains):
         speeds = setup.run_speeds[train.name]
         cls, scenarios = sweep.speed_scenarios(setup.bases[train.name], speeds, DEFAULT_ENGINE, CHANNELS, options)
+        tracks = sweep.shared_tracks(setup.bases[train.name], scenarios) or tracks
         for i, (v, sc) in enumerate(zip(speeds, scenarios)):
             st = sweep.SpeedTask(sc, DEFAULT_ENGINE, options, None, False, sweep.SWEEP_SLICES,
                                  grid_error=None if grid_error_sampled(i, len(speeds)) else False)
             tasks.append(Task(f"pem-{t:02d}-{v:.6f}", StochasticTask(train.name, float(v), st, setup.stochastic_prefix(
                 train.name), deck_criterion(setup.track))))
-    return tasks, cls
+    return tasks, cls, tracks
 
 
 def _moving_force_tasks(setup: CheckSetup) -> list[Task]:
@@ -306,7 +313,7 @@ class CheckMethod:
 
     def plan(self, execution: Execution) -> RunPlan:
         t0 = self.started or _time.perf_counter()
-        stochastic, cls = _stochastic_tasks(self.setup)
+        stochastic, cls, tracks = _stochastic_tasks(self.setup)
         if cls is not None:
             warm_up.start(cls, engine_options(DEFAULT_ENGINE), execution.announce)  # a first run's compile, not in every worker
         moving = _moving_force_tasks(self.setup)  # an interaction run first: one Exudyn run, the longest task
@@ -314,7 +321,7 @@ class CheckMethod:
         state = CheckState(responses={}, stochastic={t.name: [] for t in self.setup.stochastic_trains}, t0=t0)
         return RunPlan(files=RunFiles("check", CHECKPOINT, group=self.group), tasks=tasks,
                        identity=_identity(self.setup), state=state,
-                       worker=CheckWorker(), desc="EN 1991-2 check")
+                       worker=CheckWorker(tracks), desc="EN 1991-2 check")
 
     def reduce(self, state: CheckState, i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         data = task.data
@@ -336,6 +343,8 @@ class CheckMethod:
                                    base=self.setup.bases[train])
             for category, message in grouped_warnings(view):
                 warnings.warn(message, category, stacklevel=3)
+            if note := track_note(self.setup.bases[train]):  # the track's defaults the rows took (in the result too)
+                warnings.warn(note, UserWarning, stacklevel=3)
         return self.assemble(self.setup, state.responses, state.stochastic, stats, state.t0, state.static,
                              state.interaction)
 

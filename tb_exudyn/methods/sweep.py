@@ -34,6 +34,14 @@ output folder each speed's result and checkpoint go to ``DIR/<speed>/`` (``pem/`
 ``checkpoint/``) and the sweep's per-speed summaries to ``DIR/checkpoint-sweep/``: an interrupted
 sweep resumes speed by speed, and a speed half done resumes within its own checkpoint.
 
+A scenario with a track structure (``track.structure``, docs/track.md section 8) sweeps as any other: each speed
+a PEM on the track-and-deck body. Its modes and the static correction of the left-out ones are a costly part of a
+speed's set-up and do not depend on the speed when the rails are cut short of the run
+(``track.structure_approach``: placed by the bridge, not by the lead-in the speed rule scales), so the parent's
+(its model built for the channel list) is sent with the workers' set-up (:func:`shared_tracks`,
+:class:`SpeedWorker`) and every speed takes it instead of solving it again; with the rails under the whole run each
+speed has its own (longer at higher speeds: each speed's size is checked before any run).
+
 The table (:func:`sweep_rows`, ``speed_sweep.csv``, written with the output folder; the figure is
 :func:`tb_exudyn.plotting.plot_speed_sweep`, the page :func:`tb_exudyn.report.write_sweep_report`,
 ``speed_sweep.html``, both written by ``tb-exudyn sweep``): one row per speed with, per key quantity, the
@@ -49,6 +57,7 @@ EN 1991-2 (6.4.6.2) analyses a series of speeds up to 1.2 x the maximum line spe
 from __future__ import annotations
 
 import fnmatch
+import importlib
 import itertools
 import math
 import time as _time
@@ -168,6 +177,11 @@ def _speed_scenario(base: Scenario, speed_kmh: float, patterns: Sequence[str], n
                            ) from None
     try:
         check_run_length(sc)
+        if sc.track.structure:  # the track's size at this speed (its lead-in scaled): before any run
+            importlib.import_module("tb_exudyn.system.track_bridge").scenario_extent(sc)
+    except ScenarioError as exc:
+        raise SettingError("run_sweep", "speeds_kmh", speed_kmh, "lower speeds, or a track.structure_approach",
+                           f"at {label} km/h {exc.reason}") from None
     except ResourceError as exc:
         dt, distance = sc.analysis.time_step, sc.duration * sc.speed
         if not sc.duration / dt > MAX_STEPS:
@@ -208,6 +222,27 @@ def resonance_speeds(scenario: Scenario, orders: Sequence[int] = (1, 2, 3)) -> l
 
 
 # ------------------------------------------------------------------------------------- the sweep
+def keep_tracks(tracks: tuple) -> None:
+    """A worker's set-up: keep the parent's tracks (:func:`shared_tracks`) for this process's builds."""
+    if tracks:
+        importlib.import_module("tb_exudyn.system.track_bridge").keep_tracks(tracks)
+
+
+def shared_tracks(base: Scenario, scenarios: Sequence[Scenario]) -> tuple:
+    """The track the parent solved for ``base`` (its model built by :func:`key_patterns`) when a speed's scenario
+    has that track (the same structure and extent: the rails cut short of the run, ``track.structure_approach``,
+    are placed by the bridge, not by the speed's lead-in; under the whole run, the speeds up to the base's, whose
+    lead-in the speed rule keeps), for the workers to keep (:class:`SpeedWorker`); () otherwise (no track, or
+    every speed its own)."""
+    if not base.track.structure:
+        return ()
+    tb = importlib.import_module("tb_exudyn.system.track_bridge")
+    extent = tb.scenario_extent(base)[1:]
+    if all(tb.scenario_extent(sc)[1:] != extent for sc in scenarios):
+        return ()
+    return tb.solved_tracks()
+
+
 @dataclass(frozen=True)
 class SpeedTask:
     """The PEM of one speed (run in a worker). The fields that say only how it runs (its folder,
@@ -237,9 +272,14 @@ SWEEP_SLICES = (1.0,)
 
 @dataclass(frozen=True)
 class SpeedWorker:
-    """A sweep's worker (:class:`~tb_exudyn.methods.driver.Worker`): each task a speed's whole PEM."""
+    """A sweep's worker (:class:`~tb_exudyn.methods.driver.Worker`): each task a speed's whole PEM. ``tracks``: the
+    track-and-deck bodies the parent solved (:func:`shared_tracks`), kept by each worker's set-up so that its
+    speeds' builds take them instead of solving them again (not in its repr: the set-up cache's key)."""
+
+    tracks: tuple = field(default=(), repr=False, compare=False)
 
     def setup(self) -> None:
+        keep_tracks(self.tracks)
         return None
 
     def work(self, _: Any, task: Task) -> dict[str, np.ndarray]:
@@ -316,11 +356,11 @@ def _plan(scenario: Scenario, speeds_kmh: Iterable[float], engine: str, channels
     n_freq = None if n_freq is None else whole_number(n_freq, "run_sweep", "n_freq", 1, analysis_high("n_freq"))
     if freq_spacing is not None and freq_spacing not in FREQ_SPACINGS:
         raise SettingError("run_sweep", "freq_spacing", freq_spacing, " or ".join(map(repr, FREQ_SPACINGS)))
+    if scenario.track.structure:  # each speed's track size, before the base's model (its track) is built
+        for v in speeds:
+            _speed_scenario(scenario, v, ("*",), n_freq, freq_spacing)
     quantities = key_patterns(scenario, channels)
     left_out = tuple(q for q in KEY_QUANTITIES if q not in quantities) if channels is None else ()
-    if scenario.track.structure:  # before any run
-        raise ScenarioError(scenario.where, "track.structure", scenario.track.structure, "empty for a sweep (a run "
-                            "at one speed models the track)", "the sweep with a track is not built yet")
     cls = check_engine(engine, scenario, options)
     patterns = tuple(dict.fromkeys(q[1] for q in quantities))
     scenarios = [_speed_scenario(scenario, v, patterns, n_freq, freq_spacing) for v in speeds]
@@ -385,7 +425,8 @@ class SweepMethod:
         state = SweepState(speeds=speeds, quantities=quantities, scenarios=scenarios, left_out=left_out,
                            summaries=[{} for _ in tasks], t0=t0)
         return RunPlan(files=RunFiles(SWEEP_TABLE, "checkpoint-sweep", drawn=(SWEEP_FIGURE, SWEEP_PAGE)), tasks=tasks,
-                       identity=identity, state=state, worker=SpeedWorker(), desc=f"speed sweep ({self.engine})")
+                       identity=identity, state=state, worker=SpeedWorker(shared_tracks(scenario, scenarios)),
+                       desc=f"speed sweep ({self.engine})")
 
     def reduce(self, state: SweepState, i: int, task: Task, result: dict[str, np.ndarray]) -> None:
         state.summaries[i] = result  # its warnings: grouped by kind once every speed is in
@@ -443,6 +484,6 @@ def run_sweep(scenario: Scenario | str | Path, speeds_kmh: Sequence[float], *, e
 
 
 __all__ = ["EN1991_SPEED_FACTOR", "FREQ_SPACINGS", "KEY_QUANTITIES", "MAX_SPEEDS", "SPEED_CHECK",
-           "SWEEP_SLICES", "SpeedTask", "check_values", "check_speeds", "check_sweep", "en1991_speeds",
+           "SWEEP_SLICES", "SpeedTask", "SpeedWorker", "check_values", "check_speeds", "check_sweep", "en1991_speeds",
            "grid_errors", "key_patterns", "model_channel_names", "parse_speeds", "range_count", "resonance_speeds", "run_sweep",
-           "speed_label", "speed_range", "speed_scenarios", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]
+           "shared_tracks", "speed_label", "speed_range", "speed_scenarios", "speed_summary", "with_least_count", "sweep_scenario", "train_distances"]

@@ -20,7 +20,9 @@ from matplotlib import rcParams
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
-from matplotlib.ticker import LogFormatter, NullLocator
+from matplotlib.markers import TICKUP
+from matplotlib.ticker import LogFormatter, MaxNLocator, NullLocator, ScalarFormatter
+from matplotlib.transforms import offset_copy
 
 from ..results.checks import GRID_ERROR_TOLERANCE
 from ..scenario import Scenario
@@ -81,9 +83,46 @@ def mark_crossing(ax: Axes, scenario: Scenario | None, legend: bool = True, posi
         colour, style = _EVENT_STYLE[key]
         ax.axvline(t, color=colour, ls=style, lw=1.0, label=label if legend else None, gid=f"crossing.{key}")
     if position_axis:
-        top = ax.secondary_xaxis("top", functions=(c.position, c.time_at))
         whose = f"{c.who}'s first axle" if c.who else "first axle"
-        top.set_xlabel(f"{whose}: position x [m] (bridge from 0 to {c.bridge_length:g} m)")
+        _position_scale(ax, c, f"{whose}: position x [m] (bridge from 0 to {c.bridge_length:g} m)")
+
+
+#: the height of the position scale's title above the axes [points]: where matplotlib's secondary axis put
+#: its label with its default fonts (measured: tick labels 7-17 points above the axes, the label 18.6-28.9)
+_POSITION_LABEL_RISE = 18.6
+
+#: gid of the position scale's tick marks, labels and title above an axes (:func:`_position_scale`)
+POSITION_GID = "position_axis"
+
+
+def _position_scale(ax: Axes, c: data.Crossing, label: str) -> None:
+    """The first axle's position x [m] as a scale along the top of ``ax``: tick marks, their labels and
+    ``label``, as matplotlib's secondary axis draws them (its locator and formatter, its tick length, pad
+    and fonts) but as one line and a few texts at the times of round positions, fixed when the figure
+    is made (``ax``'s time limits then: its data's). A secondary axis is a second Axes whose ticks are
+    made again at every draw: it took a sixth of the CPU of drawing the page's figures (docs/speed.md
+    section 16)."""
+    lo, hi = sorted(ax.get_xlim())
+    x_lo, x_hi = sorted((float(c.position(lo)), float(c.position(hi))))
+    values = [x for x in MaxNLocator(nbins="auto", steps=[1, 2, 2.5, 5, 10]).tick_values(x_lo, x_hi)
+              if x_lo - 1e-9 * (x_hi - x_lo) <= x <= x_hi + 1e-9 * (x_hi - x_lo)]
+    fmt = ScalarFormatter()
+    fmt.create_dummy_axis()
+    labels = fmt.format_ticks(values)
+    times = c.time_at(np.asarray(values, dtype=float))
+    size, width, pad = (float(rcParams[f"xtick.major.{k}"]) for k in ("size", "width", "pad"))
+    colour = rcParams["xtick.color"]
+    base = ax.get_xaxis_transform()  # x in data (time), y in axes fraction
+    ax.plot(times, np.ones_like(times), transform=base, ls="none", marker=TICKUP, ms=size, mew=width, color=colour,
+            clip_on=False, gid=POSITION_GID, label="_position_ticks")
+    text = offset_copy(base, fig=ax.figure, y=size + pad, units="points")
+    for t, s in zip(times, labels):
+        ax.text(t, 1.0, s, transform=text, ha="center", va="bottom", fontsize=rcParams["xtick.labelsize"],
+                color=rcParams["xtick.labelcolor"] if rcParams["xtick.labelcolor"] != "inherit" else colour,
+                clip_on=False, gid=POSITION_GID)
+    above = offset_copy(ax.transAxes, fig=ax.figure, y=_POSITION_LABEL_RISE, units="points")
+    ax.text(0.5, 1.0, label, transform=above, ha="center", va="bottom", fontsize=rcParams["axes.labelsize"],
+            color=rcParams["axes.labelcolor"], clip_on=False, gid=POSITION_GID)
 
 
 def _time_axis(ax: Axes) -> None:
@@ -155,7 +194,7 @@ def _title(ax: Axes, channel: str, what: str) -> None:
     distance above the axes, or above its position axis (:func:`mark_crossing`), where matplotlib's
     automatic position measured every tick label above the axes at each draw (a fifth of the time
     to draw a figure with a position axis, docs/speed.md section 13)."""
-    above = any(c.xaxis.get_label_position() == "top" for c in ax.child_axes)
+    above = any(t.get_gid() == POSITION_GID for t in ax.texts)
     pad = float(rcParams["axes.titlepad"]) + (_POSITION_AXIS_HEIGHT if above else 0.0)
     ax.set_title(f"{data.channel_label(channel)}\n{channel}: {what}", fontsize="medium", y=1.0, pad=pad)
 

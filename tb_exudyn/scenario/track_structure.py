@@ -217,8 +217,7 @@ def refuse_unbuilt_track(scenario) -> None:  # noqa: ANN001
     kinds = sorted({v.kind for v in scenario.train.vehicles} - set(TRACK_VEHICLE_KINDS))
     if kinds:
         raise ScenarioError(scenario.where, "train.vehicles", ", ".join(kinds),  # one line within 200 characters
-                            "kind " + ", ".join(TRACK_VEHICLE_KINDS) + ", or no track.structure",
-                            "the track layer carries no creep rows yet")
+                            ", ".join(TRACK_VEHICLE_KINDS) + "; or no track.structure", "no creep rows on rails")
 
 
 __all__ = ["Block", "Layer", "Rail", "TrackStructure", "check_track_structure", "load_track_structure",

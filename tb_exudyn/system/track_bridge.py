@@ -118,13 +118,15 @@ def track_extent(axle_start: np.ndarray, speed: float, duration: float, spacing:
 
 def approach_extent(x0: float, n: int, spacing: float, approach: float, length: float) -> tuple[float, int]:
     """(x0, n) of rails that reach ``approach`` [m] before and after a bridge of ``length`` (and MARGIN_BAYS bays
-    further, where no wheel is carried: :func:`carried_extent`), within the run's (x0, n); approach 0: the
-    run's. The supports keep their places on the run's grid."""
+    further, where no wheel is carried: :func:`carried_extent`), within the run's (x0, n) (to the nearest support
+    beyond it); approach 0: the run's. The cut rails' supports stand at x = (j + 1/2) a from the bridge's start
+    (j whole): placed by the bridge, not by the run's lead-in, so that every speed of a sweep (whose lead-in the
+    speed rule scales) has the same track, solved once (docs/track.md 8)."""
     if approach <= 0.0:
         return x0, n
-    first = max(0, int(math.floor((-approach - x0) / spacing)) - MARGIN_BAYS)
-    last = min(n, int(math.ceil((length + approach - x0) / spacing)) + MARGIN_BAYS)
-    return x0 + first * spacing, max(last - first, 1)
+    first = max(math.floor(-approach / spacing) - MARGIN_BAYS, math.floor(x0 / spacing))
+    last = min(math.ceil((length + approach) / spacing) + MARGIN_BAYS, math.ceil((x0 + n * spacing) / spacing))
+    return first * spacing, max(last - first, 1)
 
 
 def carried_extent(x0: float, n: int, spacing: float, cut: bool) -> tuple[float, float]:
@@ -193,6 +195,21 @@ def scenario_track(scenario, deck: ModalBridge) -> TrackBridge:  # noqa: ANN001 
 #: the last track solved in this process (a run builds its model several times: the analysis, the engine, the
 #: mean; the track's eigen-solution is most of a build: 45 s of CPU for li_zhu_2011's 5178 DOFs)
 _LAST: dict = {}
+
+
+def solved_tracks() -> tuple:
+    """The tracks solved (or kept) in this process, as entries for :func:`keep_tracks` in another: a sweep's
+    parent solves its track once and its workers keep it (one eigen-solution and static correction per sweep
+    when its speeds' tracks are the same: a cut track, ``track.structure_approach``)."""
+    last = _LAST.get("track")
+    return () if last is None else (last,)
+
+
+def keep_tracks(entries: tuple) -> None:
+    """Keep the tracks of :func:`solved_tracks` (from another process) for this process's builds: a build whose
+    track is one of them (the same structure, extent, cut-off and deck, to the bit) takes it instead of solving."""
+    for entry in entries:
+        _LAST["track"] = entry
 
 
 def _deck_key(deck: ModalBridge, xs: np.ndarray) -> tuple:
@@ -527,4 +544,4 @@ def _points(stations: dict[str, float], xs: np.ndarray, on: np.ndarray, one, ful
 
 __all__ = ["scenario_lateral", "POINT_PARTS", "track_channels", "track_forces", "scenario_extent", "scenario_track", "MARGIN_BAYS", "MAX_TRACK_DOFS", "TRACK_MODE_MAX_FREQUENCY", "TrackBridge", "TrackPoint",
            "track_and_deck", "track_dofs", "track_extent", "approach_extent", "carried_extent",
-           "residual_points"]
+           "residual_points", "keep_tracks", "solved_tracks"]

@@ -139,11 +139,10 @@ def test_a_run_of_a_scenario_with_a_track_gives_the_track_channels():
 
 @pytest.mark.parametrize("argv, key", [
     (["run", "li_zhu_2011_creep"], "train.vehicles"),
-    (["sweep", "yang_yau_sprung_mass", "--speeds-kmh", "80:100:10"], "track.structure"),
     (["run", "yang_yau_sprung_mass", "--engine", "dense", "--set", "track.lead_in=300"], "track.lead_in"),
 ])
 def test_what_the_track_layer_does_not_run_yet_is_refused_in_one_line(tmp_path, capsys, argv, key):
-    """The creep cars, the speed sweep with a track structure, and a
+    """The creep cars and a
     track too long for its dense eigen-solution (347 m of rails under a 300 m lead-in: 6868 DOFs, more than
     6000): one line naming the key, exit 2, nothing written."""
     out = tmp_path / "out"
@@ -209,23 +208,6 @@ def test_every_track_channel_has_a_readable_label(stiff):
     assert labels["track.span1.mid.left.pad.force_z"] == "track at span 1, mid-span, left rail, pad, vertical force"
     assert labels["track.span1.q1.left.sleeper.acc_z"] == ("track at span 1, first quarter point, left rail, sleeper, "
                                                           "vertical acceleration")
-
-
-def test_the_checks_stochastic_column_with_a_track_structure_is_refused_in_one_line(tmp_path, capsys):
-    """``check --stochastic --stochastic-scenario`` naming a scenario with a track structure: one line naming the
-    option, exit 2, nothing written (the check's trains are cars on both rails: not on the track layer yet)."""
-    from tb_exudyn.scenario.registry import model_path
-
-    text = model_path("scenarios", "quick", None, "scenario").read_text()
-    scenario = tmp_path / "quick_track.toml"
-    scenario.write_text(text.replace('run_out = 10.0', 'run_out = 10.0\nstructure = "ballasted_uic60"'))
-    out = tmp_path / "out"
-    argv = ["check", "single_span_32m", "--line-speed-kmh", "200", "--trains", "ice_mttm", "--stochastic",
-            "--stochastic-scenario", str(scenario), "--out", str(out), "--no-figures"]
-    assert main(argv) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--stochastic-scenario" in err and "track.structure" in err, err
-    assert not out.exists()
 
 
 def test_the_modes_above_2_khz_left_out_change_the_rails_static_flexibility_by_under_1_percent():

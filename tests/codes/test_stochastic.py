@@ -166,7 +166,7 @@ def test_a_speed_not_sampled_estimates_its_grid_error_only_where_it_could_turn_t
     path.write_text(f'name = "{TRAIN}"\ndescription = "one ICE motor car"\n[[cars]]\nvehicle = "ice_motor"\n')
     setup = plan_check("single_span_32m", 250.0, trains=[str(path)], cases=["nominal"], stochastic=True,
                        stochastic_speeds=[SPEED], stochastic_scenario="quick")
-    (task,), _ = method._stochastic_tasks(setup)
+    (task,), _, _ = method._stochastic_tasks(setup)
     assert task.data.speed.grid_error is None  # the only speed is sampled (the first and the last)
     task = Task(task.key, dataclasses.replace(task.data, speed=dataclasses.replace(task.data.speed, grid_error=False)))
     runs = []

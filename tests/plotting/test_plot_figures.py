@@ -204,19 +204,66 @@ def test_matplotlib_is_imported_only_in_the_plotting_package():
 @pytest.mark.parametrize("kind", ["bounds", "psd_map", "psd_slices"])
 def test_title_sits_where_matplotlibs_automatic_position_puts_it(pem, kind):
     """The title is placed at a fixed pad (docs/speed.md section 13) instead of matplotlib's automatic
-    position above the position axis; the reference is that automatic position, drawn in this test on
-    the same figure. Within 1 px: text extents round to whole pixels."""
+    position above the position scale; the reference is that automatic position, drawn in this test on
+    the same figure with the scale as matplotlib's secondary axis (section 16: the figure draws it as
+    texts, which the automatic position does not see). Within 1 px: text extents round to whole pixels."""
     from matplotlib import rcParams
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from tb_exudyn.plotting.figures import POSITION_GID
 
     fig = {"bounds": plot_bounds, "psd_map": plot_psd_map, "psd_slices": plot_psd_slices}[kind](pem, CH)
     ax = fig.axes[0]
     canvas = FigureCanvasAgg(fig)
     canvas.draw()
     fixed = ax.title.get_window_extent(canvas.get_renderer())
+    scale = [a for a in (*ax.texts, *ax.lines) if a.get_gid() == POSITION_GID]
+    assert bool(scale) == (kind != "psd_slices")
+    for artist in scale:
+        artist.set_visible(False)
+    if scale:
+        ref = ax.secondary_xaxis("top", functions=(lambda t: V * t - 30.0, lambda x: (x + 30.0) / V))
+        ref.set_xlabel([a for a in scale if isinstance(a, type(ax.title))][-1].get_text())
     ax.set_title(ax.get_title(), fontsize="medium", pad=rcParams["axes.titlepad"])
     ax._autotitlepos = True  # matplotlib's own placement (what set_title without y gives a new axes)
     canvas.draw()
     auto = ax.title.get_window_extent(canvas.get_renderer())
     assert abs(fixed.y0 - auto.y0) <= 1.0 and abs(fixed.x0 - auto.x0) <= 1.0
-    assert auto.y0 > ax.get_window_extent().y1  # above the axes (and its position axis, where it has one)
+    assert auto.y0 > ax.get_window_extent().y1  # above the axes (and its position scale, where it has one)
+
+
+@pytest.mark.parametrize("kind", ["bounds", "psd_map"])
+def test_the_position_scale_shows_what_matplotlibs_secondary_axis_showed(pem, kind):
+    """The first axle's position along the top (docs/speed.md section 16): the same round positions
+    and labels as matplotlib's secondary axis with the crossing's functions, drawn in this test on the
+    same figure (the reference), each tick at the time the closed form gives (x = v t - lead_in, the
+    quick scenario's 30 m lead-in at 250 km/h; 1e-12 s: round-off), and its marks and texts drawn
+    at the same heights (within 1 px: text extents round to whole pixels)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from tb_exudyn.plotting.figures import POSITION_GID
+
+    fig = {"bounds": plot_bounds, "psd_map": plot_psd_map}[kind](pem, CH)
+    ax = fig.axes[0]
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    (ticks,) = [ln for ln in ax.lines if ln.get_gid() == POSITION_GID]
+    texts = [t for t in ax.texts if t.get_gid() == POSITION_GID]
+    labels, title = texts[:-1], texts[-1]
+    assert title.get_text().startswith("car 1's first axle: position x [m]")
+    times = np.asarray(ticks.get_xdata(), dtype=float)
+    values = [float(t.get_text().replace("\u2212", "-")) for t in labels]
+    assert times == pytest.approx((np.asarray(values) + 30.0) / V, abs=1e-12)
+    ref = ax.secondary_xaxis("top", functions=(lambda t: V * t - 30.0, lambda x: (x + 30.0) / V))
+    ref.set_xlabel(title.get_text())
+    canvas.draw()
+    lo, hi = sorted(ref.get_xlim())
+    shown = [(t.get_text(), t.get_window_extent(renderer)) for tick, t in
+             zip(ref.xaxis.get_major_ticks(), ref.xaxis.get_ticklabels())
+             if t.get_visible() and t.get_text() and lo - 1e-9 <= tick.get_loc() <= hi + 1e-9]
+    assert [t.get_text() for t in labels] == [text for text, _ in shown]
+    for t, (_, box) in zip(labels, shown):
+        mine = t.get_window_extent(renderer)
+        assert abs(mine.y0 - box.y0) <= 1.0 and abs(mine.x0 - box.x0) <= 1.0
+    assert abs(title.get_window_extent(renderer).y0 - ref.xaxis.label.get_window_extent(renderer).y0) <= 1.0

@@ -43,9 +43,26 @@ def _sweep_python_channel_matching_nothing(d: Path) -> Run:
                expect=("run_sweep", "channels", "'car*.body.acc_q' matches no channel"))
 
 
+def _sweep_speed_whose_track_is_too_long(d: Path) -> Run:
+    # the track under the whole run (no track.structure_approach): 197 m of rails at 90 km/h (3950 DOFs), but the
+    # speed rule keeps the lead-in's time, 150 m -> 500 m at 300 km/h: 547 m, beyond the dense eigen-solution's 6000
+    return Run(argv=("sweep", "yang_yau_sprung_mass", "--speeds-kmh", "90,300", "--out", str(d / "out"), "--set",
+                     "track.lead_in=150", "--set", "bridge.track_height=1.0", "--set", "track.structure=ballasted_uic60"),
+               expect=("--speeds-kmh", "at 300 km/h", "more than 6000", "track.structure_approach"))
+
+
+def _sweep_creep_cars_on_a_track(d: Path) -> Run:
+    # the creep cars' creep rows are not written on the rails: refused before the base's model (its track) is built
+    return Run(argv=("sweep", "li_zhu_2011_creep", "--speeds-kmh", "200,220", "--out", str(d / "out"), "--set",
+                     "track.structure=ballasted_uic60", "--set", "track.structure_approach=3"),
+               expect=("li_zhu_2011_creep", "train.vehicles", "creep_car", "car15"))
+
+
 CASES_SPEEDRULE: list[Case] = [
     Case("speedrule: sweep --channels pattern matching no channel", GROUP, _sweep_channel_matching_nothing),
     Case("speedrule: sweep speed whose band the time step empties", GROUP, _sweep_speed_with_an_empty_band),
     Case("speedrule: run --speed-kmh whose band the time step empties", GROUP, _run_speed_with_an_empty_band),
     Case("speedrule: check_sweep channels matching no channel", GROUP, _sweep_python_channel_matching_nothing),
+    Case("speedrule: sweep speed whose track is too long", GROUP, _sweep_speed_whose_track_is_too_long),
+    Case("speedrule: sweep of creep cars on a track", GROUP, _sweep_creep_cars_on_a_track),
 ]

@@ -112,3 +112,28 @@ def _earlier_page_in_out(d: Path) -> Run:
 
 
 CASES_STOCHASTIC.append(Case("check: an earlier check.html in --out", GROUP, _earlier_page_in_out))
+
+
+def _track_under_the_whole_run(d: Path) -> Run:
+    # quick with the ballasted track under the whole run (no track.structure_approach): ice_mttm (4 cars) over
+    # single_span_32m after 85 m of lead-in, at 250 km/h: 345 m of rails, beyond the dense eigen-solution's 6000 DOFs
+    p = _scenario_file(d, "run_out = 10.0", 'run_out = 10.0\nstructure = "ballasted_uic60"')
+    return Run(argv=_argv(d, "--stochastic", "--stochastic-scenario", str(p), "--stochastic-speeds", "250"),
+               expect=("--stochastic-scenario", str(p), "ice_mttm at 250 km/h", "more than 6000",
+                       "track.structure_approach"))
+
+
+def _creep_cars_on_the_track(d: Path) -> Run:
+    # the creep cars' creep rows are not written on the rails: a train of them on a scenario with a track structure
+    train = d / "creep.toml"
+    train.write_text('name = "creep"\ndescription = "one ICE motor car, creep model"\n[[cars]]\n'
+                     'vehicle = "ice_motor_creep"\n')
+    p = _scenario_file(d, "run_out = 10.0", 'run_out = 10.0\nstructure = "ballasted_uic60"\nstructure_approach = 3.0')
+    return Run(argv=_argv(d, "--stochastic", "--stochastic-scenario", str(p), trains=(str(train),)),
+               expect=("--trains", "creep", "creep_car", "car15"))
+
+
+CASES_STOCHASTIC += [
+    Case("stochastic: a track under the whole run, too long", GROUP, _track_under_the_whole_run),
+    Case("stochastic: creep cars on a track structure", GROUP, _creep_cars_on_the_track),
+]
