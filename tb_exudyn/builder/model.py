@@ -236,6 +236,8 @@ class TrainBridgeModel:
         if self.track is not None:  # the track's channels after the deck's
             n_deck = sum(c.name.startswith("bridge.") for c in self.channels)
             self.channels[n_deck:n_deck] = track_channels(self.track, len(self.bridge.station_names))
+            self.channels = chan.catalogue_order(self.channels + chan.rail_channels(
+                self.contact_names[:self.coupling.n_contacts], self.coupling.contacts.direction))
         steps = scenario_steps(sc)
         self.derived_catalogue = dch.derived_catalogue(
             self.channels, dch.station_positions(self.bridge.station_names, sc.bridge.spans), self.bridge,
@@ -461,7 +463,11 @@ class TrainBridgeModel:
     def channel_values(self, rec: chan.Recording, patterns: tuple[str, ...] | None = None) -> dict[str, NDArray[np.float64]]:
         """Values of the selected channels (or of those matching ``patterns``)."""
         selected = self.selected if patterns is None else chan.select(self.channels, patterns)
-        return chan.evaluate(selected, rec, self.bridge.station_shapes)
+        return chan.evaluate(selected, rec, self.bridge.station_shapes, self.rail_rows)
+
+    def rail_rows(self, t: float) -> NDArray[np.float64]:
+        """The penalty contacts' rail shape rows S(t) (n_c, n_modes) at time t (the rail channels' rows)."""
+        return self.coupling.contact_state(t).S
 
     def channel_units(self) -> dict[str, str]:
         return {c.name: c.unit for c in self.channels}

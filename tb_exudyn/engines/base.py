@@ -202,7 +202,7 @@ class Engine(ABC):
 
     def channel_values(self, recording: Any) -> np.ndarray:
         """The outputs (``outputs.names`` order) of an Exudyn recording, (n_outputs, n_t)."""
-        values = evaluate(self.output_channels, recording, self.model.output_shapes)
+        values = evaluate(self.output_channels, recording, self.model.output_shapes, self.model.rail_rows)
         return np.stack([values[n] for n in self.outputs.names])
 
     def linear_mean_arrays(self, outputs: np.ndarray, provenance: dict[str, Any], start: float) -> dict[str, np.ndarray]:

@@ -89,9 +89,9 @@ class DenseEngine(Engine):
         D[np.ix_(ci, ci)] += Dc
         return st, K, D
 
-    def _outputs(self, x: tuple[np.ndarray, np.ndarray, np.ndarray], f: np.ndarray) -> np.ndarray:
-        """The outputs (n_outputs, m) from (q, v, qdd) and the contact forces (penalty rows, then
-        general rows)."""
+    def _outputs(self, x: tuple[np.ndarray, np.ndarray, np.ndarray], f: np.ndarray, S: np.ndarray) -> np.ndarray:
+        """The outputs (n_outputs, m) from (q, v, qdd), the contact forces (penalty rows, then
+        general rows) and the contacts' rail shape rows S (n_c, n_b) at the output time (rail channels)."""
         om, lin = self.outputs, self.lin
         Y = np.zeros((len(om.names), f.shape[1]), dtype=complex)
         for i, g, order in om.node:
@@ -100,6 +100,8 @@ class DenseEngine(Engine):
             Y[i] = shape @ x[order][lin.bridge]
         for i, row in om.contact:
             Y[i] = f[row]
+        for i, row, order in om.rail:
+            Y[i] = S[row] @ x[order][lin.bridge]
         return Y  # moving point loads: zero without gravity
 
     def integrate(self, source: Any, reducer: Any) -> dict[str, np.ndarray]:
@@ -150,7 +152,7 @@ class DenseEngine(Engine):
         shift = 0.0 if offset is None else offset[:, None]
 
         def record(i: int, q: np.ndarray, v: np.ndarray, qdd: np.ndarray, st: Any, inputs: tuple) -> None:
-            reducer.record(i, self._outputs((q + shift, v, qdd), forces(st, q + shift, v, inputs)), ext)
+            reducer.record(i, self._outputs((q + shift, v, qdd), forces(st, q + shift, v, inputs), st.S), ext)
 
         st, K, D, inputs, F = forcing(0.0)
         qdd0 = np.linalg.solve(lin.M, F)  # at rest: M qdd0 = F(0)

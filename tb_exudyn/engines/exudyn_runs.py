@@ -204,7 +204,7 @@ def model_values(model: TrainBridgeModel, rec: Any) -> tuple[dict[str, np.ndarra
     (:mod:`tb_exudyn.system.derived`; real time histories: :mod:`tb_exudyn.system.derived_values`), from
     a recording of a run."""
     outputs = model.output_channels()
-    raw = evaluate(outputs, rec, model.output_shapes)
+    raw = evaluate(outputs, rec, model.output_shapes, model.rail_rows)
     values = {c.name: raw[c.name] for c in model.selected}
     units = {c.name: c.unit for c in model.selected}
     if model.derived:

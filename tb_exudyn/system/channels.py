@@ -11,6 +11,8 @@ Pure numpy, no Exudyn. A channel name says where and what:
     car<k>.axle<j>.left.force_x, .right.force_x longitudinal creep force per wheel (creep_car)
     car<k>.axle<j>.moment_z                     spin creep and gravitational yaw moment [N m] (creep_car)
     car<k>.axle1.force_z                        the wheel load of a sprung mass or moving force
+    car<k>.axle<j>[.left|.right].rail.<q>_z     with a track structure: the rail under a wheel (vertical
+    car<k>.axle<j>.rail.<q>_y                   contact), the rails' centre line under a wheelset (lateral)
 
 quantity: ``disp`` [m or rad], ``vel`` [m/s or rad/s], ``acc`` [m/s^2 or rad/s^2];
 component: ``y``, ``z`` (translations, y left, z up), ``rx``, ``ry``, ``rz`` (rotations about x,
@@ -53,8 +55,9 @@ class Channel:
 
     ``source``: "node" (a node coordinate: ``index`` = node, ``coordinate`` = its coordinate),
     "bridge" (``index`` = station, ``coordinate`` = row y/z/rx of the station shapes),
-    "contact" (``index`` = contact row) or "load" (``index`` = moving point load).
-    ``order``: 0 displacement, 1 velocity, 2 acceleration (node and bridge channels).
+    "contact" (``index`` = contact row), "load" (``index`` = moving point load) or "rail" (``index`` = a
+    penalty contact row: its rail shape row S(t) at the moving wheel times the bridge body's coordinates).
+    ``order``: 0 displacement, 1 velocity, 2 acceleration (node, bridge and rail channels).
     """
 
     name: str
@@ -86,6 +89,31 @@ def contact_unit(name: str) -> str:
     return "N m" if name.rsplit(".", 1)[-1].startswith("moment") else "N"
 
 
+def rail_channels(contact_names: Sequence[str], directions: Sequence[int]) -> list[Channel]:
+    """With a track structure: the rail under each wheel (:func:`rail_channel_name`), displacement, velocity
+    and acceleration of the body's rail shape row S(t) at the moving contact (the rail's own motion at the
+    wheel's place: S(x(t)) q'' for the acceleration, no convective term); 0 while the wheel is on the rigid
+    line (off the rails). ``directions``: each penalty row's (0 vertical, 1 lateral); other rows none."""
+    out = []
+    for i, (name, d) in enumerate(zip(contact_names, directions)):
+        rail = rail_channel_name(name, int(d))
+        if rail is None:
+            continue
+        label = "z" if int(d) == 0 else "y"
+        for order, quantity in enumerate(QUANTITIES):
+            out.append(Channel(f"{rail}.{quantity}_{label}", _UNITS[True][order], "rail", i, 0, order))
+    return out
+
+
+def rail_channel_name(contact_name: str, direction: int) -> str | None:
+    """The prefix of the rail channels of a penalty contact row: ``car1.axle1.left.force_z`` (vertical) ->
+    ``car1.axle1.left.rail``, ``car1.axle1.force_y`` (lateral) -> ``car1.axle1.rail``; None for other rows."""
+    head, _, last = contact_name.rpartition(".")
+    if (direction, last) in ((0, "force_z"), (1, "force_y")) and head:
+        return f"{head}.rail"
+    return None
+
+
 def catalogue(
     station_names: Sequence[str],
     bodies: Sequence[tuple[str, int, Sequence[tuple[str, int]]]],
@@ -104,6 +132,11 @@ def catalogue(
     out += [Channel(n, contact_unit(n), "contact", i) for i, n in enumerate(contact_names)]
     out += [Channel(n, "N", "load", i) for i, n in enumerate(load_names)]
     return _vehicle_order(out)
+
+
+def catalogue_order(channels: list[Channel]) -> list[Channel]:
+    """``channels`` in the catalogue's order: bridge (and track) channels first, then each car's together."""
+    return _vehicle_order(channels)
 
 
 def _vehicle_order(channels: list[Channel]) -> list[Channel]:
@@ -152,10 +185,13 @@ class Recording:
     load_forces: NDArray[np.float64]
 
 
-def evaluate(channels: Sequence[Channel], rec: Recording, station_shapes: NDArray[np.float64]) -> dict[str, NDArray[np.float64]]:
-    """Channel name -> (n_t,) values from a recording (``station_shapes``: (n_st, 3, n_modes))."""
+def evaluate(channels: Sequence[Channel], rec: Recording, station_shapes: NDArray[np.float64],
+             rail_rows: Callable[[float], NDArray[np.float64]] | None = None) -> dict[str, NDArray[np.float64]]:
+    """Channel name -> (n_t,) values from a recording (``station_shapes``: (n_st, 3, n_modes);
+    ``rail_rows(t)``: the contacts' rail shape rows (n_c, n_modes) at t, for rail channels)."""
     out: dict[str, NDArray[np.float64]] = {}
     bridge = rec.nodes.get(rec.bridge_node)
+    rails = None  # (n_t, n_c, n_modes): the contacts' rail rows at the recording's times, made once
     for ch in channels:
         if ch.source == "node":
             out[ch.name] = np.ascontiguousarray(rec.nodes[ch.index][ch.order][:, ch.coordinate])
@@ -166,7 +202,14 @@ def evaluate(channels: Sequence[Channel], rec: Recording, station_shapes: NDArra
             out[ch.name] = np.ascontiguousarray(rec.contact_forces[:, ch.index])
         elif ch.source == "load":
             out[ch.name] = np.ascontiguousarray(rec.load_forces[:, ch.index])
-        else:  # pragma: no cover - catalogue only makes the four kinds
+        elif ch.source == "rail":
+            if rail_rows is None:
+                raise NotImplementedError(f"channel {ch.name}: a rail channel needs the contacts' rail rows")
+            assert bridge is not None
+            if rails is None:
+                rails = np.array([rail_rows(float(t)) for t in rec.times])
+            out[ch.name] = np.einsum("tn,tn->t", bridge[ch.order], rails[:, ch.index])
+        else:  # pragma: no cover - catalogue only makes the five kinds
             raise ValueError(f"unknown channel source {ch.source!r}")
     return out
 
@@ -176,7 +219,8 @@ class OutputMap:
     """Where every output channel (in ``names`` order) comes from, in the system's global terms:
     (channel, global coordinate, order) of node channels, (channel, station shape row over the
     bridge's modal coordinates, order) of bridge channels, (channel, contact row) of contact forces
-    and (channel, point load) of the moving point loads. The engines that integrate global state
+    (channel, point load) of the moving point loads and (channel, penalty contact row, order) of the rail
+    channels (the moving row S(t) of that contact over the bridge's coordinates). The engines that integrate global state
     vectors (batched, dense) read their channels through it; :func:`evaluate` reads the same
     channels from an Exudyn recording."""
 
@@ -186,13 +230,14 @@ class OutputMap:
     bridge: tuple[tuple[int, NDArray[np.float64], int], ...]
     contact: tuple[tuple[int, int], ...]
     load: tuple[tuple[int, int], ...]
+    rail: tuple[tuple[int, int, int], ...] = ()
 
 
 def output_map(channels: Sequence[Channel], node_indices: Callable[[int], NDArray[np.int64]],
                station_shapes: NDArray[np.float64]) -> OutputMap:
     """The :class:`OutputMap` of ``channels``; ``node_indices(node)`` gives a node's global
     coordinate indices, ``station_shapes`` (n_st, 3, n_modes) the bridge's station shapes."""
-    node, bridge, contact, load = [], [], [], []
+    node, bridge, contact, load, rail = [], [], [], [], []
     for i, ch in enumerate(channels):
         if ch.source == "node":
             node.append((i, int(node_indices(ch.index)[ch.coordinate]), ch.order))
@@ -202,7 +247,9 @@ def output_map(channels: Sequence[Channel], node_indices: Callable[[int], NDArra
             contact.append((i, ch.index))
         elif ch.source == "load":
             load.append((i, ch.index))
+        elif ch.source == "rail":
+            rail.append((i, ch.index, ch.order))
         else:  # pragma: no cover - catalogue only makes the four kinds
             raise ValueError(f"unknown channel source {ch.source!r}")
     return OutputMap(tuple(c.name for c in channels), tuple(c.unit for c in channels), tuple(node), tuple(bridge),
-                     tuple(contact), tuple(load))
+                     tuple(contact), tuple(load), tuple(rail))

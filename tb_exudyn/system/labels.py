@@ -95,6 +95,12 @@ def channel_label(name: str) -> str:
             return f"{axle}, {parts[1]} wheel, vertical wheel-rail force"
         if len(parts) == 3 and parts[1] in ("left", "right") and parts[2] == "derailment":
             return f"{axle}, {parts[1]} wheel, derailment quotient Q/P"
+        if parts[-2:-1] == ["rail"] and len(parts) in (3, 4) and (len(parts) == 3 or parts[1] in ("left", "right")):
+            motion = _motion_label(parts[-1], {"z": "vertical", "y": "lateral"})  # the rail under the wheel
+            if motion:
+                where = (f"{parts[1]} wheel, rail under it" if len(parts) == 4 else "rail under the wheel"
+                         if parts[-1].endswith("_z") else "rails' centre line under the wheelset")
+                return f"{axle}, {where}, {motion}"
         if len(parts) == 2 and parts[1] == "unloading":
             return f"{axle}, wheel unloading dP/P"
         if len(parts) == 2:

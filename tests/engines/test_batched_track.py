@@ -319,3 +319,47 @@ def test_monte_carlo_of_a_scenario_with_a_track_on_the_exudyn_engine():
     ref, got = _monte_carlo("exudyn"), _monte_carlo("batched")
     assert ref.method == "monte_carlo" and got.method == "monte_carlo_linear"
     assert _agree(got, ref, mean=1e-6) < 1e-6
+
+
+def test_the_rail_under_each_wheel_on_both_linear_engines(case):
+    """The rail channels (issue 47: the rail's displacement and acceleration under each wheel, a moving output
+    row S(t) q, tb_exudyn.system.channels.rail_channels) of the case above: each wheel's rail displacement and
+    acceleration, the third wheel on the rigid ground before the rail until x = 0 (t = 0.06 s).
+
+    1. The batched engine against the dense engine: within 1e-9 of each channel's largest sigma and per
+       column (the same step, round-off apart, as above; measured 4.6e-14).
+    2. An identity of the model on every column and output time, independent of how the channel is formed:
+       the contact is a spring k_H with no damper and no left-out-modes' flexibility in series
+       (wheel_on_modal_track), delta = S(t) q + r - z_w, F = k_H delta, so the rail under the wheel is
+       S q = F / k_H - r + z_w, F the contact-force channel, z_w the wheel's displacement channel and r the
+       irregularity at the wheel (the columns' own input, HarmonicColumns.contact_inputs). Tolerance 1e-9 of
+       the rail channel's largest value: the terms are all of the rail's order (per unit irregularity: r 1,
+       F / k_H up to 1, the wheel up to 4.1 and the rail up to 3.1), so only round-off remains (measured
+       2.4e-14 batched, 1.4e-15 dense; the first wheel's rail in the second's identity misses by 1.8).
+    3. The third wheel's rail channels are exactly 0 while it is on the rigid line (x < 0) and not after."""
+    _, lin, _, source, steps = case
+    n_w = len(STARTS)
+    channels = [Channel(f"wheel{i}.force_z", "N", "contact", i) for i in range(n_w)]
+    channels += [Channel(f"wheel{i}.z", "m", "node", i, 2, 0) for i in range(n_w)]
+    channels += [Channel(f"wheel{i}.rail.{q}_z", u, "rail", i, 0, o) for i in range(n_w)
+                 for q, u, o in (("disp", "m", 0), ("acc", "m/s^2", 2))]
+    om = output_map(channels, lambda node: lin.wheel[6 * node:6 * node + 6], np.zeros((0, 3, lin.bridge.size)))
+    rail = (case[0], lin, om, source, steps)
+    got, ref = _run(BatchedEngine, rail), _run(DenseEngine, rail)
+    sigma_ref = np.sqrt(np.sum(np.abs(ref) ** 2, axis=1))
+    sigma_got = np.sqrt(np.sum(np.abs(got) ** 2, axis=1))
+    assert np.all(sigma_ref.max(axis=1) > 0)
+    err = np.abs(sigma_got - sigma_ref).max(axis=1) / sigma_ref.max(axis=1)
+    assert err.max() < 1e-9, err
+    assert np.all(np.abs(got - ref).max(axis=(1, 2)) < 1e-9 * np.abs(ref).max(axis=(1, 2)))
+    cp = lin.coupling
+    r = np.stack([source.contact_inputs(cp, float(t))[0] for t in steps.output_times], axis=-1)  # (n_w, m, n_t)
+    for Y in (got, ref):
+        disp = Y[2 * n_w::2]
+        identity = Y[:n_w] / K_H - r + Y[n_w:2 * n_w]
+        scale = np.abs(disp).max(axis=(1, 2))
+        assert np.all(np.abs(disp - identity).max(axis=(1, 2)) < 1e-9 * scale), np.abs(disp - identity).max(axis=(1, 2)) / scale
+    x3 = STARTS[2] + V * steps.output_times
+    off = x3 < 0.0
+    assert off.sum() > 10 and np.all(got[-2:][:, :, off] == 0) and np.all(ref[-2:][:, :, off] == 0)
+    assert np.all(np.abs(got[-2:][:, :, ~off]).max(axis=1) > 0)

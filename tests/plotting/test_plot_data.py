@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from tb_exudyn.plotting import data
-from tb_exudyn.system.channels import catalogue
+from tb_exudyn.system.channels import catalogue, rail_channels
 
 import synthetic_results
 
@@ -45,8 +45,9 @@ def _all_kinds():
     bodies += [("car2.body", 7, (("z", 0),)), ("car2.axle1", 8, (("z", 0),))]
     contacts = [f"car1.axle{j}.{side}.force_z" for j in range(1, 5) for side in ("left", "right")]
     contacts += [f"car1.axle{j}.force_y" for j in range(1, 5)] + ["car2.axle1.force_z"]
+    rails = rail_channels(contacts, [0] * 8 + [1] * 4 + [0])  # with a track structure: the rail under each wheel
     return catalogue(["span1.q1", "span1.mid", "span1.q3", "span2.q1", "span2.mid", "span2.q3", "pier1.top"],
-                     bodies, contacts, ["car3.axle1.force_z"])
+                     bodies, contacts, ["car3.axle1.force_z"]) + rails
 
 
 def test_every_channel_kind_has_a_readable_label():
@@ -60,6 +61,9 @@ def test_every_channel_kind_has_a_readable_label():
         assert name in names, name  # the expected names are real channel names
         assert data.channel_label(name) == label
     assert data.channel_label("car3.axle1.force_z") == "car 3, axle 1, vertical wheel-rail force"  # a moving force
+    assert data.channel_label("car1.axle2.right.rail.acc_z") == "car 1, axle 2, right wheel, rail under it, vertical acceleration"
+    assert data.channel_label("car1.axle2.rail.disp_y") == "car 1, axle 2, rails' centre line under the wheelset, lateral displacement"
+    assert data.channel_label("car2.axle1.rail.vel_z") == "car 2, axle 1, rail under the wheel, vertical velocity"
     assert data.channel_label("car1.qp.axle1.left") == "car1.qp.axle1.left"  # a derived quantity: its name
     assert data.axis_label("car1.axle2.force_y", "N") == "lateral wheel-rail force [kN]"
 

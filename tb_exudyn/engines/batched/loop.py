@@ -66,17 +66,19 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     # internal channel order: node channels per component and order, bridge, contacts, the rest
     bridge_ch = [i for o in range(3) for i, _, oo in cm.bridge if oo == o]
     contact_ch = [i for i, _ in cm.contact]
+    rail_ch = [i for i, _, _ in cm.rail]
     integrated = {int(g) for r in runs for g in r.comp.coords}
     shared0 = sum(1 for _, g, _ in cm.node if g in integrated)  # node channels come first
     bridge_rows = {i: shared0 + j for j, i in enumerate(bridge_ch)}
     contact_rows = {i: shared0 + len(bridge_ch) + j for j, i in enumerate(contact_ch)}
+    rail_rows = {i: shared0 + len(bridge_ch) + len(contact_ch) + j for j, i in enumerate(rail_ch)}
     order: list[int] = []
     outs: list[_Outputs] = []
     first_of: dict[Any, _Outputs] = {}
     for r in runs:  # the chunks of a component share its rows of node channels
-        outs.append(_Outputs(cm, r, overlap, order, bridge_rows, contact_rows, first_of.get(r.ops)))
+        outs.append(_Outputs(cm, r, overlap, order, bridge_rows, contact_rows, first_of.get(r.ops), rail_rows, cp))
         first_of.setdefault(r.ops, outs[-1])
-    order += bridge_ch + contact_ch
+    order += bridge_ch + contact_ch + rail_ch
     order += sorted(set(range(n_ch)) - set(order))  # moving loads and channels no input reaches: zero
     ext = np.argsort(np.array(order, dtype=np.int64))  # internal row of each channel
     shared_rows = slice(shared0, n_ch)  # summed over components: cleared at every output time
@@ -114,7 +116,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     sh0 = shared(block)[0]
     for run, out in zip(runs, outs):
         run.start(block, sh0, ga)
-        out.write(run, Y, ga, True)
+        out.write(run, Y, ga, True, float(block.t[0]))
     reducer.record(0, Y, ext)
     n = 1
     while n <= engine.n_steps:
@@ -134,7 +136,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
                 rec = k in buffers
                 run.solve(k, block, sh[k], rec)
                 if rec:
-                    out.write(run, buffers[k], ga, False)
+                    out.write(run, buffers[k], ga, False, float(block.t[k]))
                 run.update(coef, h)
         for k in records:
             reducer.record((n + k) // engine.ratio, buffers[k], ext)

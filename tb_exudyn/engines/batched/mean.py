@@ -69,6 +69,13 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
     for i, shape, order in om.bridge:
         if order == 0:
             values[i] += shape @ static[lin.bridge]
+    rails = [(i, c) for i, c, order in om.rail if order == 0]
+    if rails:  # the rail under a wheel: its moving row S(t) over the static state too
+        cp = lin.coupling
+        for k, t in enumerate(engine.steps.output_times):
+            S = cp.contact_state(float(t)).S
+            for i, c in rails:
+                values[i, k] += S[c] @ static[lin.bridge]
     provenance = {
         "engine": "batched", "mean_engine": "batched (linear model, gravity column)",
         "linearization": "static", "gravity": True, "initial_state": "static",

@@ -28,9 +28,12 @@ class _Outputs:
     the true force is sum_I f_I - (n - 1) f_in for n components integrating that column."""
 
     def __init__(self, cm: Any, run: Any, overlap: NDArray[np.int64], order: list[int],
-                 bridge_rows: dict[int, int], contact_rows: dict[int, int], like: "_Outputs | None" = None) -> None:
+                 bridge_rows: dict[int, int], contact_rows: dict[int, int], like: "_Outputs | None" = None,
+                 rail_rows: dict[int, int] | None = None, coupling: Any = None) -> None:
         """``order``: the internal channel order, extended by this component's node channels (unless
-        ``like``, another column chunk of the same component, already placed them)."""
+        ``like``, another column chunk of the same component, already placed them); ``rail_rows``: the
+        internal rows of the rail channels (moving rows S(t) of ``coupling``'s contacts, summed over
+        components like the bridge channels)."""
         local = {int(gi): j for j, gi in enumerate(run.comp.coords)}
         block = run.ops.bridge_block  # a coupled bridge block's state is in its basis (.coupled)
         self.orders = []
@@ -50,6 +53,9 @@ class _Outputs:
             brows = np.array([r for r, _ in items], dtype=np.int64)
             shapes = np.array([s for _, s in items]).reshape(len(items), run.nb)
             self.orders.append((start, end, node_loc, brows, shapes))
+        #: (internal row, penalty contact row, order) of the rail channels over this component's modes
+        self.rail = [(rail_rows[i], c, o) for i, c, o in cm.rail] if rail_rows and run.nb else []
+        self.coupling = coupling
         rowpos = {int(r): j for j, r in enumerate(run.rows)}
         pairs = [(contact_rows[i], rowpos[r]) for i, r in cm.contact if r in rowpos]
         self.contact = (np.array([i for i, _ in pairs], dtype=np.int64),
@@ -64,6 +70,8 @@ class _Outputs:
         """:meth:`write` (not the first output) by the compiled step's :func:`.compiled.write_outputs`, for
         a run whose columns are contiguous (else :meth:`write`): no (q, v, qdd) copies of the state, only
         the rows the channels read."""
+        if self.rail:  # pragma: no cover - a coupled bridge block (a track) is never compiled (.loop)
+            raise NotImplementedError("rail channels in the compiled step")
         if not isinstance(run.sel, slice):
             self.write(run, Y, ga, False)
             return
@@ -98,8 +106,8 @@ class _Outputs:
                 self.shared is not None, np.zeros((nb, w)), np.zeros((max(int(btab[:, 1].max()), 1), w)))
         return head, tail
 
-    def write(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha, first: bool) -> None:
-        """Write (node channels) or add (bridge, contact) the component's part at this output time."""
+    def write(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha, first: bool, t: float = 0.0) -> None:
+        """Write (node channels) or add (bridge, contact, rail) the component's part at this output time ``t``."""
         Yf = Y.view(np.float64)
         x = self.x  # (q, v, qdd) of the component: q~ + D, v~ + gamma' D, beta' D
         if first:
@@ -123,6 +131,13 @@ class _Outputs:
                     Y[s:e, sel] = x[o][loc].view(run.cdtype)
             if brows.size:
                 _add(Y, brows, run.sel, np.ascontiguousarray(shapes @ x[o][: run.nb]).view(np.complex128))
+        if self.rail:  # the contacts' rows S(t) at the wheels' places now, over this component's modes
+            S = self.coupling.contact_state(t).S[:, run.modes]
+            block = run.ops.bridge_block
+            if block is not None:
+                S = block.to_basis(S)
+            for row, c, o in self.rail:
+                _add(Y, np.array([row]), run.sel, np.ascontiguousarray(S[c] @ x[o][: run.nb]).view(np.complex128)[None])
         rows, loc = self.contact
         if rows.size:
             f = run.F[loc].view(run.cdtype)
