@@ -73,3 +73,14 @@ def test_the_batched_and_the_dense_engine_agree_for_wheelsets_on_both_rails(kind
         static = float(np.max(np.abs(force.mean)))
         assert np.max(np.abs(a["car1.axle1.left.force_z"].mean - force.mean)) < 1e-6 * static
     assert float(np.max(b["car1.axle1.force_y"].std)) > 1e3
+    # the rail under the first wheelset (tb_exudyn.system.channels.rail_channels; compared above with the rest):
+    # exactly 0, mean and sigma, while the axle is on the rigid line: the rails carry the wheels from 3 m
+    # (track.structure_approach) before the 10 m bridge to 3.2 m after it (to the support grid of 0.6 m placed by
+    # the bridge, 10 bays short of the rails' free ends: docs/track.md 5, 8), nonzero on them
+    x1 = -sc.track.lead_in - float(sc.train.axle_positions[0]) + sc.speed * np.asarray(a.time)
+    off, on = (x1 < -3.0) | (x1 > 13.2), (x1 > -2.5) & (x1 < 12.7)
+    assert (x1 < -3.0).sum() > 10 and (x1 > 13.2).sum() > 10
+    for res in (a, b):
+        for name in ("car1.axle1.left.rail.disp_z", "car1.axle1.right.rail.acc_z", "car1.axle1.rail.disp_y"):
+            ch = res[name]
+            assert np.all(ch.std[off] == 0) and np.all(ch.mean[off] == 0) and np.all(ch.std[on] > 0), name
