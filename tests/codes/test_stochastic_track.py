@@ -22,6 +22,8 @@ from tb_exudyn.execution.threads import single_threaded_blas
 from tb_exudyn.methods import run_pem
 from tb_exudyn.system import track_bridge
 
+from ..recording import counted_track_solves
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "engines"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "builder"))
 from test_track_car15 import _case  # noqa: E402
@@ -45,16 +47,7 @@ def checked(tmp_path_factory):
     path = tmp_path_factory.mktemp("train") / "one_trailer.toml"
     path.write_text(f'name = "{TRAIN}"\ndescription = "one ICE trailer"\n[[cars]]\nvehicle = "ice_trailer"\n')
     source = _source()
-    solved = []
-    solve = track_bridge.track_and_deck
-
-    def counted(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
-        solved.append(args[2:4])
-        return solve(*args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(track_bridge, "track_and_deck", counted)
-        mp.setattr(track_bridge, "_LAST", {})
+    with counted_track_solves() as solved:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             result = check(source.bridge, SPEED, trains=[str(path)], cases=["nominal"], stochastic=True,
