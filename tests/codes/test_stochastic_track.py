@@ -18,8 +18,11 @@ import pytest
 
 from tb_exudyn.codes import check
 from tb_exudyn.codes import stochastic as stoch
+from tb_exudyn.execution.threads import single_threaded_blas
 from tb_exudyn.methods import run_pem
 from tb_exudyn.system import track_bridge
+
+from ..recording import counted_track_solves
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "engines"))
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "builder"))
@@ -44,16 +47,7 @@ def checked(tmp_path_factory):
     path = tmp_path_factory.mktemp("train") / "one_trailer.toml"
     path.write_text(f'name = "{TRAIN}"\ndescription = "one ICE trailer"\n[[cars]]\nvehicle = "ice_trailer"\n')
     source = _source()
-    solved = []
-    solve = track_bridge.track_and_deck
-
-    def counted(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
-        solved.append(args[2:4])
-        return solve(*args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(track_bridge, "track_and_deck", counted)
-        mp.setattr(track_bridge, "_LAST", {})
+    with counted_track_solves() as solved:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             result = check(source.bridge, SPEED, trains=[str(path)], cases=["nominal"], stochastic=True,
@@ -72,7 +66,10 @@ def test_the_row_with_a_track_equals_run_pem_of_its_scenario(checked):
     assert sc.track.structure == "ballasted_uic60" and sc.track.structure_approach == 3.0
     assert len(solved) == 1, solved
     track_bridge._LAST.clear()
-    with warnings.catch_warnings():
+    # the check solves the track while it plans, on one BLAS thread: the reference does too. On the default
+    # threads the track's eigenvectors differ at round-off, which the float32 columns and the far tail
+    # amplify (measured: p_exceed 6.5622e-36 against 6.5625e-36, 4.6e-5 relative; the same path, not the same bits)
+    with warnings.catch_warnings(), single_threaded_blas():
         warnings.simplefilter("ignore")
         pem = run_pem(sc, workers=1, progress=False, options=stoch.engine_options("batched"))
     ref = next(r for r in pem.checks().worst() if r.criterion == CRITERION)

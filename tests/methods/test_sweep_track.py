@@ -21,6 +21,8 @@ from tb_exudyn import run_pem
 from tb_exudyn.methods.sweep import SWEEP_SLICES, run_sweep, sweep_scenario
 from tb_exudyn.system import track_bridge
 
+from ..recording import counted_track_solves
+
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "builder"))
 from test_track_scenario import _scenario  # noqa: E402
 
@@ -38,16 +40,7 @@ def _base():  # noqa: ANN202
 
 @pytest.fixture(scope="module")
 def swept():
-    solved = []
-    solve = track_bridge.track_and_deck
-
-    def counted(*args, **kwargs):  # noqa: ANN002, ANN003, ANN202
-        solved.append(args[2:4])  # (x0, n_supports)
-        return solve(*args, **kwargs)
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(track_bridge, "track_and_deck", counted)
-        mp.setattr(track_bridge, "_LAST", {})
+    with counted_track_solves() as solved:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             sweep = run_sweep(_base(), SPEEDS, engine="batched", workers=1, progress=False)
