@@ -466,8 +466,9 @@ class TrainBridgeModel:
         return chan.evaluate(selected, rec, self.bridge.station_shapes, self.rail_rows)
 
     def rail_rows(self, t: float) -> NDArray[np.float64]:
-        """The penalty contacts' rail shape rows S(t) (n_c, n_modes) at time t (the rail channels' rows)."""
-        return self.coupling.contact_state(t).S
+        """The rail under each penalty contact at time t, (n_c, n_modes) (the rail channels' rows:
+        :func:`~tb_exudyn.system.channels.rail_rows`)."""
+        return chan.rail_rows(self.coupling, t)
 
     def channel_units(self) -> dict[str, str]:
         return {c.name: c.unit for c in self.channels}

@@ -31,6 +31,7 @@ from scipy.linalg import lu_factor, lu_solve
 
 from ..errors import SettingError
 from ..execution.threads import single_threaded_blas
+from ..system.channels import rail_rows
 from ..system.columns import linear_row_inputs
 from .base import Engine, exudyn_side, init_linear, on_linear_system, typed_options
 
@@ -89,9 +90,10 @@ class DenseEngine(Engine):
         D[np.ix_(ci, ci)] += Dc
         return st, K, D
 
-    def _outputs(self, x: tuple[np.ndarray, np.ndarray, np.ndarray], f: np.ndarray, S: np.ndarray) -> np.ndarray:
+    def _outputs(self, x: tuple[np.ndarray, np.ndarray, np.ndarray], f: np.ndarray, S: Any) -> np.ndarray:
         """The outputs (n_outputs, m) from (q, v, qdd), the contact forces (penalty rows, then
-        general rows) and the contacts' rail shape rows S (n_c, n_b) at the output time (rail channels)."""
+        general rows) and the rail under each contact (n_c, n_b) at the output time (rail channels:
+        :func:`~tb_exudyn.system.channels.rail_rows`; None without)."""
         om, lin = self.outputs, self.lin
         Y = np.zeros((len(om.names), f.shape[1]), dtype=complex)
         for i, g, order in om.node:
@@ -152,7 +154,8 @@ class DenseEngine(Engine):
         shift = 0.0 if offset is None else offset[:, None]
 
         def record(i: int, q: np.ndarray, v: np.ndarray, qdd: np.ndarray, st: Any, inputs: tuple) -> None:
-            reducer.record(i, self._outputs((q + shift, v, qdd), forces(st, q + shift, v, inputs), st.S), ext)
+            rails = rail_rows(lin.coupling, st.t) if self.outputs.rail else None
+            reducer.record(i, self._outputs((q + shift, v, qdd), forces(st, q + shift, v, inputs), rails), ext)
 
         st, K, D, inputs, F = forcing(0.0)
         qdd0 = np.linalg.solve(lin.M, F)  # at rest: M qdd0 = F(0)

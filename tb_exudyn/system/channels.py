@@ -114,6 +114,26 @@ def rail_channel_name(contact_name: str, direction: int) -> str | None:
     return None
 
 
+def rail_under(contacts, y: NDArray[np.float64], z: NDArray[np.float64], rx: NDArray[np.float64]) -> NDArray[np.float64]:  # noqa: ANN001
+    """The rail under each contact of ``contacts`` (a ContactLayout: direction, axle, rail_offset) from the
+    rail shapes y, z, rx at the axles (n_axles, n) (the rail channels' rows, one convention for every
+    engine): a vertical contact's z + e rx (e its rail offset; not the a y a coned wheel's contact geometry
+    adds to its row S), a lateral contact's y (the rails' centre line)."""
+    a, e = contacts.axle, np.broadcast_to(np.asarray(contacts.rail_offset, dtype=float), contacts.axle.shape)
+    vertical = (np.asarray(contacts.direction) == 0)[:, None]
+    return np.where(vertical, z[a] + e[:, None] * rx[a], y[a])
+
+
+def rail_rows(coupling, t: float) -> NDArray[np.float64]:  # noqa: ANN001
+    """:func:`rail_under` of a WheelRailCoupling's contacts at time t, (n_c, n_b) over its bridge's
+    coordinates; zero for an axle off the body's rail (on the rigid line)."""
+    x = coupling.positions(t)
+    if not np.any(coupling.bridge.carries(x)):
+        return np.zeros((coupling.n_contacts, coupling.n_bridge))
+    rs = coupling.bridge.rail_shapes(x)  # zero rows off the bridge
+    return rail_under(coupling.contacts, rs.y, rs.z, rs.rx)
+
+
 def catalogue(
     station_names: Sequence[str],
     bodies: Sequence[tuple[str, int, Sequence[tuple[str, int]]]],

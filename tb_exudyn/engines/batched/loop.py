@@ -116,7 +116,7 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
     sh0 = shared(block)[0]
     for run, out in zip(runs, outs):
         run.start(block, sh0, ga)
-        out.write(run, Y, ga, True, float(block.t[0]))
+        out.write(run, Y, ga, True, _rails(block, run, 0))
     reducer.record(0, Y, ext)
     n = 1
     while n <= engine.n_steps:
@@ -136,12 +136,18 @@ def integrate(engine: Any, source: Any, reducer: Any, precision: str | None = No
                 rec = k in buffers
                 run.solve(k, block, sh[k], rec)
                 if rec:
-                    out.write(run, buffers[k], ga, False, float(block.t[k]))
+                    out.write(run, buffers[k], ga, False, _rails(block, run, k))
                 run.update(coef, h)
         for k in records:
             reducer.record((n + k) // engine.ratio, buffers[k], ext)
         n += block.size
     return reducer.result()
+
+
+def _rails(block: Any, run: Any, k: int) -> Any:
+    """The rail shapes at the axles at step k of ``block`` in ``run``'s modes (None: no axle on the body)."""
+    rails = block.rails.get(run.ops.shape_key) if run.ops.nb else None
+    return None if rails is None else rails[k]
 
 
 __all__ = ["CHUNK_BYTES", "MIN_CHUNK", "chunks", "integrate"]

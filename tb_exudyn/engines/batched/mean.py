@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ...errors import CapabilityError
+from ...system.channels import rail_rows
 from ...system.columns import static_load_columns
 from ...system.components import find_components
 from ..base import exudyn_side
@@ -73,7 +74,7 @@ def linear_mean(engine: Any) -> dict[str, np.ndarray]:
     if rails:  # the rail under a wheel: its moving row S(t) over the static state too
         cp = lin.coupling
         for k, t in enumerate(engine.steps.output_times):
-            S = cp.contact_state(float(t)).S
+            S = rail_rows(cp, float(t))
             for i, c in rails:
                 values[i, k] += S[c] @ static[lin.bridge]
     provenance = {

@@ -7,6 +7,7 @@ recording); only the selected channels are evaluated.
 
 from __future__ import annotations
 
+from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -14,6 +15,7 @@ from numpy.typing import NDArray
 
 from ..alpha import GeneralizedAlpha
 from ...jit import blas_scratch
+from ...system.channels import rail_under
 
 ComplexArray = NDArray[np.complex128]
 IntArray = NDArray[np.int64]
@@ -53,9 +55,17 @@ class _Outputs:
             brows = np.array([r for r, _ in items], dtype=np.int64)
             shapes = np.array([s for _, s in items]).reshape(len(items), run.nb)
             self.orders.append((start, end, node_loc, brows, shapes))
-        #: (internal row, penalty contact row, order) of the rail channels over this component's modes
-        self.rail = [(rail_rows[i], c, o) for i, c, o in cm.rail] if rail_rows and run.nb else []
-        self.coupling = coupling
+        #: the rail channels over this component's modes: their internal rows, contacts (axle, rail offset,
+        #: direction: :func:`~tb_exudyn.system.channels.rail_under`) and orders
+        rail = [(rail_rows[i], c, o) for i, c, o in cm.rail] if rail_rows and run.nb else []
+        self.rail = None
+        if rail:
+            c = np.array([c for _, c, _ in rail], dtype=np.int64)
+            lay = coupling.contacts
+            self.rail = (np.array([r for r, _, _ in rail], dtype=np.int64), np.array([o for _, _, o in rail]),
+                         SimpleNamespace(axle=lay.axle[c], direction=np.asarray(lay.direction)[c],
+                                         rail_offset=np.broadcast_to(np.asarray(lay.rail_offset, dtype=float),
+                                                                     lay.axle.shape)[c]))
         rowpos = {int(r): j for j, r in enumerate(run.rows)}
         pairs = [(contact_rows[i], rowpos[r]) for i, r in cm.contact if r in rowpos]
         self.contact = (np.array([i for i, _ in pairs], dtype=np.int64),
@@ -70,7 +80,7 @@ class _Outputs:
         """:meth:`write` (not the first output) by the compiled step's :func:`.compiled.write_outputs`, for
         a run whose columns are contiguous (else :meth:`write`): no (q, v, qdd) copies of the state, only
         the rows the channels read."""
-        if self.rail:  # pragma: no cover - a coupled bridge block (a track) is never compiled (.loop)
+        if self.rail is not None:  # pragma: no cover - a coupled bridge block (a track) is never compiled (.loop)
             raise NotImplementedError("rail channels in the compiled step")
         if not isinstance(run.sel, slice):
             self.write(run, Y, ga, False)
@@ -106,8 +116,10 @@ class _Outputs:
                 self.shared is not None, np.zeros((nb, w)), np.zeros((max(int(btab[:, 1].max()), 1), w)))
         return head, tail
 
-    def write(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha, first: bool, t: float = 0.0) -> None:
-        """Write (node channels) or add (bridge, contact, rail) the component's part at this output time ``t``."""
+    def write(self, run: Any, Y: ComplexArray, ga: GeneralizedAlpha, first: bool, rails: Any = None) -> None:
+        """Write (node channels) or add (bridge, contact, rail) the component's part at this output time;
+        ``rails``: the rail shapes at the axles at this step (n_axles, 6, nb) of the component's modes (its
+        step block's, :func:`.steps.step_block`; None while no axle is on the body: the rail channels 0)."""
         Yf = Y.view(np.float64)
         x = self.x  # (q, v, qdd) of the component: q~ + D, v~ + gamma' D, beta' D
         if first:
@@ -131,13 +143,15 @@ class _Outputs:
                     Y[s:e, sel] = x[o][loc].view(run.cdtype)
             if brows.size:
                 _add(Y, brows, run.sel, np.ascontiguousarray(shapes @ x[o][: run.nb]).view(np.complex128))
-        if self.rail:  # the contacts' rows S(t) at the wheels' places now, over this component's modes
-            S = self.coupling.contact_state(t).S[:, run.modes]
+        if self.rail is not None and rails is not None:  # the rail under each wheel now (.rail_under)
+            rows, orders, contacts = self.rail
+            S = rail_under(contacts, rails[:, 0], rails[:, 1], rails[:, 2])
             block = run.ops.bridge_block
-            if block is not None:
+            if block is not None and not run.ops.rails_in_basis:  # as the step's rows (.run._Operators.prepare)
                 S = block.to_basis(S)
-            for row, c, o in self.rail:
-                _add(Y, np.array([row]), run.sel, np.ascontiguousarray(S[c] @ x[o][: run.nb]).view(np.complex128)[None])
+            for o in np.unique(orders):
+                pick = orders == o
+                _add(Y, rows[pick], run.sel, np.ascontiguousarray(S[pick] @ x[o][: run.nb]).view(np.complex128))
         rows, loc = self.contact
         if rows.size:
             f = run.F[loc].view(run.cdtype)
