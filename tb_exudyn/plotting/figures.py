@@ -20,6 +20,7 @@ from matplotlib import rcParams
 from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
 from matplotlib.markers import TICKUP
 from matplotlib.ticker import LogFormatter, MaxNLocator, NullLocator, ScalarFormatter
 from matplotlib.transforms import offset_copy
@@ -98,31 +99,42 @@ POSITION_GID = "position_axis"
 def _position_scale(ax: Axes, c: data.Crossing, label: str) -> None:
     """The first axle's position x [m] as a scale along the top of ``ax``: tick marks, their labels and
     ``label``, as matplotlib's secondary axis draws them (its locator and formatter, its tick length, pad
-    and fonts) but as one line and a few texts at the times of round positions, fixed when the figure
-    is made (``ax``'s time limits then: its data's). A secondary axis is a second Axes whose ticks are
-    made again at every draw: it took a sixth of the CPU of drawing the page's figures (docs/speed.md
-    section 16)."""
-    lo, hi = sorted(ax.get_xlim())
-    x_lo, x_hi = sorted((float(c.position(lo)), float(c.position(hi))))
-    values = [x for x in MaxNLocator(nbins="auto", steps=[1, 2, 2.5, 5, 10]).tick_values(x_lo, x_hi)
-              if x_lo - 1e-9 * (x_hi - x_lo) <= x <= x_hi + 1e-9 * (x_hi - x_lo)]
-    fmt = ScalarFormatter()
-    fmt.create_dummy_axis()
-    labels = fmt.format_ticks(values)
-    times = c.time_at(np.asarray(values, dtype=float))
-    size, width, pad = (float(rcParams[f"xtick.major.{k}"]) for k in ("size", "width", "pad"))
-    colour = rcParams["xtick.color"]
-    base = ax.get_xaxis_transform()  # x in data (time), y in axes fraction
-    ax.plot(times, np.ones_like(times), transform=base, ls="none", marker=TICKUP, ms=size, mew=width, color=colour,
-            clip_on=False, gid=POSITION_GID, label="_position_ticks")
-    text = offset_copy(base, fig=ax.figure, y=size + pad, units="points")
-    for t, s in zip(times, labels):
-        ax.text(t, 1.0, s, transform=text, ha="center", va="bottom", fontsize=rcParams["xtick.labelsize"],
-                color=rcParams["xtick.labelcolor"] if rcParams["xtick.labelcolor"] != "inherit" else colour,
-                clip_on=False, gid=POSITION_GID)
-    above = offset_copy(ax.transAxes, fig=ax.figure, y=_POSITION_LABEL_RISE, units="points")
-    ax.text(0.5, 1.0, label, transform=above, ha="center", va="bottom", fontsize=rcParams["axes.labelsize"],
-            color=rcParams["axes.labelcolor"], clip_on=False, gid=POSITION_GID)
+    and fonts) but as one line and a few texts at the times of round positions over ``ax``'s time
+    limits, made now and again whenever those limits change (a zoom, ``set_xlim``), not at every draw.
+    A secondary axis is a second Axes whose ticks are made again at every draw: it took a sixth of the
+    CPU of drawing the page's figures (docs/speed.md section 16)."""
+    made: list = []
+
+    def make(_ax: Axes | None = None) -> None:
+        for artist in made:
+            artist.remove()
+        made.clear()
+        lo, hi = sorted(ax.get_xlim())
+        x_lo, x_hi = sorted((float(c.position(lo)), float(c.position(hi))))
+        values = [x for x in MaxNLocator(nbins="auto", steps=[1, 2, 2.5, 5, 10]).tick_values(x_lo, x_hi)
+                  if x_lo - 1e-9 * (x_hi - x_lo) <= x <= x_hi + 1e-9 * (x_hi - x_lo)]
+        fmt = ScalarFormatter()
+        fmt.create_dummy_axis()
+        labels = fmt.format_ticks(values)
+        times = c.time_at(np.asarray(values, dtype=float))
+        size, width, pad = (float(rcParams[f"xtick.major.{k}"]) for k in ("size", "width", "pad"))
+        colour = rcParams["xtick.color"]
+        base = ax.get_xaxis_transform()  # x in data (time), y in axes fraction
+        # add_artist, not plot: the marks must not take part in the autoscale (their change would call this again)
+        made.append(ax.add_artist(Line2D(times, np.ones_like(times), transform=base, ls="none", marker=TICKUP, ms=size,
+                                         mew=width, color=colour, clip_on=False, gid=POSITION_GID,
+                                         label="_position_ticks")))
+        text = offset_copy(base, fig=ax.figure, y=size + pad, units="points")
+        for t, s in zip(times, labels):
+            made.append(ax.text(t, 1.0, s, transform=text, ha="center", va="bottom", fontsize=rcParams["xtick.labelsize"],
+                                color=rcParams["xtick.labelcolor"] if rcParams["xtick.labelcolor"] != "inherit" else colour,
+                                clip_on=False, gid=POSITION_GID))
+        above = offset_copy(ax.transAxes, fig=ax.figure, y=_POSITION_LABEL_RISE, units="points")
+        made.append(ax.text(0.5, 1.0, label, transform=above, ha="center", va="bottom", fontsize=rcParams["axes.labelsize"],
+                            color=rcParams["axes.labelcolor"], clip_on=False, gid=POSITION_GID))
+
+    make()
+    ax.callbacks.connect("xlim_changed", make)
 
 
 def _time_axis(ax: Axes) -> None:

@@ -267,3 +267,25 @@ def test_the_position_scale_shows_what_matplotlibs_secondary_axis_showed(pem, ki
         mine = t.get_window_extent(renderer)
         assert abs(mine.y0 - box.y0) <= 1.0 and abs(mine.x0 - box.x0) <= 1.0
     assert abs(title.get_window_extent(renderer).y0 - ref.xaxis.label.get_window_extent(renderer).y0) <= 1.0
+
+
+def test_the_position_scale_follows_a_zoom(pem):
+    """The scale is made when the figure is made and again when its time limits change (a user's zoom or
+    set_xlim): after set_xlim every tick lies in the new limits, the positions are round numbers of the
+    new range (the reference: matplotlib's locator on the closed-form positions x = v t - 30 m of the
+    limits), and the scale's title is there once."""
+    from matplotlib.ticker import MaxNLocator
+
+    from tb_exudyn.plotting.figures import POSITION_GID
+
+    fig = plot_bounds(pem, CH)
+    ax = fig.axes[0]
+    ax.set_xlim(0.5, 0.9)
+    (ticks,) = [ln for ln in ax.lines if ln.get_gid() == POSITION_GID]
+    texts = [t for t in ax.texts if t.get_gid() == POSITION_GID]
+    times = np.asarray(ticks.get_xdata(), dtype=float)
+    assert len(times) >= 2 and np.all((times >= 0.5 - 1e-12) & (times <= 0.9 + 1e-12))
+    lo, hi = V * 0.5 - 30.0, V * 0.9 - 30.0
+    expected = [x for x in MaxNLocator(nbins="auto", steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi) if lo <= x <= hi]
+    assert times == pytest.approx((np.asarray(expected) + 30.0) / V, abs=1e-12)
+    assert len(texts) == len(times) + 1 and sum("position x [m]" in t.get_text() for t in texts) == 1
